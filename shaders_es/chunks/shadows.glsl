@@ -1,0 +1,42 @@
+// Self-shadowing (Tatarchuk 2005; McGuire & McGuire 2005): from the hit, cast
+// a ray toward the light through the relief and look for blockers.
+// PX_SHADOW is 1 (hard) or 2 (soft).
+#define PX_SHADOW_HARD 1
+#define PX_SHADOW_SOFT 2
+
+// light_dir: unit vector toward the light in texture space (not height-scaled).
+mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height, mediump vec3 light_dir,
+                                  mediump float angular_radius PX_TRACE_GRADIENTS) {
+    if (light_dir.z <= 0.0) return 0.0;  // below the geometric horizon
+    mediump float horizontal = length(light_dir.xy);
+    // Straight overhead, or already at the top: nothing in the relief can block.
+    if (horizontal < 1.0 / 1024.0 || hit_height >= 1.0) return 1.0;
+    // uv shift per unit of normalised height along the light ray.
+    PX_HIGHP vec2 shift = (u_height_scale / light_dir.z) * light_dir.xy;
+    mediump float step = (1.0 - hit_height) / float(PX_SHADOW_SAMPLES);
+#if PX_SHADOW == PX_SHADOW_HARD
+    for (int j = 1; j <= PX_SHADOW_SAMPLES; ++j) {
+        mediump float ray = hit_height + float(j) * step;
+        mediump float h = px_trace_height(uv_hit + (ray - hit_height) * shift);
+        // Half an 8-bit quantum above the ray counts as a blocker.
+        if (h > ray + 1.0 / 512.0) return 0.0;
+    }
+    return 1.0;
+#else
+    // Soft: the steepest blocker seen from the receiver. Its elevation above
+    // the light's centre, against the light's angular radius, gives the share
+    // of the light's disc it hides: the blocker-to-receiver penumbra estimate
+    // of Tatarchuk 2005 (w_p = w_s (d_r - d_b) / d_b) in angular form.
+    mediump float steepest = -1024.0;  // tangent of blocker elevation x horizontal / light_dir.z
+    for (int j = 1; j <= PX_SHADOW_SAMPLES; ++j) {
+        mediump float ray = hit_height + float(j) * step;
+        mediump float h = px_trace_height(uv_hit + (ray - hit_height) * shift);
+        steepest = max(steepest, (h - hit_height) / (ray - hit_height));
+    }
+    // (h - h0) / (ray - h0) is the blocker's rise over the light ray's rise;
+    // times tan(light elevation) it is the tangent of the blocker's elevation.
+    mediump float light_elevation = atan(light_dir.z, horizontal);
+    mediump float blocker_elevation = atan(steepest * light_dir.z, horizontal);
+    return clamp(0.5 - (blocker_elevation - light_elevation) / (2.0 * max(angular_radius, 1.0 / 1024.0)), 0.0, 1.0);
+#endif
+}

@@ -1,0 +1,53 @@
+// Fragment-stage declarations shared by every technique, and the height fetch.
+#include "chunks/interface.glsl"
+
+// Albedo is colour: lowp (8 bits per channel) loses nothing.
+uniform lowp sampler2D u_albedo_map;
+// Normals (and height in alpha when packed): mediump, because Mesa's default
+// sampler precision (lowp) returns fp16 texels and heights are compared with
+// the ray at 1/256 steps; mediump holds 8-bit texels exactly on every GPU.
+uniform mediump sampler2D u_normal_map;
+#ifndef PX_PACKED_HEIGHT
+uniform mediump sampler2D u_height_map;
+#endif
+
+uniform mediump float u_height_scale;     // relief depth, tile units
+// Height of the polygon within the relief, in units of the relief depth:
+// -bias / scale (1 = the polygon touches the relief's top; Welsh's bias).
+uniform mediump float u_polygon_height;
+uniform mediump float u_inv_height_scale; // 1 / u_height_scale (0 when flat)
+uniform mediump int u_light_count;
+uniform mediump vec3 u_light_color[PX_MAX_LIGHTS];
+uniform mediump float u_light_angular_radius[PX_MAX_LIGHTS];  // radians, soft shadows
+uniform mediump vec3 u_ambient;
+uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
+
+#ifdef PX_PACKED_HEIGHT
+#define PX_HEIGHT_SAMPLER u_normal_map
+#define PX_HEIGHT_CHANNEL a
+#else
+#define PX_HEIGHT_SAMPLER u_height_map
+#define PX_HEIGHT_CHANNEL r
+#endif
+
+// Height reads inside tracing loops never use implicit derivatives (their
+// value is undefined in non-uniform control flow). GLSL ES 3.00: textureGrad
+// with the gradients of the unshifted uv taken before the loop. GLSL ES 1.00
+// has no texture2DGrad without GL_EXT_shader_texture_lod, so the renderer
+// binds the traced texture with base-level filtering (GL_LINEAR) instead.
+#if PX_ES >= 3
+#define PX_TRACE_GRADIENTS , PX_HIGHP vec2 uv_dx, PX_HIGHP vec2 uv_dy
+#define PX_TRACE_GRADIENT_ARGS , uv_dx, uv_dy
+#define px_trace_height(uv) textureGrad(PX_HEIGHT_SAMPLER, (uv), uv_dx, uv_dy).PX_HEIGHT_CHANNEL
+#else
+#define PX_TRACE_GRADIENTS
+#define PX_TRACE_GRADIENT_ARGS
+#define px_trace_height(uv) texture2D(PX_HEIGHT_SAMPLER, (uv)).PX_HEIGHT_CHANNEL
+#endif
+
+// Where the view ray meets the relief: the uv to shade with, and the ray's
+// height there (normalised: 0 bottom, 1 top of the relief).
+struct PxHit {
+    PX_HIGHP vec2 uv;
+    mediump float height;
+};

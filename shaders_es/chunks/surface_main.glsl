@@ -1,0 +1,113 @@
+// main() shared by every technique. A technique entry defines
+//   PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS)
+// when it defines PX_HAS_TRACE, and includes this file last.
+#include "chunks/lighting.glsl"
+#ifdef PX_SHADOW
+#include "chunks/shadows.glsl"
+#endif
+
+#ifdef PX_DEPTH_WRITE
+uniform PX_HIGHP mat4 u_depth_projection;  // the vertex stage's u_projection, kept apart: a uniform in both stages must have one precision (GLSL ES 1.00, 4.5.3)
+uniform PX_HIGHP float u_units_per_tile;  // view-space units per texture tile (relief depth conversion)
+
+// Perspective-correct depth (Tatarchuk 2005; McGuire 2005): push the
+// fragment along the view ray to the hit, then project it again.
+void px_write_depth(mediump float hit_height, mediump float cos_view) {
+    PX_HIGHP float depth_below_polygon = (u_polygon_height - hit_height) * u_height_scale * u_units_per_tile;
+    PX_HIGHP vec3 hit_position = v_view_position + normalize(v_view_position) * (depth_below_polygon / max(cos_view, 1.0 / 64.0));
+    PX_HIGHP vec4 clip = u_depth_projection * vec4(hit_position, 1.0);
+    PX_FRAG_DEPTH = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+}
+#endif
+
+#ifdef PX_LOD
+uniform mediump vec2 u_lod_range;  // x: threshold mip level, y: transition band in levels
+
+// Tatarchuk 2005: the mip level the height map is read at, from the screen
+// derivatives of its texel coordinates.
+mediump float px_mip_level(PX_HIGHP vec2 uv) {
+    PX_HIGHP vec2 texel_dx = dFdx(uv) * u_texture_size;
+    PX_HIGHP vec2 texel_dy = dFdy(uv) * u_texture_size;
+    PX_HIGHP float footprint = max(dot(texel_dx, texel_dx), dot(texel_dy, texel_dy));
+    return 0.5 * log2(max(footprint, 1e-8));
+}
+#endif
+
+mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 view_dir PX_TRACE_GRADIENTS) {
+    // The two dependent reads issued back to back, before any arithmetic on
+    // them (PowerVR whitepaper 3.2.1: one wait instead of two).
+#if PX_ES >= 3
+    lowp vec4 albedo = textureGrad(u_albedo_map, uv, uv_dx, uv_dy);
+#ifndef PX_TECH_FLAT
+    mediump vec4 normal_texel = textureGrad(u_normal_map, uv, uv_dx, uv_dy);
+#endif
+#else
+    lowp vec4 albedo = texture2D(u_albedo_map, uv);
+#ifndef PX_TECH_FLAT
+    mediump vec4 normal_texel = texture2D(u_normal_map, uv);
+#endif
+#endif
+#ifdef PX_TECH_FLAT
+    mediump vec3 normal = vec3(0.0, 0.0, 1.0);
+#else
+    mediump vec3 normal = normalize(normal_texel.xyz * 2.0 - 1.0);
+#endif
+    mediump vec3 color = u_ambient * albedo.rgb;
+    for (int i = 0; i < PX_MAX_LIGHTS; ++i) {
+        if (i >= u_light_count) break;
+        mediump vec3 light_dir = normalize(v_light_ts[i]);
+        mediump float visibility = 1.0;
+#ifdef PX_SHADOW
+        visibility = px_light_visibility(uv, hit_height, light_dir, u_light_angular_radius[i] PX_TRACE_GRADIENT_ARGS);
+#endif
+        color += px_light_term(albedo.rgb, normal, view_dir, light_dir, u_light_color[i], visibility);
+    }
+    return color;
+}
+
+void main() {
+    PX_HIGHP vec2 uv = v_uv;
+#if PX_ES >= 3
+    // Gradients of the unshifted uv, taken once in uniform control flow.
+    PX_HIGHP vec2 uv_dx = dFdx(uv);
+    PX_HIGHP vec2 uv_dy = dFdy(uv);
+#endif
+    mediump vec3 view_ts = v_view_ts;
+#ifdef PX_READS_HEIGHT
+    mediump vec3 view_dir = normalize(vec3(view_ts.xy * u_inv_height_scale, view_ts.z));
+#else
+    mediump vec3 view_dir = normalize(view_ts);
+#endif
+
+    PxHit surface;  // the polygon itself: what normal mapping shades
+    surface.uv = uv;
+    surface.height = u_polygon_height;
+#ifdef PX_HAS_TRACE
+#ifdef PX_LOD
+    mediump float mip = px_mip_level(uv);
+    // 0 below the band (full effect), 1 past the threshold (normal mapping).
+    mediump float lod_blend = clamp((mip - (u_lod_range.x - u_lod_range.y)) / u_lod_range.y, 0.0, 1.0);
+    PxHit hit = surface;
+    if (lod_blend < 1.0) hit = px_trace(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+#else
+    PxHit hit = px_trace(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+#endif
+#else
+    PxHit hit = surface;
+#endif
+
+    mediump vec3 color = px_shade(hit.uv, hit.height, view_dir PX_TRACE_GRADIENT_ARGS);
+#if defined(PX_HAS_TRACE) && defined(PX_LOD)
+    if (lod_blend > 0.0) {
+        color = mix(color, px_shade(surface.uv, surface.height, view_dir PX_TRACE_GRADIENT_ARGS), lod_blend);
+    }
+#endif
+#ifdef PX_DEPTH_WRITE
+#if defined(PX_HAS_TRACE) && defined(PX_LOD)
+    px_write_depth(mix(hit.height, surface.height, lod_blend), view_ts.z);
+#else
+    px_write_depth(hit.height, view_ts.z);
+#endif
+#endif
+    PX_FRAG_COLOR = vec4(color, 1.0);
+}

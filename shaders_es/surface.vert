@@ -1,0 +1,59 @@
+// Vertex stage shared by every technique. Builds the tangent frame and moves
+// the view and light vectors into texture space, as the PowerVR whitepaper
+// does: the view vector is normalised here and the parallax scale folded into
+// it, so the fragment stage starts tracing at once.
+#include "chunks/interface.glsl"
+
+PX_ATTRIBUTE highp vec3 a_position;
+PX_ATTRIBUTE mediump vec3 a_normal;
+PX_ATTRIBUTE mediump vec4 a_tangent;  // xyz tangent along +u, w handedness (+1/-1)
+PX_ATTRIBUTE highp vec2 a_uv;
+
+uniform highp mat4 u_model;
+uniform highp mat4 u_view;
+uniform highp mat4 u_projection;
+uniform highp mat3 u_normal_matrix;      // inverse transpose of the model's 3x3
+uniform mediump float u_model_handedness;// -1 when the model matrix mirrors, else +1
+uniform highp vec3 u_camera_position;    // world space
+// Material uv transform: uv' = u_uv_matrix * uv + u_uv_offset (highp: tiled
+// uvs grow large and need all their bits for sub-texel offsets).
+uniform highp mat2 u_uv_matrix;
+uniform highp vec2 u_uv_offset;
+// u_uv_matrix divided by sqrt(|det|): carries mesh-tangent directions into the
+// material's texture frame (rotation and mirroring; the relief depth is
+// already in tile units, so the uniform scale cancels).
+uniform mediump mat2 u_uv_frame;
+uniform mediump float u_height_scale;    // relief depth in tile units
+// xyz: world direction toward the light (w = 0) or world position (w = 1).
+uniform highp vec4 u_light_vector[PX_MAX_LIGHTS];
+
+void main() {
+    highp vec4 world_position = u_model * vec4(a_position, 1.0);
+    highp vec4 view_position = u_view * world_position;
+    gl_Position = u_projection * view_position;
+    v_uv = u_uv_matrix * a_uv + u_uv_offset;
+    v_view_position = view_position.xyz;
+
+    mediump vec3 n = normalize(u_normal_matrix * a_normal);
+    mediump vec3 t = mat3(u_model[0].xyz, u_model[1].xyz, u_model[2].xyz) * a_tangent.xyz;
+    t = normalize(t - n * dot(n, t));
+    mediump vec3 b = (a_tangent.w * u_model_handedness) * cross(n, t);
+
+    highp vec3 to_eye = u_camera_position - world_position.xyz;
+    mediump vec3 view_ts = normalize(vec3(dot(to_eye, t), dot(to_eye, b), dot(to_eye, n)));
+    view_ts.xy = u_uv_frame * view_ts.xy;
+#ifdef PX_READS_HEIGHT
+    view_ts.xy *= u_height_scale;  // folded here: one multiply per vertex, not per fragment
+#endif
+    v_view_ts = view_ts;
+
+    for (int i = 0; i < PX_MAX_LIGHTS; ++i) {
+        highp vec3 to_light = u_light_vector[i].w > 0.5 ? u_light_vector[i].xyz - world_position.xyz
+                                                        : u_light_vector[i].xyz;
+        // Left unnormalised: normalising per vertex visibly damaged lighting
+        // (PowerVR whitepaper, section 3.1); the fragment stage normalises.
+        mediump vec3 light_ts = vec3(dot(to_light, t), dot(to_light, b), dot(to_light, n));
+        light_ts.xy = u_uv_frame * light_ts.xy;
+        v_light_ts[i] = light_ts;
+    }
+}

@@ -1,0 +1,21 @@
+// pom: parallax occlusion mapping (Tatarchuk 2005). Linear search, then the
+// height profile between the last two samples is taken as a line and
+// intersected with the view ray.
+#define PX_HAS_TRACE
+#include "chunks/surface_common.glsl"
+#include "chunks/march.glsl"
+
+PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
+    PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
+    PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
+    // Ray minus surface: positive above the surface, <= 0 on or under it.
+    mediump float gap_above = m.ray_above - m.height_above;
+    mediump float gap_below = m.ray_below - m.height_below;
+    mediump float denominator = gap_above - gap_below;
+    mediump float t = denominator > 0.0 ? clamp(gap_above / denominator, 0.0, 1.0) : 1.0;
+    PxHit hit;
+    hit.height = mix(m.ray_above, m.ray_below, t);
+    hit.uv = uv + (hit.height - u_polygon_height) * parallax;
+    return hit;
+}
+#include "chunks/surface_main.glsl"

@@ -1,0 +1,27 @@
+// relief: relief mapping (Policarpo, Oliveira & Comba 2005). Linear search,
+// then a binary search between the last sample above the surface and the
+// first below it.
+#define PX_HAS_TRACE
+#include "chunks/surface_common.glsl"
+#include "chunks/march.glsl"
+
+PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
+    PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
+    PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
+    mediump float above = m.ray_above;  // ray height known to be above the surface
+    mediump float below = m.ray_below;  // ray height known to be on or under it
+    for (int i = 0; i < PX_REFINE_STEPS; ++i) {
+        mediump float middle = 0.5 * (above + below);
+        mediump float h = px_trace_height(uv + (middle - u_polygon_height) * parallax);
+        if (h >= middle) {
+            below = middle;
+        } else {
+            above = middle;
+        }
+    }
+    PxHit hit;
+    hit.height = below;
+    hit.uv = uv + (below - u_polygon_height) * parallax;
+    return hit;
+}
+#include "chunks/surface_main.glsl"

@@ -1,0 +1,67 @@
+#include "assets/texture.h"
+
+#include <string>
+
+#include "gl/errors.h"
+
+namespace px {
+
+namespace {
+bool power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
+}  // namespace
+
+Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what) {
+    if (image.width < 1 || image.height < 1 || image.pixels.empty())
+        return make_error(what + ": empty image");
+    if (image.width > caps.max_texture_size || image.height > caps.max_texture_size)
+        return make_error(what + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                          " exceeds this context's GL_MAX_TEXTURE_SIZE of " + std::to_string(caps.max_texture_size));
+    if (!caps.npot_mipmaps() && !(power_of_two(image.width) && power_of_two(image.height)))
+        return make_error(what + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                          " is not a power of two, and this OpenGL ES 2.0 context lacks GL_OES_texture_npot, "
+                          "so it can neither repeat nor mipmap it; resize the image");
+    Image rgba;
+    const Image* source = &image;
+    if (image.channels != 4) {  // expand to RGBA: one upload path
+        rgba.width = image.width;
+        rgba.height = image.height;
+        rgba.channels = 4;
+        rgba.pixels.resize(static_cast<size_t>(image.width) * image.height * 4);
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                const std::uint8_t* s = image.texel(x, y);
+                std::uint8_t* d = rgba.texel(x, y);
+                d[0] = s[0];
+                d[1] = image.channels >= 3 ? s[1] : s[0];
+                d[2] = image.channels >= 3 ? s[2] : s[0];
+                d[3] = image.channels == 4 ? s[3] : (image.channels == 2 ? s[1] : 255);
+            }
+        source = &rgba;
+    }
+    Texture t;
+    t.handle = make_texture();
+    t.width = image.width;
+    t.height = image.height;
+    t.mipmapped = true;
+    glBindTexture(GL_TEXTURE_2D, t.handle.get());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 source->pixels.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    Status s = check_gl("uploading " + what);
+    if (!s) return s.error();
+    return t;
+}
+
+void bind_texture(const Texture& texture, bool base_level_only) {
+    glBindTexture(GL_TEXTURE_2D, texture.handle.get());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    base_level_only || !texture.mipmapped ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
+}
+
+}  // namespace px

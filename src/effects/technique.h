@@ -1,0 +1,85 @@
+// The technique catalogue: one table (name, defines, options, minimum ES
+// version, limits) that drives the CLI listing, the planner, the shader
+// variant enumeration and the tests.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace px {
+
+enum class Technique : std::uint8_t {
+    flat,            // albedo only, no lighting detail
+    normal,          // normal mapping
+    parallax,        // Kaneko 2001: uv += h * V.xy / V.z
+    offset_limited,  // Welsh 2004 / PowerVR whitepaper: uv += h * V.xy
+    steep,           // McGuire & McGuire 2005: linear march, first sample below the surface
+    pom,             // Tatarchuk 2005: linear march + intersection with the last linear segment
+    relief,          // Policarpo et al. 2005: linear march + binary refinement
+};
+inline constexpr int kTechniqueCount = 7;
+
+enum class ShadowMode : std::uint8_t {
+    none,
+    hard,  // a shadow ray toward the light; any blocker makes the point dark
+    soft,  // the same ray, visibility from the blocker-to-receiver penumbra estimate
+};
+
+// What a material asks of its technique. Options a technique does not have
+// are ignored by the planner, which says so.
+struct TechniqueOptions {
+    Technique technique = Technique::pom;
+    // Tatarchuk's dynamic sample rate: min_samples when the view is along the
+    // normal, rising linearly to max_samples as the view turns to grazing.
+    int min_samples = 8;
+    int max_samples = 32;
+    int refine_steps = 5;     // relief: binary search steps after the linear search
+    ShadowMode shadow = ShadowMode::none;
+    int shadow_samples = 16;  // samples along the shadow ray
+    bool depth_write = false; // perspective-correct depth through gl_FragDepth
+    // Mip-level LOD (Tatarchuk 2005): at mip levels past lod_threshold render
+    // normal mapping; blend over the lod_band levels before it.
+    bool lod = false;
+    float lod_threshold = 3.0f;
+    float lod_band = 1.0f;
+};
+
+// Option flags, as a bitmask in TechniqueInfo::options.
+enum OptionFlag : std::uint32_t {
+    kOptHeight = 1u << 0,   // reads the height map at all
+    kOptSamples = 1u << 1,  // min/max samples (a linear search)
+    kOptRefine = 1u << 2,   // refine_steps
+    kOptShadow = 1u << 3,   // self-shadowing
+    kOptDepth = 1u << 4,    // depth_write
+    kOptLod = 1u << 5,      // mip-level LOD blend to normal mapping
+};
+
+struct TechniqueInfo {
+    Technique id;
+    const char* name;      // as written in scene files and on the command line
+    const char* define;    // the preprocessor symbol the shader entry tests
+    const char* source;    // shaders_es/techniques/<source>
+    const char* summary;   // one line
+    const char* citation;  // the paper the shader follows
+    std::uint32_t options; // OptionFlag bits
+    int min_es_major;      // lowest OpenGL ES major version that runs it
+    int max_samples_limit; // largest max_samples accepted (constant loop bound)
+};
+
+const std::array<TechniqueInfo, kTechniqueCount>& technique_table();
+const TechniqueInfo& technique_info(Technique t);
+const char* technique_name(Technique t);
+Result<Technique> parse_technique(const std::string& name);
+std::string technique_names_joined(const char* separator = ", ");
+
+const char* shadow_mode_name(ShadowMode m);
+Result<ShadowMode> parse_shadow_mode(const std::string& name);
+
+// Range checks on the numbers in TechniqueOptions; the message names the field.
+Status validate_options(const TechniqueOptions& options);
+
+}  // namespace px

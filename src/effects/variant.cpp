@@ -1,0 +1,190 @@
+#include "effects/variant.h"
+
+#include <sstream>
+
+#include "scene/scene.h"
+
+namespace px {
+
+namespace {
+
+bool has_option(Technique t, OptionFlag flag) { return (technique_info(t).options & flag) != 0; }
+
+// Zero every field the technique does not use, so equal programs get equal keys.
+VariantKey canonical(VariantKey k) {
+    if (!has_option(k.technique, kOptHeight)) k.packed_height = false;
+    if (!has_option(k.technique, kOptSamples)) k.max_samples = 0;
+    if (!has_option(k.technique, kOptRefine)) k.refine_steps = 0;
+    if (!has_option(k.technique, kOptShadow)) k.shadow = ShadowMode::none;
+    if (k.shadow == ShadowMode::none) k.shadow_samples = 0;
+    if (!has_option(k.technique, kOptDepth)) k.depth_write = false;
+    if (!has_option(k.technique, kOptLod)) k.lod = false;
+    return k;
+}
+
+}  // namespace
+
+std::uint64_t VariantKey::bits() const {
+    const VariantKey k = canonical(*this);
+    std::uint64_t b = 0;
+    b |= static_cast<std::uint64_t>(k.technique);             // 3 bits
+    b |= static_cast<std::uint64_t>(k.shadow) << 3;           // 2 bits
+    b |= static_cast<std::uint64_t>(k.depth_write) << 5;
+    b |= static_cast<std::uint64_t>(k.lod) << 6;
+    b |= static_cast<std::uint64_t>(k.packed_height) << 7;
+    b |= static_cast<std::uint64_t>(k.es_major & 0xF) << 8;   // 4 bits
+    b |= static_cast<std::uint64_t>(k.max_samples) << 12;     // 16 bits
+    b |= static_cast<std::uint64_t>(k.refine_steps) << 28;    // 8 bits
+    b |= static_cast<std::uint64_t>(k.shadow_samples) << 36;  // 8 bits
+    return b;
+}
+
+std::vector<ShaderDefine> VariantKey::defines() const {
+    const VariantKey k = canonical(*this);
+    const TechniqueInfo& info = technique_info(k.technique);
+    std::vector<ShaderDefine> d;
+    d.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
+    d.push_back({"PX_TECHNIQUE_NAME_" + std::string(info.name), ""});
+    if (info.options & kOptHeight) d.push_back({"PX_READS_HEIGHT", ""});
+    if (k.packed_height) d.push_back({"PX_PACKED_HEIGHT", ""});
+    if (info.options & kOptSamples) d.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
+    if (info.options & kOptRefine) d.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
+    if (k.shadow != ShadowMode::none) {
+        d.push_back({"PX_SHADOW", k.shadow == ShadowMode::hard ? "1" : "2"});
+        d.push_back({"PX_SHADOW_SAMPLES", std::to_string(k.shadow_samples)});
+    }
+    if (k.depth_write) d.push_back({"PX_DEPTH_WRITE", ""});
+    if (k.lod) d.push_back({"PX_LOD", ""});
+    return d;
+}
+
+std::vector<std::string> VariantKey::extensions(ShaderStage stage) const {
+    const VariantKey k = canonical(*this);
+    std::vector<std::string> e;
+    if (k.es_major >= 3 || stage != ShaderStage::fragment) return e;
+    if (k.depth_write) e.push_back("GL_EXT_frag_depth");
+    if (k.lod) e.push_back("GL_OES_standard_derivatives");
+    return e;
+}
+
+std::string VariantKey::describe() const {
+    const VariantKey k = canonical(*this);
+    std::ostringstream s;
+    s << technique_name(k.technique) << " es" << int(k.es_major);
+    if (k.max_samples) s << " samples<=" << k.max_samples;
+    if (has_option(k.technique, kOptRefine)) s << " refine=" << int(k.refine_steps);
+    if (k.shadow != ShadowMode::none) s << " shadow=" << shadow_mode_name(k.shadow) << "x" << int(k.shadow_samples);
+    if (k.depth_write) s << " depth";
+    if (k.lod) s << " lod";
+    if (has_option(k.technique, kOptHeight)) s << (k.packed_height ? " packed" : " separate-height");
+    return s.str();
+}
+
+Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps) {
+    const TechniqueOptions& o = material.technique;
+    VariantPlan plan;
+    VariantKey& k = plan.key;
+    k.technique = o.technique;
+    k.es_major = static_cast<std::uint8_t>(caps.es_major);
+
+    const TechniqueInfo& asked = technique_info(o.technique);
+    if (asked.min_es_major > caps.es_major)
+        return make_error(std::string("technique '") + asked.name + "' needs OpenGL ES " +
+                          std::to_string(asked.min_es_major) + ".0; this context is " + caps.version);
+    if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
+        plan.notes.push_back(std::string(asked.name) +
+                             " -> normal: height_scale is 0, so there is no relief to trace and normal "
+                             "mapping draws the same image");
+        k.technique = Technique::normal;
+    }
+    const Technique t = k.technique;
+    const TechniqueInfo& info = technique_info(t);
+
+    k.packed_height = material.pack_height_in_normal_alpha;
+    if (info.options & kOptSamples) k.max_samples = static_cast<std::uint16_t>(o.max_samples);
+    if (info.options & kOptRefine) k.refine_steps = static_cast<std::uint8_t>(o.refine_steps);
+
+    if (o.shadow != ShadowMode::none) {
+        if (info.options & kOptShadow) {
+            k.shadow = o.shadow;
+            k.shadow_samples = static_cast<std::uint8_t>(o.shadow_samples);
+        } else if (t == o.technique) {
+            plan.notes.push_back(std::string("shadow=") + shadow_mode_name(o.shadow) + " ignored: " + info.name +
+                                 " casts no shadow ray (steep, pom and relief do)");
+        }
+    }
+    if (o.depth_write) {
+        if (!(info.options & kOptDepth)) {
+            if (t == o.technique)
+                plan.notes.push_back(std::string("depth_write ignored: ") + info.name +
+                                     " finds no hit depth (steep, pom and relief do)");
+        } else if (!caps.frag_depth()) {
+            plan.notes.push_back("depth_write dropped: this OpenGL ES 2.0 context lacks GL_EXT_frag_depth");
+        } else {
+            k.depth_write = true;
+        }
+    }
+    if (o.lod) {
+        if (!(info.options & kOptLod)) {
+            if (t == o.technique)
+                plan.notes.push_back(std::string("lod ignored: ") + info.name + " has no parallax to fade out");
+        } else if (!caps.derivatives()) {
+            plan.notes.push_back(
+                "lod dropped: this OpenGL ES 2.0 context lacks GL_OES_standard_derivatives (the mip level needs them)");
+        } else {
+            k.lod = true;
+        }
+    }
+    plan.key = canonical(k);
+    return plan;
+}
+
+std::vector<VariantKey> enumerate_variants(int es_major) {
+    const TechniqueOptions defaults;
+    std::vector<VariantKey> out;
+    auto add = [&out](const VariantKey& k) {
+        const VariantKey c = canonical(k);
+        for (const VariantKey& e : out)
+            if (e == c) return;
+        out.push_back(c);
+    };
+    for (const TechniqueInfo& info : technique_table()) {
+        VariantKey base;
+        base.technique = info.id;
+        base.es_major = static_cast<std::uint8_t>(es_major);
+        base.max_samples = static_cast<std::uint16_t>(defaults.max_samples);
+        base.refine_steps = static_cast<std::uint8_t>(defaults.refine_steps);
+        base.shadow_samples = static_cast<std::uint8_t>(defaults.shadow_samples);
+        for (int packed = 0; packed < 2; ++packed)
+            for (ShadowMode shadow : {ShadowMode::none, ShadowMode::hard, ShadowMode::soft})
+                for (int depth = 0; depth < 2; ++depth)
+                    for (int lod = 0; lod < 2; ++lod) {
+                        VariantKey k = base;
+                        k.packed_height = packed != 0;
+                        k.shadow = shadow;
+                        k.depth_write = depth != 0;
+                        k.lod = lod != 0;
+                        add(k);
+                    }
+        // Loop bounds at their extremes.
+        if (info.options & kOptSamples) {
+            for (int samples : {1, info.max_samples_limit}) {
+                VariantKey k = base;
+                k.max_samples = static_cast<std::uint16_t>(samples);
+                k.shadow = ShadowMode::soft;
+                k.shadow_samples = 128;
+                add(k);
+            }
+        }
+        if (info.options & kOptRefine) {
+            for (int steps : {0, 16}) {
+                VariantKey k = base;
+                k.refine_steps = static_cast<std::uint8_t>(steps);
+                add(k);
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace px

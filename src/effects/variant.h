@@ -1,0 +1,62 @@
+// Shader variants: a small value naming one compiled program, and the
+// planner that picks the variant for a material on a given context.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "effects/technique.h"
+#include "gl/caps.h"
+#include "gl/shader_source.h"
+
+namespace px {
+
+struct MaterialDesc;
+
+// Up to this many lights per draw (a constant loop bound in GLSL ES 1.00;
+// 4 lights + 4 other varyings fit the 8 varying vectors ES 2.0 guarantees).
+inline constexpr int kMaxLights = 4;
+
+struct VariantKey {
+    Technique technique = Technique::normal;
+    ShadowMode shadow = ShadowMode::none;
+    bool depth_write = false;
+    bool lod = false;
+    bool packed_height = true;    // height in the normal map's alpha
+    std::uint8_t es_major = 3;    // 2: GLSL ES 1.00, 3: GLSL ES 3.00
+    std::uint16_t max_samples = 0;   // linear-search loop bound (march techniques)
+    std::uint8_t refine_steps = 0;   // relief
+    std::uint8_t shadow_samples = 0; // shadow-ray loop bound
+
+    // A unique 64-bit value per variant: the program cache's key.
+    std::uint64_t bits() const;
+    bool operator==(const VariantKey& o) const { return bits() == o.bits(); }
+
+    std::vector<ShaderDefine> defines() const;
+    std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
+    std::string describe() const;  // "pom es3 samples=32 shadow=soft depth packed"
+};
+
+// The planner's answer for one material: the variant, and why it differs
+// from what the material asked for (one note per change).
+struct VariantPlan {
+    VariantKey key;
+    std::vector<std::string> notes;
+};
+
+// Picks the variant for a material on a context with these capabilities:
+// options the technique does not have are dropped, options the context cannot
+// run are dropped with the reason (e.g. depth write on ES 2.0 without
+// GL_EXT_frag_depth), a relief with zero depth falls back to normal mapping.
+// Errors: the technique needs a newer ES version than the context has.
+Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps);
+
+// Every variant the program can build for an ES version on a context that
+// has every optional extension: each technique with each of its options on
+// and off, at the default and extreme loop bounds. Shader validation tests
+// compile all of them.
+std::vector<VariantKey> enumerate_variants(int es_major);
+
+}  // namespace px

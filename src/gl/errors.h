@@ -1,0 +1,32 @@
+// GL error checks at well-defined points (after each upload, build and draw,
+// not after every call), and KHR_debug messages where the context has them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "gl/gl.h"
+
+namespace px {
+
+const char* gl_enum_name(GLenum e);
+
+// Drains glGetError; an error names `where` and every pending error code.
+Status check_gl(const std::string& where);
+
+// Names a framebuffer completeness status.
+const char* framebuffer_status_name(GLenum status);
+
+// Loader for extension entry points (eglGetProcAddress in platform/, or the
+// host app's own loader): the library never includes EGL.
+using GetProcAddress = void* (*)(const char* name);
+
+// Installs a KHR_debug callback that collects the driver's messages, if the
+// context exposes GL_KHR_debug and `get_proc` finds its entry points.
+// Returns whether it was installed.
+bool install_debug_messages(GetProcAddress get_proc, bool has_khr_debug);
+// Messages of high and medium severity since the last call (cleared).
+std::vector<std::string> take_debug_messages();
+
+}  // namespace px

@@ -1,0 +1,110 @@
+#include "gl/shader_source.h"
+
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace px {
+
+namespace {
+
+const char* find_embedded(const std::string& path) {
+    for (const EmbeddedShader& s : embedded_shaders())
+        if (path == s.path) return s.text;
+    return nullptr;
+}
+
+// `#include "x"` with optional spaces; returns the path or "" if the line is not an include.
+bool parse_include(const std::string& line, std::string& path) {
+    size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || line.compare(i, 8, "#include") != 0) return false;
+    const size_t open = line.find('"', i + 8);
+    const size_t close = open == std::string::npos ? std::string::npos : line.find('"', open + 1);
+    path = (open == std::string::npos || close == std::string::npos) ? "" : line.substr(open + 1, close - open - 1);
+    return true;
+}
+
+Status expand(const std::string& path, const std::string& includer, std::set<std::string>& seen,
+              std::string& out) {
+    if (seen.count(path)) return {};  // each chunk once per source
+    const char* text = find_embedded(path);
+    if (!text) return make_error(includer + ": shader file '" + path + "' not found in shaders_es/");
+    seen.insert(path);
+    std::istringstream in(text);
+    std::string line;
+    int line_number = 0;
+    while (std::getline(in, line)) {
+        ++line_number;
+        std::string included;
+        if (parse_include(line, included)) {
+            const std::string where = "shaders_es/" + path + ":" + std::to_string(line_number);
+            if (included.empty()) return make_error(where + ": malformed #include (expected #include \"path\")");
+            Status s = expand(included, where, seen, out);
+            if (!s) return s;
+            continue;
+        }
+        out += line;
+        out += '\n';
+    }
+    return {};
+}
+
+std::string preamble(ShaderStage stage, int es_major) {
+    std::string p;
+    p += "#define PX_ES " + std::to_string(es_major) + "\n";
+    if (stage == ShaderStage::vertex) {
+        p += "precision highp float;\nprecision highp int;\n#define PX_HIGHP highp\n";
+        p += es_major >= 3 ? "#define PX_ATTRIBUTE in\n#define PX_VARYING out\n"
+                           : "#define PX_ATTRIBUTE attribute\n#define PX_VARYING varying\n";
+        return p;
+    }
+    // Fragment: mediump by default; highp where the stage has it (ES 2.0
+    // makes it optional: Mali-400-class GPUs have none), for uvs and depth.
+    p += "precision mediump float;\nprecision mediump int;\n";
+    if (es_major >= 3) {
+        p += "#define PX_HIGHP highp\n#define PX_VARYING in\n";
+        p += "layout(location = 0) out mediump vec4 px_frag_color;\n";
+        p += "#define PX_FRAG_COLOR px_frag_color\n#define PX_FRAG_DEPTH gl_FragDepth\n";
+    } else {
+        p += "#ifdef GL_FRAGMENT_PRECISION_HIGH\n#define PX_HIGHP highp\n#else\n#define PX_HIGHP mediump\n#endif\n";
+        p += "#define PX_VARYING varying\n";
+        p += "#define PX_FRAG_COLOR gl_FragColor\n#define PX_FRAG_DEPTH gl_FragDepthEXT\n";
+    }
+    return p;
+}
+
+}  // namespace
+
+Result<std::string> expand_includes(const std::string& entry_path) {
+    std::set<std::string> seen;
+    std::string out;
+    Status s = expand(entry_path, "shader entry", seen, out);
+    if (!s) return s.error();
+    return out;
+}
+
+Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderStage stage, int es_major,
+                                        const std::vector<std::string>& extensions,
+                                        const std::vector<ShaderDefine>& defines) {
+    if (es_major != 2 && es_major != 3)
+        return make_error("OpenGL ES " + std::to_string(es_major) + " is not supported (2 or 3)");
+    Result<std::string> body = expand_includes(entry_path);
+    if (!body) return body.error();
+
+    AssembledSource a;
+    // #version must be the very first line: some ES drivers reject anything,
+    // even a comment, before it.
+    a.text = es_major >= 3 ? "#version 300 es\n" : "#version 100\n";
+    for (const std::string& e : extensions) a.text += "#extension " + e + " : require\n";
+    for (const ShaderDefine& d : defines) {
+        a.text += "#define " + d.name + (d.value.empty() ? "" : " " + d.value) + "\n";
+        if (!a.defines_summary.empty()) a.defines_summary += ' ';
+        a.defines_summary += d.name + (d.value.empty() ? "" : "=" + d.value);
+    }
+    a.text += preamble(stage, es_major);
+    a.text += "// ---- " + entry_path + "\n";
+    a.text += *body;
+    return a;
+}
+
+}  // namespace px

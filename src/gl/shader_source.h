@@ -1,0 +1,43 @@
+// Shader text: the files of shaders_es/ (embedded at build time), #include
+// resolution, and assembling a full source for one variant.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/result.h"
+
+namespace px {
+
+struct EmbeddedShader {
+    const char* path;  // relative to shaders_es/, e.g. "chunks/lighting.glsl"
+    const char* text;
+};
+const std::vector<EmbeddedShader>& embedded_shaders();
+
+enum class ShaderStage { vertex, fragment };
+
+struct ShaderDefine {
+    std::string name;
+    std::string value;  // empty: "#define NAME"
+};
+
+// Expands `#include "path"` lines (each file at most once per source; a
+// missing file is an error naming the includer and its line).
+Result<std::string> expand_includes(const std::string& entry_path);
+
+// The full source for one stage of one variant: `#version` first (nothing may
+// precede it, comments included, on some ES drivers), then any #extension
+// lines, then the injected defines and the ES 2.0/3.0 compatibility preamble,
+// then the expanded body. `es_major` is 2 (GLSL ES 1.00) or 3 (GLSL ES 3.00).
+struct AssembledSource {
+    std::string text;
+    // For messages: the variant's defines in one line.
+    std::string defines_summary;
+};
+Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderStage stage, int es_major,
+                                        const std::vector<std::string>& extensions,
+                                        const std::vector<ShaderDefine>& defines);
+
+}  // namespace px

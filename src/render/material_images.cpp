@@ -1,0 +1,100 @@
+#include "render/material_images.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace px {
+
+namespace {
+
+std::string resolve(const std::string& base_dir, const std::string& path) {
+    if (path.empty() || path[0] == '/' || base_dir.empty()) return path;
+    return base_dir + "/" + path;
+}
+
+std::uint8_t to_byte(float v) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
+
+Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir) {
+    const TextureSource& s = m.height;
+    switch (s.kind) {
+        case TextureSource::Kind::none: {
+            FieldSpec flat;
+            flat.kind = FieldKind::flat;
+            flat.size = 4;
+            flat.level = 1.0f;
+            return make_height_field(flat);
+        }
+        case TextureSource::Kind::procedural: return make_height_field(s.field);
+        case TextureSource::Kind::file: {
+            Result<Image> image = load_image(resolve(base_dir, s.path), 1);
+            if (!image) return image.error();
+            return height_field_from_image(*image, s.convention);
+        }
+        case TextureSource::Kind::color: {
+            FieldSpec flat;
+            flat.kind = FieldKind::flat;
+            flat.size = 4;
+            flat.level = std::clamp(s.color.r, 0.0f, 1.0f);
+            return make_height_field(flat);
+        }
+    }
+    return make_error("unhandled height source");
+}
+
+}  // namespace
+
+Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::string& base_dir) {
+    const std::string where = "material '" + m.name + "'";
+    MaterialImages out;
+    Result<HeightField> field = load_height(m, base_dir);
+    if (!field) return with_context(where + " height", field.error());
+    out.field = std::move(*field);
+
+    // Normal map: derived from the height field so it matches the traced
+    // surface, unless the material gives one.
+    if (m.normal.kind == TextureSource::Kind::file) {
+        Result<Image> normal = load_image(resolve(base_dir, m.normal.path), 4);
+        if (!normal) return with_context(where + " normal", normal.error());
+        if (m.pack_height_in_normal_alpha) {
+            if (normal->width != out.field.width || normal->height != out.field.height)
+                return make_error(where + ": the normal map (" + std::to_string(normal->width) + "x" +
+                                  std::to_string(normal->height) + ") and height map (" +
+                                  std::to_string(out.field.width) + "x" + std::to_string(out.field.height) +
+                                  ") must be the same size to pack height into the normal map's alpha");
+            for (int y = 0; y < normal->height; ++y)
+                for (int x = 0; x < normal->width; ++x) normal->texel(x, y)[3] = to_byte(out.field.at(x, y));
+        }
+        out.normal = std::move(*normal);
+    } else {
+        out.normal = derive_normal_map(out.field, m.height_scale, m.pack_height_in_normal_alpha);
+    }
+    if (!m.pack_height_in_normal_alpha) out.height = height_image(out.field);
+
+    switch (m.albedo.kind) {
+        case TextureSource::Kind::none:
+            out.albedo = make_solid_image(4, 4, 204, 204, 204);
+            break;
+        case TextureSource::Kind::color:
+            out.albedo = make_solid_image(4, 4, to_byte(m.albedo.color.r), to_byte(m.albedo.color.g),
+                                          to_byte(m.albedo.color.b));
+            break;
+        case TextureSource::Kind::file: {
+            Result<Image> albedo = load_image(resolve(base_dir, m.albedo.path), 4);
+            if (!albedo) return with_context(where + " albedo", albedo.error());
+            out.albedo = std::move(*albedo);
+            break;
+        }
+        case TextureSource::Kind::procedural: {
+            // A procedural albedo: the field as grey levels.
+            Result<HeightField> f = make_height_field(m.albedo.field);
+            if (!f) return with_context(where + " albedo", f.error());
+            out.albedo = height_image(*f);
+            break;
+        }
+    }
+    return out;
+}
+
+}  // namespace px

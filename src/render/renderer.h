@@ -1,0 +1,70 @@
+// Draws a scene into a framebuffer of the current context. The renderer never
+// creates or owns a context: the host app (or platform/ in headless runs)
+// makes one current, then loads a scene and draws it into any framebuffer.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "effects/variant.h"
+#include "gl/caps.h"
+#include "gl/errors.h"
+#include "gl/program.h"
+#include "render/target.h"
+#include "scene/scene.h"
+
+namespace px {
+
+struct RendererOptions {
+    // Entry points for extensions (KHR_debug); nullptr: no debug messages.
+    GetProcAddress get_proc_address = nullptr;
+};
+
+// What the renderer decided for one object: shown by `parallax render` and
+// asserted by tests.
+struct DrawReport {
+    std::string object;
+    std::string material;
+    Technique requested = Technique::normal;
+    VariantKey variant;
+    std::vector<std::string> notes;  // why the variant differs from the request
+};
+
+class Renderer {
+public:
+    // Needs a current OpenGL ES 2.0 or 3.x context.
+    static Result<std::unique_ptr<Renderer>> create(const RendererOptions& options = {});
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    const Caps& caps() const { return caps_; }
+
+    // Uploads meshes and textures and builds the programs the scene needs.
+    // Replaces any scene loaded before. Errors name the object or material.
+    Status load(const SceneDesc& scene);
+    // Draws the loaded scene into `target`. GL state the renderer changes
+    // (framebuffer, viewport, program, depth and cull state, texture and
+    // buffer bindings) is restored afterwards for the host app.
+    Status draw(const RenderTarget& target);
+
+    const std::vector<DrawReport>& reports() const { return reports_; }
+    size_t program_count() const;
+
+    // Deletes every GL object (context still current).
+    void release();
+    // After a context loss: forgets every GL object without calling GL.
+    void abandon();
+
+    struct GpuScene;
+
+private:
+    Renderer() = default;
+    Caps caps_;
+    std::unique_ptr<GpuScene> scene_;
+    std::vector<DrawReport> reports_;
+};
+
+}  // namespace px

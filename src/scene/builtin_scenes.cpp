@@ -1,0 +1,231 @@
+// Scenes built into the program, written in C++ so they need no files. The
+// scene's up axis is +z; planes lie in the xy plane with u along +x, v along +y.
+#include <cmath>
+#include <utility>
+
+#include "scene/scene.h"
+
+namespace px {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+float radians(float degrees) { return degrees * kPi / 180.0f; }
+
+// Unit vector at `azimuth_deg` around +z from +x, `elevation_deg` above the xy plane.
+glm::vec3 spherical(float azimuth_deg, float elevation_deg) {
+    const float a = radians(azimuth_deg), e = radians(elevation_deg);
+    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+// A directional light coming from the given direction: LightDesc::direction is
+// the way the light travels, the opposite of where it comes from.
+LightDesc sun(float from_azimuth_deg, float elevation_deg, float intensity, glm::vec3 color = glm::vec3(1.0f)) {
+    LightDesc l;
+    l.kind = LightKind::directional;
+    l.direction = -spherical(from_azimuth_deg, elevation_deg);
+    l.color = color;
+    l.intensity = intensity;
+    return l;
+}
+
+// A camera `distance` from `target`, seen from the given azimuth and elevation.
+CameraDesc orbit(glm::vec3 target, float distance, float azimuth_deg, float elevation_deg) {
+    CameraDesc c;
+    c.target = target;
+    c.position = target + distance * spherical(azimuth_deg, elevation_deg);
+    return c;
+}
+
+TextureSource colour(glm::vec3 rgb) {
+    TextureSource s;
+    s.kind = TextureSource::Kind::color;
+    s.color = rgb;
+    return s;
+}
+
+TextureSource procedural(FieldSpec field) {
+    TextureSource s;
+    s.kind = TextureSource::Kind::procedural;
+    s.field = std::move(field);
+    return s;
+}
+
+FieldSpec field(FieldKind kind, int size = 256) {
+    FieldSpec f;
+    f.kind = kind;
+    f.size = size;
+    return f;
+}
+
+MaterialDesc material(std::string name, glm::vec3 albedo, FieldSpec height, float height_scale,
+                      TechniqueOptions technique, glm::vec2 uv_scale = glm::vec2(1.0f)) {
+    MaterialDesc m;
+    m.name = std::move(name);
+    m.albedo = colour(albedo);
+    m.height = procedural(std::move(height));
+    m.height_scale = height_scale;
+    m.uv.scale = uv_scale;
+    m.technique = technique;
+    return m;
+}
+
+TechniqueOptions technique(Technique t, ShadowMode shadow = ShadowMode::none, int max_samples = 32) {
+    TechniqueOptions o;
+    o.technique = t;
+    o.shadow = shadow;
+    o.max_samples = max_samples;
+    return o;
+}
+
+ObjectDesc object(std::string name, MeshDesc mesh, std::string material_name, glm::vec3 translate = glm::vec3(0.0f),
+                  glm::vec3 rotate_deg = glm::vec3(0.0f)) {
+    ObjectDesc o;
+    o.name = std::move(name);
+    o.mesh = mesh;
+    o.material = std::move(material_name);
+    o.transform.translate = translate;
+    o.transform.rotate_deg = rotate_deg;
+    return o;
+}
+
+MeshDesc plane(float size) {
+    MeshDesc m;
+    m.kind = MeshKind::plane;
+    m.size = size;
+    return m;
+}
+
+const glm::vec3 kBrickRed{0.58f, 0.27f, 0.19f};
+const glm::vec3 kPaleStone{0.82f, 0.79f, 0.72f};
+
+// Where parallax matters: a low camera looking across relief, with one low
+// light raking from the side so joints and glyphs cast shadows.
+SceneDesc default_scene() {
+    SceneDesc s;
+    s.name = "default";
+    s.camera = orbit({0.0f, 0.4f, 0.0f}, 4.2f, -90.0f, 17.0f);
+    s.ambient = glm::vec3(0.10f);
+    s.background = {0.05f, 0.06f, 0.09f};
+    // From the left and slightly in front, 20 degrees up: vertical joints are
+    // shadowed along their left walls, horizontal ones a little.
+    LightDesc light = sun(200.0f, 20.0f, 2.2f, {1.0f, 0.95f, 0.88f});
+    light.angular_radius_deg = 1.5f;
+    s.lights = {light};
+
+    TechniqueOptions pom = technique(Technique::pom, ShadowMode::soft, 32);
+    pom.depth_write = true;  // the relief, not the polygon, meets the neighbouring plane
+    FieldSpec bricks = field(FieldKind::bricks);
+    FieldSpec text = field(FieldKind::text, 512);  // 8 glyphs across: 512 texels keep their edges crisp
+    text.text = "PARALLAX";
+    s.materials = {material("bricks", kBrickRed, bricks, 0.06f, pom, glm::vec2(2.0f)),
+                   material("lettering", kPaleStone, text, 0.06f, pom)};
+    s.objects = {object("brick floor", plane(1.8f), "bricks", {-0.95f, 0.4f, 0.0f}),
+                 object("text slab", plane(1.8f), "lettering", {0.95f, 0.4f, 0.0f})};
+    return s;
+}
+
+SceneDesc bricks_scene() {
+    SceneDesc s;
+    s.name = "bricks";
+    s.camera = orbit({0.0f, 0.0f, 0.0f}, 3.2f, -90.0f, 45.0f);
+    s.lights = {sun(225.0f, 50.0f, 1.6f)};
+    s.materials = {material("bricks", kBrickRed, field(FieldKind::bricks), 0.05f, technique(Technique::pom),
+                            glm::vec2(2.0f))};
+    s.objects = {object("wall", plane(2.4f), "bricks")};
+    return s;
+}
+
+// A square pit seen from straight above and lit from -x at 25 degrees: the
+// shadow of the -x wall covers the floor next to it (depth / tan 25 = 0.21 of
+// the tile, of the pit's 0.5), and the rest of the floor is lit.
+SceneDesc pit_scene() {
+    SceneDesc s;
+    s.name = "pit";
+    s.camera.position = {0.0f, 0.0f, 2.3f};
+    s.camera.target = {0.0f, 0.0f, 0.0f};
+    s.camera.up = {0.0f, 1.0f, 0.0f};  // +z would be parallel to the view
+    s.ambient = glm::vec3(0.05f);
+    s.lights = {sun(180.0f, 25.0f, 1.5f)};
+    TechniqueOptions pom = technique(Technique::pom, ShadowMode::hard, 64);
+    pom.min_samples = 16;
+    pom.shadow_samples = 32;
+    FieldSpec pit = field(FieldKind::pit);
+    pit.radius = 0.25f;
+    s.materials = {material("pit", {0.75f, 0.73f, 0.70f}, pit, 0.1f, pom)};
+    s.objects = {object("ground", plane(2.0f), "pit")};
+    return s;
+}
+
+// Curved meshes: the tangent frame turns across each surface, so a wrong
+// frame shows as bumps that shift the wrong way. uv scales keep tiles square.
+SceneDesc shapes_scene() {
+    SceneDesc s;
+    s.name = "shapes";
+    s.camera = orbit({0.0f, 0.0f, 0.7f}, 5.0f, -90.0f, 22.0f);
+    LightDesc fill;
+    fill.kind = LightKind::point;
+    fill.position = {0.0f, -1.8f, 2.5f};
+    fill.color = {0.65f, 0.75f, 1.0f};
+    fill.intensity = 1.0f;
+    s.lights = {sun(135.0f, 40.0f, 1.6f), fill};
+
+    FieldSpec bumps = field(FieldKind::hemispheres);
+    bumps.count = 2;
+    FieldSpec cones = field(FieldKind::cones);
+    cones.count = 2;
+    FieldSpec waves = field(FieldKind::sine);
+    waves.frequency = 2.0f;
+    TechniqueOptions relief = technique(Technique::relief);
+    s.materials = {
+        material("bumps", {0.30f, 0.55f, 0.75f}, bumps, 0.04f, technique(Technique::pom, ShadowMode::hard),
+                 {6.0f, 3.0f}),
+        material("cones", {0.80f, 0.60f, 0.25f}, cones, 0.05f, relief, {6.0f, 2.0f}),
+        material("waves", kPaleStone, waves, 0.03f, technique(Technique::steep), glm::vec2(3.0f)),
+    };
+
+    MeshDesc sphere;
+    sphere.kind = MeshKind::sphere;
+    sphere.radius = 0.9f;
+    MeshDesc torus;
+    torus.kind = MeshKind::torus;
+    torus.radius = 0.8f;
+    torus.tube_radius = 0.3f;
+    s.objects = {
+        object("sphere", sphere, "bumps", {-1.2f, 0.0f, 0.9f}),
+        object("torus", torus, "cones", {1.2f, 0.0f, 1.05f}, {60.0f, 0.0f, 0.0f}),
+        object("floor", plane(6.0f), "waves"),
+    };
+    return s;
+}
+
+struct Builtin {
+    const char* name;
+    SceneDesc (*build)();
+};
+
+constexpr Builtin kBuiltins[] = {
+    {"default", default_scene},
+    {"bricks", bricks_scene},
+    {"pit", pit_scene},
+    {"shapes", shapes_scene},
+};
+
+}  // namespace
+
+std::vector<std::string> builtin_scene_names() {
+    std::vector<std::string> names;
+    for (const Builtin& b : kBuiltins) names.emplace_back(b.name);
+    return names;
+}
+
+Result<SceneDesc> builtin_scene(const std::string& name) {
+    for (const Builtin& b : kBuiltins)
+        if (name == b.name) return b.build();
+    std::string known;
+    for (const Builtin& b : kBuiltins) known += (known.empty() ? "" : ", ") + std::string(b.name);
+    return make_error("unknown built-in scene '" + name + "' (built-in: " + known + ")");
+}
+
+}  // namespace px

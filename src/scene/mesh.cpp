@@ -1,0 +1,393 @@
+#include "scene/mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace px {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+
+struct MeshKindName {
+    MeshKind kind;
+    const char* name;
+};
+
+constexpr std::array<MeshKindName, 4> kMeshKinds = {{
+    {MeshKind::plane, "plane"},
+    {MeshKind::cube, "cube"},
+    {MeshKind::sphere, "sphere"},
+    {MeshKind::torus, "torus"},
+}};
+
+bool is_finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+bool is_finite(const glm::vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+
+// Appends the two triangles of quad a-b-c-d (counter-clockwise seen from the
+// side it faces).
+void push_quad(Mesh& mesh, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+}
+
+// Any unit vector orthogonal to unit `n`: project the axis least aligned with it.
+glm::vec3 any_orthogonal(const glm::vec3& n) {
+    const glm::vec3 a = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z)
+                            ? glm::vec3(1.0f, 0.0f, 0.0f)
+                            : (std::abs(n.y) <= std::abs(n.z) ? glm::vec3(0.0f, 1.0f, 0.0f)
+                                                              : glm::vec3(0.0f, 0.0f, 1.0f));
+    return glm::normalize(a - n * glm::dot(n, a));
+}
+
+// Angle of the triangle's corner between edges `a` and `b` (both non-zero).
+float corner_angle(const glm::vec3& a, const glm::vec3& b) {
+    const float c = glm::dot(a, b) / std::sqrt(glm::dot(a, a) * glm::dot(b, b));
+    return std::acos(std::clamp(c, -1.0f, 1.0f));
+}
+
+// What one triangle tells its three corners.
+struct TriangleFrame {
+    bool has_area = false;        // non-degenerate in space: face normal and angles valid
+    bool usable = false;          // also non-degenerate in uv: t and b valid
+    glm::vec3 face_normal{0.0f};  // unit
+    glm::vec3 t{0.0f};            // unit dP/du
+    glm::vec3 b{0.0f};            // unit dP/dv
+    std::array<float, 3> angle{};
+    float world_area = 0.0f;
+    float uv_area = 0.0f;
+};
+
+TriangleFrame triangle_frame(const Vertex& v0, const Vertex& v1, const Vertex& v2) {
+    TriangleFrame f;
+    const glm::vec3 e1 = v1.position - v0.position;
+    const glm::vec3 e2 = v2.position - v0.position;
+    const glm::vec3 cr = glm::cross(e1, e2);
+    const float cr_len = glm::length(cr);
+    // Relative thresholds: a sliver is degenerate whatever the mesh's scale.
+    if (!(cr_len > 1e-7f * (glm::dot(e1, e1) + glm::dot(e2, e2)))) return f;
+    f.has_area = true;
+    f.face_normal = cr / cr_len;
+    f.world_area = 0.5f * cr_len;
+    const glm::vec3 e3 = v2.position - v1.position;
+    f.angle = {corner_angle(e1, e2), corner_angle(-e1, e3), corner_angle(-e2, -e3)};
+
+    const glm::vec2 d1 = v1.uv - v0.uv;
+    const glm::vec2 d2 = v2.uv - v0.uv;
+    const float det = d1.x * d2.y - d2.x * d1.y;  // twice the signed uv area
+    if (!(std::abs(det) > 1e-7f * (glm::dot(d1, d1) + glm::dot(d2, d2)))) return f;
+    // Solve e1 = d1.x T + d1.y B, e2 = d2.x T + d2.y B for T = dP/du, B = dP/dv.
+    // Both are non-zero: the uv -> position map is affine and injective here.
+    const glm::vec3 t = (e1 * d2.y - e2 * d1.y) / det;
+    const glm::vec3 b = (e2 * d1.x - e1 * d2.x) / det;
+    const float t_len = glm::length(t);
+    const float b_len = glm::length(b);
+    if (!(t_len > 0.0f && b_len > 0.0f && std::isfinite(t_len) && std::isfinite(b_len))) return f;
+    f.usable = true;
+    f.t = t / t_len;
+    f.b = b / b_len;
+    f.uv_area = 0.5f * std::abs(det);
+    return f;
+}
+
+Status validate_for_tangents(const Mesh& mesh) {
+    const std::size_t n_idx = mesh.indices.size();
+    if (n_idx % 3 != 0)
+        return make_error("mesh: index count " + std::to_string(n_idx) +
+                          " is not a multiple of 3 (triangle list expected)");
+    const std::size_t n_vert = mesh.vertices.size();
+    for (std::size_t i = 0; i < n_idx; ++i) {
+        if (mesh.indices[i] >= n_vert)
+            return make_error("mesh: index " + std::to_string(i) + " (triangle " +
+                              std::to_string(i / 3) + ") is " + std::to_string(mesh.indices[i]) +
+                              ", out of range for " + std::to_string(n_vert) + " vertices");
+    }
+    for (std::size_t i = 0; i < n_vert; ++i) {
+        const Vertex& v = mesh.vertices[i];
+        const char* what = !is_finite(v.position) ? "position"
+                           : !is_finite(v.normal) ? "normal"
+                           : !is_finite(v.uv)     ? "uv"
+                                                  : nullptr;
+        if (what)
+            return make_error("mesh: vertex " + std::to_string(i) + " has a non-finite " + what);
+    }
+    return {};
+}
+
+}  // namespace
+
+const char* mesh_kind_name(MeshKind kind) {
+    for (const MeshKindName& k : kMeshKinds)
+        if (k.kind == kind) return k.name;
+    return "unknown";
+}
+
+Result<MeshKind> parse_mesh_kind(const std::string& name) {
+    std::string known;
+    for (const MeshKindName& k : kMeshKinds) {
+        if (name == k.name) return k.kind;
+        known += known.empty() ? "" : ", ";
+        known += k.name;
+    }
+    return make_error("unknown mesh kind '" + name + "' (known: " + known + ")");
+}
+
+Status generate_tangents(Mesh& mesh) {
+    if (Status s = validate_for_tangents(mesh); !s) return s;
+
+    const std::size_t tri_count = mesh.indices.size() / 3;
+    std::vector<TriangleFrame> tris(tri_count);
+    for (std::size_t f = 0; f < tri_count; ++f) {
+        const std::uint32_t* idx = &mesh.indices[3 * f];
+        tris[f] =
+            triangle_frame(mesh.vertices[idx[0]], mesh.vertices[idx[1]], mesh.vertices[idx[2]]);
+    }
+
+    // Effective unit normal per vertex; a zero normal falls back to the
+    // angle-weighted face normal so the frame is still defined.
+    std::vector<glm::vec3> face_sum(mesh.vertices.size(), glm::vec3(0.0f));
+    for (std::size_t f = 0; f < tri_count; ++f)
+        if (tris[f].has_area)
+            for (int c = 0; c < 3; ++c)
+                face_sum[mesh.indices[3 * f + c]] += tris[f].face_normal * tris[f].angle[c];
+    std::vector<glm::vec3> normal(mesh.vertices.size());
+    for (std::size_t v = 0; v < normal.size(); ++v) {
+        const glm::vec3 n = mesh.vertices[v].normal;
+        const glm::vec3 fs = face_sum[v];
+        normal[v] = glm::length(n) > 1e-12f    ? glm::normalize(n)
+                    : glm::length(fs) > 1e-12f ? glm::normalize(fs)
+                                               : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+
+    // The handedness a triangle asks of a corner: whether (dP/du, dP/dv, n) is
+    // right-handed. It equals the sign of the uv area for counter-clockwise
+    // triangles, but does not depend on winding.
+    auto corner_sign = [&](std::size_t f, std::uint32_t v) {
+        return glm::dot(normal[v], glm::cross(tris[f].t, tris[f].b)) >= 0.0f ? 1 : -1;
+    };
+
+    // Mirrored uvs: where a vertex's triangles disagree on handedness, the
+    // minority side moves to a copy of the vertex (on a tie, the w = -1 side).
+    const std::size_t original_count = mesh.vertices.size();
+    std::vector<int> votes(original_count, 0);   // sum of corner signs
+    std::vector<int> voters(original_count, 0);  // number of signed corners
+    for (std::size_t f = 0; f < tri_count; ++f) {
+        if (!tris[f].usable) continue;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = mesh.indices[3 * f + c];
+            votes[v] += corner_sign(f, v);
+            ++voters[v];
+        }
+    }
+    std::vector<std::uint32_t> copy_of(original_count, 0);  // 0: not split (index 0 never a copy)
+    for (std::size_t v = 0; v < original_count; ++v) {
+        if (std::abs(votes[v]) == voters[v]) continue;  // unanimous (or no votes)
+        copy_of[v] = static_cast<std::uint32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(mesh.vertices[v]);
+        normal.push_back(normal[v]);
+    }
+    for (std::size_t f = 0; f < tri_count; ++f) {
+        if (!tris[f].usable) continue;
+        for (int c = 0; c < 3; ++c) {
+            std::uint32_t& v = mesh.indices[3 * f + c];
+            if (v >= original_count || copy_of[v] == 0) continue;
+            const int majority = votes[v] >= 0 ? 1 : -1;
+            if (corner_sign(f, v) != majority) v = copy_of[v];
+        }
+    }
+
+    // Accumulate angle-weighted unit dP/du and dP/dv: the weight makes the
+    // result independent of how the surface around the vertex is split into
+    // triangles.
+    const std::size_t vert_count = mesh.vertices.size();
+    std::vector<glm::vec3> t_sum(vert_count, glm::vec3(0.0f));
+    std::vector<glm::vec3> b_sum(vert_count, glm::vec3(0.0f));
+    std::vector<int> sign(vert_count, 0);
+    for (std::size_t f = 0; f < tri_count; ++f) {
+        if (!tris[f].usable) continue;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = mesh.indices[3 * f + c];
+            t_sum[v] += tris[f].t * tris[f].angle[c];
+            b_sum[v] += tris[f].b * tris[f].angle[c];
+            sign[v] = corner_sign(f, v);  // unanimous after the split
+        }
+    }
+
+    for (std::size_t v = 0; v < vert_count; ++v) {
+        const glm::vec3 n = normal[v];
+        // Gram-Schmidt; fall back to t = w * cross(b, n) when the accumulated
+        // tangent is (nearly) along the normal, then to any orthogonal vector.
+        const glm::vec3 t_proj = t_sum[v] - n * glm::dot(n, t_sum[v]);
+        const glm::vec3 b_proj = b_sum[v] - n * glm::dot(n, b_sum[v]);
+        const float group_w = sign[v] < 0 ? -1.0f : 1.0f;
+        glm::vec3 t;
+        if (glm::length(t_proj) > 1e-4f * glm::length(t_sum[v]) && glm::length(t_proj) > 1e-20f)
+            t = glm::normalize(t_proj);
+        else if (glm::length(b_proj) > 1e-4f * glm::length(b_sum[v]) &&
+                 glm::length(b_proj) > 1e-20f)
+            t = glm::normalize(group_w * glm::cross(b_proj, n));
+        else
+            t = any_orthogonal(n);
+        const float handed = glm::dot(glm::cross(n, t), b_sum[v]);
+        const float w = handed > 0.0f ? 1.0f : handed < 0.0f ? -1.0f : group_w;
+        mesh.vertices[v].tangent = glm::vec4(t, w);
+    }
+
+    // World length per uv unit: each triangle's linear scale
+    // sqrt(world area / uv area), weighted by sqrt(uv area), which reduces to
+    // sum sqrt(world area) / sum sqrt(uv area). Lengths, not areas, so that
+    // large triangles do not dominate quadratically.
+    double world = 0.0, uv = 0.0;
+    for (const TriangleFrame& f : tris) {
+        if (!f.usable) continue;
+        world += std::sqrt(static_cast<double>(f.world_area));
+        uv += std::sqrt(static_cast<double>(f.uv_area));
+    }
+    mesh.units_per_uv = uv > 0.0 ? static_cast<float>(world / uv) : 1.0f;
+    return {};
+}
+
+Mesh make_plane(float size, int segments) {
+    const int n = std::max(segments, 1);
+    const auto row = static_cast<std::uint32_t>(n + 1);
+    Mesh mesh;
+    for (int j = 0; j <= n; ++j) {
+        for (int i = 0; i <= n; ++i) {
+            const glm::vec2 uv(static_cast<float>(i) / static_cast<float>(n),
+                               static_cast<float>(j) / static_cast<float>(n));
+            Vertex v;
+            v.position = glm::vec3((uv - 0.5f) * size, 0.0f);
+            v.normal = glm::vec3(0.0f, 0.0f, 1.0f);
+            v.uv = uv;
+            mesh.vertices.push_back(v);
+        }
+    }
+    for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(n); ++j)
+        for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(n); ++i) {
+            const std::uint32_t a = j * row + i;
+            push_quad(mesh, a, a + 1, a + row + 1, a + row);
+        }
+    (void)generate_tangents(mesh);  // cannot fail: indices are in range by construction
+    return mesh;
+}
+
+Mesh make_cube(float size) {
+    // Per face: normal, +u and +v directions with cross(u, v) = normal, so
+    // every face is counter-clockwise from outside with w = +1. Side faces
+    // have +v up (+z, the scene's up axis).
+    struct Face {
+        glm::vec3 n, u, v;
+    };
+    const std::array<Face, 6> faces = {{
+        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+        {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}},
+        {{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}},
+        {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},
+        {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
+    }};
+    const float h = 0.5f * size;
+    Mesh mesh;
+    for (const Face& face : faces) {
+        const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+        for (const glm::vec2 uv :
+             {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
+            Vertex v;
+            v.position =
+                h * (face.n + (2.0f * uv.x - 1.0f) * face.u + (2.0f * uv.y - 1.0f) * face.v);
+            v.normal = face.n;
+            v.uv = uv;
+            mesh.vertices.push_back(v);
+        }
+        push_quad(mesh, base, base + 1, base + 2, base + 3);
+    }
+    (void)generate_tangents(mesh);
+    return mesh;
+}
+
+Mesh make_uv_sphere(float radius, int slices, int stacks) {
+    // Poles on the z axis (the scene's up); u = 0 / 1 seam at +y, so u = 0.5
+    // faces a camera on -y and +u runs towards +x there.
+    const int ns = std::max(slices, 3);
+    const int nt = std::max(stacks, 2);
+    const auto fs = static_cast<float>(ns);
+    const auto ft = static_cast<float>(nt);
+    Mesh mesh;
+    auto push = [&](const glm::vec3& n, const glm::vec2& uv) {
+        Vertex v;
+        v.position = radius * n;
+        v.normal = n;
+        v.uv = uv;
+        mesh.vertices.push_back(v);
+    };
+    // Each pole is a row of `ns` vertices, one per pole triangle, at the
+    // triangle's middle u: no triangle collapses in uv, so every pole vertex
+    // gets a well-defined tangent (along its slice's latitude direction).
+    for (int j = 0; j < ns; ++j)
+        push({0.0f, 0.0f, -1.0f}, {(static_cast<float>(j) + 0.5f) / fs, 0.0f});
+    for (int k = 1; k < nt; ++k) {
+        const float v = static_cast<float>(k) / ft;
+        const float lat = kPi * (v - 0.5f);
+        for (int j = 0; j <= ns; ++j) {  // j = ns duplicates j = 0 with u = 1
+            const float u = static_cast<float>(j) / fs;
+            const float lon = 2.0f * kPi * u;
+            push({-std::sin(lon) * std::cos(lat), std::cos(lon) * std::cos(lat), std::sin(lat)},
+                 {u, v});
+        }
+    }
+    for (int j = 0; j < ns; ++j)
+        push({0.0f, 0.0f, 1.0f}, {(static_cast<float>(j) + 0.5f) / fs, 1.0f});
+
+    const auto s = static_cast<std::uint32_t>(ns);
+    const std::uint32_t row = s + 1;
+    const std::uint32_t rings = static_cast<std::uint32_t>(nt) - 1;
+    // Vertex j of interior ring k, k in 1..rings.
+    auto ring = [&](std::uint32_t k, std::uint32_t j) { return s + (k - 1) * row + j; };
+    const std::uint32_t north = s + rings * row;
+    for (std::uint32_t j = 0; j < s; ++j)
+        mesh.indices.insert(mesh.indices.end(), {j, ring(1, j + 1), ring(1, j)});
+    for (std::uint32_t k = 1; k < rings; ++k)
+        for (std::uint32_t j = 0; j < s; ++j)
+            push_quad(mesh, ring(k, j), ring(k, j + 1), ring(k + 1, j + 1), ring(k + 1, j));
+    for (std::uint32_t j = 0; j < s; ++j)
+        mesh.indices.insert(mesh.indices.end(), {ring(rings, j), ring(rings, j + 1), north + j});
+    (void)generate_tangents(mesh);
+    return mesh;
+}
+
+Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tube_segments) {
+    const int nr = std::max(ring_segments, 3);
+    const int nt = std::max(tube_segments, 3);
+    Mesh mesh;
+    // u = 0 / 1 and v = 0 / 1 seams are duplicated so uvs stay continuous per
+    // triangle. v = 0 is the outer equator, v = 0.25 the top.
+    for (int j = 0; j <= nt; ++j) {
+        const float v = static_cast<float>(j) / static_cast<float>(nt);
+        const float tube = 2.0f * kPi * v;
+        for (int i = 0; i <= nr; ++i) {
+            const float u = static_cast<float>(i) / static_cast<float>(nr);
+            const float around = 2.0f * kPi * u;
+            const glm::vec3 radial(std::cos(around), std::sin(around), 0.0f);
+            const glm::vec3 n = std::cos(tube) * radial + glm::vec3(0.0f, 0.0f, std::sin(tube));
+            Vertex vert;
+            vert.position = ring_radius * radial + tube_radius * n;
+            vert.normal = n;
+            vert.uv = {u, v};
+            mesh.vertices.push_back(vert);
+        }
+    }
+    const auto row = static_cast<std::uint32_t>(nr + 1);
+    for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(nt); ++j)
+        for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(nr); ++i) {
+            const std::uint32_t a = j * row + i;
+            push_quad(mesh, a, a + 1, a + row + 1, a + row);
+        }
+    (void)generate_tangents(mesh);
+    return mesh;
+}
+
+}  // namespace px

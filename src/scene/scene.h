@@ -1,0 +1,127 @@
+// The scene description: what a scene file (JSON) or a built-in scene asks
+// for. Plain data: no GL here.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "assets/heightfield.h"
+#include "core/result.h"
+#include "effects/technique.h"
+#include "scene/mesh.h"
+
+namespace px {
+
+struct CameraDesc {
+    glm::vec3 position{0.0f, -3.0f, 1.0f};
+    glm::vec3 target{0.0f, 0.0f, 0.0f};
+    glm::vec3 up{0.0f, 0.0f, 1.0f};
+    float fov_y_deg = 50.0f;
+    float near_plane = 0.05f;
+    float far_plane = 50.0f;
+};
+
+enum class LightKind { directional, point };
+
+struct LightDesc {
+    LightKind kind = LightKind::directional;
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};  // directional: the way the light travels
+    glm::vec3 position{0.0f, 0.0f, 3.0f};    // point
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    // Angular radius of the light's disc as seen from the surface: the soft
+    // shadow penumbra scales with it (0 = point-like, hard).
+    float angular_radius_deg = 2.0f;
+};
+
+// Where a texture's data comes from: a file, a procedural field, or a colour.
+struct TextureSource {
+    enum class Kind { none, file, procedural, color } kind = Kind::none;
+    std::string path;                 // file (resolved against the scene file's folder)
+    FieldSpec field;                  // procedural
+    glm::vec3 color{0.8f};            // color
+    HeightConvention convention = HeightConvention::height;  // file height maps
+};
+
+struct UvTransform {
+    glm::vec2 scale{1.0f};
+    glm::vec2 offset{0.0f};
+    float rotation_deg = 0.0f;
+};
+
+struct MaterialDesc {
+    std::string name;
+    TextureSource albedo;  // default: a light grey colour
+    TextureSource height;  // default: flat at height 1 (no relief)
+    TextureSource normal;  // default: derived from the height map
+    // Depth of the relief in texture-tile units (one tile spans 1 in u and v).
+    float height_scale = 0.05f;
+    // Height of the relief's bottom relative to the polygon, in tile units
+    // (Welsh 2004's bias): the relief spans [bias, bias + scale] around the
+    // polygon. Default -scale: the relief lies under the polygon, its top on it.
+    std::optional<float> height_bias;
+    // One fetch gives normal and height (height in the normal map's alpha).
+    bool pack_height_in_normal_alpha = true;
+    UvTransform uv;
+    TechniqueOptions technique;  // technique and its options
+
+    float bias() const { return height_bias.value_or(-height_scale); }
+};
+
+struct TransformDesc {
+    glm::vec3 translate{0.0f};
+    glm::vec3 rotate_deg{0.0f};  // applied x, then y, then z
+    glm::vec3 scale{1.0f};
+    glm::mat4 matrix() const;
+};
+
+struct MeshDesc {
+    MeshKind kind = MeshKind::plane;
+    float size = 2.0f;          // plane, cube
+    int segments = 1;           // plane
+    float radius = 1.0f;        // sphere radius, torus ring radius
+    float tube_radius = 0.35f;  // torus
+};
+
+struct ObjectDesc {
+    std::string name;
+    MeshDesc mesh;
+    TransformDesc transform;
+    std::string material;  // name of an entry in SceneDesc::materials
+};
+
+struct SceneDesc {
+    std::string name;
+    std::string base_dir;  // folder that relative texture paths resolve against
+    CameraDesc camera;
+    std::vector<LightDesc> lights;
+    std::vector<MaterialDesc> materials;
+    std::vector<ObjectDesc> objects;
+    glm::vec3 ambient{0.08f};
+    glm::vec3 background{0.02f, 0.02f, 0.03f};
+
+    const MaterialDesc* find_material(const std::string& name) const;
+};
+
+// Scenes built into the program.
+std::vector<std::string> builtin_scene_names();
+Result<SceneDesc> builtin_scene(const std::string& name);
+
+// Parses a scene from JSON text. `origin` names the source in errors (a file
+// path); errors give line and column for malformed JSON, and the JSON path of
+// the offending field (e.g. materials[1].technique) for unknown fields,
+// wrong types and bad values.
+Result<SceneDesc> parse_scene(const std::string& json_text, const std::string& origin);
+// Reads and parses a scene file.
+Result<SceneDesc> load_scene_file(const std::string& path);
+// Either a built-in scene's name or a path to a JSON file.
+Result<SceneDesc> load_scene(const std::string& name_or_path);
+
+// Checks cross references (object -> material) and value ranges.
+Status validate_scene(const SceneDesc& scene);
+
+}  // namespace px

@@ -1,0 +1,380 @@
+// Mesh generators and tangent frames: the frame the parallax shaders trace in
+// must be unit, orthogonal, and follow +u / +v, or the relief shifts the
+// wrong way.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <utility>
+
+#include "scene/mesh.h"
+
+namespace px {
+namespace {
+
+bool finite3(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+glm::vec3 bitangent(const Vertex& v) {
+    return v.tangent.w * glm::cross(v.normal, glm::vec3(v.tangent));
+}
+
+// Per-vertex invariants: everything finite, normal and tangent unit,
+// tangent orthogonal to the normal, w exactly +-1.
+void expect_valid_frames(const Mesh& mesh) {
+    ASSERT_FALSE(mesh.vertices.empty());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+        SCOPED_TRACE("vertex " + std::to_string(i));
+        const Vertex& v = mesh.vertices[i];
+        const glm::vec3 t(v.tangent);
+        ASSERT_TRUE(finite3(v.position));
+        ASSERT_TRUE(finite3(v.normal));
+        ASSERT_TRUE(finite3(t));
+        ASSERT_TRUE(std::isfinite(v.uv.x) && std::isfinite(v.uv.y));
+        EXPECT_NEAR(glm::length(v.normal), 1.0f, 1e-4f);
+        EXPECT_NEAR(glm::length(t), 1.0f, 1e-4f);
+        EXPECT_LT(std::abs(glm::dot(t, v.normal)), 1e-4f);
+        EXPECT_TRUE(v.tangent.w == 1.0f || v.tangent.w == -1.0f) << v.tangent.w;
+    }
+    EXPECT_TRUE(std::isfinite(mesh.units_per_uv));
+    EXPECT_GT(mesh.units_per_uv, 0.0f);
+}
+
+// Per-triangle checks: the geometric face normal agrees with the vertex
+// normals (counter-clockwise from outside), and each corner's tangent and
+// bitangent point along the triangle's dP/du and dP/dv.
+void expect_triangles_follow_uv(const Mesh& mesh) {
+    ASSERT_EQ(mesh.indices.size() % 3, 0u);
+    std::size_t with_uv_area = 0;
+    for (std::size_t f = 0; f < mesh.indices.size(); f += 3) {
+        SCOPED_TRACE("triangle " + std::to_string(f / 3));
+        const Vertex* v[3];
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_LT(mesh.indices[f + c], mesh.vertices.size());
+            v[c] = &mesh.vertices[mesh.indices[f + c]];
+        }
+        const glm::vec3 e1 = v[1]->position - v[0]->position;
+        const glm::vec3 e2 = v[2]->position - v[0]->position;
+        const glm::vec3 face = glm::cross(e1, e2);
+        if (glm::length(face) < 1e-9f) continue;
+        for (int c = 0; c < 3; ++c) EXPECT_GT(glm::dot(face, v[c]->normal), 0.0f) << "corner " << c;
+
+        const glm::vec2 d1 = v[1]->uv - v[0]->uv;
+        const glm::vec2 d2 = v[2]->uv - v[0]->uv;
+        const float det = d1.x * d2.y - d2.x * d1.y;
+        if (std::abs(det) < 1e-9f) continue;
+        ++with_uv_area;
+        const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
+        const glm::vec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GT(glm::dot(dpdu, glm::vec3(v[c]->tangent)), 0.0f) << "corner " << c;
+            EXPECT_GT(glm::dot(dpdv, bitangent(*v[c])), 0.0f) << "corner " << c;
+        }
+    }
+    EXPECT_GT(with_uv_area, 0u);
+}
+
+void expect_good_mesh(const Mesh& mesh) {
+    expect_valid_frames(mesh);
+    expect_triangles_follow_uv(mesh);
+}
+
+void expect_outward(const Mesh& mesh, const std::function<glm::vec3(const glm::vec3&)>& centre_of) {
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const Vertex& v = mesh.vertices[i];
+        EXPECT_GT(glm::dot(v.normal, v.position - centre_of(v.position)), 0.0f) << "vertex " << i;
+    }
+}
+
+TEST(MeshKind, NamesRoundTrip) {
+    for (MeshKind k : {MeshKind::plane, MeshKind::cube, MeshKind::sphere, MeshKind::torus}) {
+        Result<MeshKind> parsed = parse_mesh_kind(mesh_kind_name(k));
+        ASSERT_TRUE(parsed.ok()) << mesh_kind_name(k);
+        EXPECT_EQ(*parsed, k);
+    }
+    EXPECT_STREQ(mesh_kind_name(MeshKind::sphere), "sphere");
+}
+
+TEST(MeshKind, UnknownNameListsKnownOnes) {
+    Result<MeshKind> r = parse_mesh_kind("teapot");
+    ASSERT_FALSE(r.ok());
+    const std::string& m = r.error().message;
+    for (const char* name : {"teapot", "plane", "cube", "sphere", "torus"})
+        EXPECT_NE(m.find(name), std::string::npos) << m;
+    EXPECT_FALSE(parse_mesh_kind("Plane").ok());
+}
+
+TEST(MeshPlane, FrameIsExactlyXYZ) {
+    for (int segments : {1, 3}) {
+        const Mesh mesh = make_plane(2.0f, segments);
+        EXPECT_EQ(mesh.vertices.size(), static_cast<std::size_t>((segments + 1) * (segments + 1)));
+        EXPECT_EQ(mesh.indices.size(), static_cast<std::size_t>(6 * segments * segments));
+        for (const Vertex& v : mesh.vertices) {
+            EXPECT_EQ(v.normal, glm::vec3(0, 0, 1));
+            EXPECT_NEAR(v.tangent.x, 1.0f, 1e-6f);
+            EXPECT_NEAR(v.tangent.y, 0.0f, 1e-6f);
+            EXPECT_NEAR(v.tangent.z, 0.0f, 1e-6f);
+            EXPECT_EQ(v.tangent.w, 1.0f);
+            // uv (0,0) at (-1,-1), (1,1) at (+1,+1).
+            EXPECT_NEAR(v.position.x, 2.0f * v.uv.x - 1.0f, 1e-6f);
+            EXPECT_NEAR(v.position.y, 2.0f * v.uv.y - 1.0f, 1e-6f);
+            EXPECT_EQ(v.position.z, 0.0f);
+        }
+        expect_good_mesh(mesh);
+    }
+}
+
+TEST(MeshPlane, UnitsPerUvIsSize) {
+    EXPECT_FLOAT_EQ(make_plane(2.0f).units_per_uv, 2.0f);
+    EXPECT_FLOAT_EQ(make_plane(2.0f, 5).units_per_uv, 2.0f);
+    EXPECT_NEAR(make_plane(7.5f, 2).units_per_uv, 7.5f, 1e-5f);
+}
+
+TEST(MeshCube, FramesWindingAndOutwardNormals) {
+    const Mesh mesh = make_cube(2.0f);
+    EXPECT_EQ(mesh.vertices.size(), 24u);
+    EXPECT_EQ(mesh.indices.size(), 36u);
+    expect_good_mesh(mesh);
+    expect_outward(mesh, [](const glm::vec3&) { return glm::vec3(0.0f); });
+    for (const Vertex& v : mesh.vertices) {
+        // Axis-aligned faces: position on the face's plane, uv 0..1.
+        EXPECT_NEAR(glm::dot(v.position, v.normal), 1.0f, 1e-6f);
+        EXPECT_TRUE(v.uv.x == 0.0f || v.uv.x == 1.0f);
+        EXPECT_TRUE(v.uv.y == 0.0f || v.uv.y == 1.0f);
+    }
+    EXPECT_NEAR(mesh.units_per_uv, 2.0f, 1e-5f);
+}
+
+TEST(MeshSphere, FramesWindingAndOutwardNormals) {
+    const Mesh mesh = make_uv_sphere(1.5f, 24, 12);
+    expect_good_mesh(mesh);
+    expect_outward(mesh, [](const glm::vec3&) { return glm::vec3(0.0f); });
+    for (const Vertex& v : mesh.vertices) EXPECT_NEAR(glm::length(v.position), 1.5f, 1e-5f);
+}
+
+TEST(MeshSphere, UvLayout) {
+    const Mesh mesh = make_uv_sphere(1.0f, 16, 8);
+    float min_v = 1.0f, max_v = 0.0f;
+    for (const Vertex& v : mesh.vertices) {
+        EXPECT_GE(v.uv.x, 0.0f);
+        EXPECT_LE(v.uv.x, 1.0f);
+        min_v = std::min(min_v, v.uv.y);
+        max_v = std::max(max_v, v.uv.y);
+        // v runs south (0) to north (1): the higher the vertex, the larger v.
+        if (v.uv.y == 0.0f) {
+            EXPECT_NEAR(v.normal.z, -1.0f, 1e-6f);
+        }
+        if (v.uv.y == 1.0f) {
+            EXPECT_NEAR(v.normal.z, 1.0f, 1e-6f);
+        }
+        EXPECT_NEAR(v.normal.z, std::sin(3.14159265f * (v.uv.y - 0.5f)), 1e-5f);
+    }
+    EXPECT_EQ(min_v, 0.0f);
+    EXPECT_EQ(max_v, 1.0f);
+}
+
+TEST(MeshSphere, PolesHaveFiniteOrthogonalTangents) {
+    for (auto [slices, stacks] :
+         {std::pair{3, 2}, std::pair{4, 3}, std::pair{48, 24}, std::pair{7, 64}}) {
+        SCOPED_TRACE(std::to_string(slices) + "x" + std::to_string(stacks));
+        const Mesh mesh = make_uv_sphere(1.0f, slices, stacks);
+        expect_good_mesh(mesh);
+        int pole_vertices = 0;
+        for (const Vertex& v : mesh.vertices) {
+            if (std::abs(v.normal.z) < 1.0f - 1e-6f) continue;
+            ++pole_vertices;
+            EXPECT_NEAR(glm::length(glm::vec3(v.tangent)), 1.0f, 1e-5f);
+            EXPECT_NEAR(v.tangent.z, 0.0f, 1e-5f);
+        }
+        EXPECT_GE(pole_vertices, 2);
+    }
+}
+
+TEST(MeshTorus, FramesWindingAndOutwardNormals) {
+    const float ring = 1.0f;
+    const Mesh mesh = make_torus(ring, 0.35f, 32, 16);
+    expect_good_mesh(mesh);
+    // Outward from the tube's centre line: the circle of radius `ring` in z = 0.
+    expect_outward(mesh, [ring](const glm::vec3& p) {
+        const glm::vec2 xy(p.x, p.y);
+        return glm::vec3(ring * glm::normalize(xy), 0.0f);
+    });
+    for (const Vertex& v : mesh.vertices) {
+        const glm::vec3 centre(ring * glm::normalize(glm::vec2(v.position)), 0.0f);
+        EXPECT_NEAR(glm::length(v.position - centre), 0.35f, 1e-5f);
+    }
+}
+
+TEST(MeshGenerators, NoSplitsAndStableUnderRegeneration) {
+    for (const Mesh& generated : {make_plane(2.0f, 4), make_cube(1.0f), make_uv_sphere(1.0f, 12, 6),
+                                  make_torus(1.0f, 0.3f, 12, 8)}) {
+        Mesh again = generated;
+        ASSERT_TRUE(generate_tangents(again).ok());
+        ASSERT_EQ(again.vertices.size(), generated.vertices.size());
+        EXPECT_EQ(again.indices, generated.indices);
+        EXPECT_FLOAT_EQ(again.units_per_uv, generated.units_per_uv);
+        for (std::size_t i = 0; i < again.vertices.size(); ++i)
+            EXPECT_LT(glm::length(again.vertices[i].tangent - generated.vertices[i].tangent),
+                      1e-6f);
+    }
+}
+
+// Two unit quads sharing the edge x = 1; the right one has u mirrored
+// (u = 2 - x), as when a texture is mirrored across a symmetry seam.
+Mesh mirrored_quads() {
+    Mesh mesh;
+    const glm::vec2 xy[6] = {{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
+    for (const glm::vec2& p : xy) {
+        Vertex v;
+        v.position = glm::vec3(p, 0.0f);
+        v.normal = glm::vec3(0, 0, 1);
+        v.uv = glm::vec2(p.x <= 1.0f ? p.x : 2.0f - p.x, p.y);
+        v.tangent = glm::vec4(0.0f);  // must be overwritten
+        mesh.vertices.push_back(v);
+    }
+    mesh.indices = {0, 1, 4, 0, 4, 3,   // left: u along +x
+                    1, 2, 5, 1, 5, 4};  // right: u along -x
+    return mesh;
+}
+
+TEST(MeshTangents, MirroredUvsSplitSharedVertices) {
+    Mesh mesh = mirrored_quads();
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    // The two shared vertices (1 and 4) are duplicated, nothing else.
+    ASSERT_EQ(mesh.vertices.size(), 8u);
+    expect_good_mesh(mesh);
+
+    for (std::size_t f = 0; f < 4; ++f) {
+        const bool right = f >= 2;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t i = mesh.indices[3 * f + c];
+            const Vertex& v = mesh.vertices[i];
+            SCOPED_TRACE("triangle " + std::to_string(f) + " vertex " + std::to_string(i));
+            EXPECT_EQ(v.tangent.w, right ? -1.0f : 1.0f);
+            EXPECT_NEAR(v.tangent.x, right ? -1.0f : 1.0f, 1e-6f);
+            // Both sides: bitangent along +v = +y.
+            EXPECT_NEAR(bitangent(v).y, 1.0f, 1e-6f);
+        }
+    }
+    // No vertex is shared across the mirror seam any more.
+    for (std::size_t l = 0; l < 6; ++l)
+        for (std::size_t r = 6; r < 12; ++r) EXPECT_NE(mesh.indices[l], mesh.indices[r]);
+    // The copies sit where the originals were.
+    int at_seam = 0;
+    for (const Vertex& v : mesh.vertices) at_seam += v.position.x == 1.0f;
+    EXPECT_EQ(at_seam, 4);
+    EXPECT_FLOAT_EQ(mesh.units_per_uv, 1.0f);
+}
+
+TEST(MeshTangents, IndexCountNotMultipleOfThree) {
+    Mesh mesh = make_plane();
+    mesh.indices.push_back(0);
+    const Mesh before = mesh;
+    const Status s = generate_tangents(mesh);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("multiple of 3"), std::string::npos) << s.error().message;
+    EXPECT_NE(s.error().message.find("7"), std::string::npos) << s.error().message;
+    EXPECT_EQ(mesh.vertices.size(), before.vertices.size());
+}
+
+TEST(MeshTangents, IndexOutOfRange) {
+    Mesh mesh = make_plane();  // 4 vertices, 6 indices
+    mesh.indices[4] = 17;
+    const Status s = generate_tangents(mesh);
+    ASSERT_FALSE(s.ok());
+    const std::string& m = s.error().message;
+    EXPECT_NE(m.find("index 4"), std::string::npos) << m;
+    EXPECT_NE(m.find("17"), std::string::npos) << m;
+    EXPECT_NE(m.find("4 vertices"), std::string::npos) << m;
+
+    mesh.indices[4] = 4;  // one past the end
+    EXPECT_FALSE(generate_tangents(mesh).ok());
+}
+
+TEST(MeshTangents, NonFinitePositionIsAnError) {
+    Mesh mesh = make_plane();
+    mesh.vertices[2].position.y = std::nanf("");
+    const Status s = generate_tangents(mesh);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("vertex 2"), std::string::npos) << s.error().message;
+}
+
+TEST(MeshTangents, DegenerateTrianglesAndUnusedVerticesStayFinite) {
+    Mesh mesh;
+    auto add = [&](glm::vec3 p, glm::vec2 uv, glm::vec3 n) {
+        Vertex v;
+        v.position = p;
+        v.uv = uv;
+        v.normal = n;
+        mesh.vertices.push_back(v);
+    };
+    const glm::vec3 up(0, 0, 1);
+    add({0, 0, 0}, {0, 0}, up);                  // 0
+    add({1, 0, 0}, {0, 0}, up);                  // 1: same uv as 0
+    add({0, 1, 0}, {0, 0}, up);                  // 2: same uv as 0
+    add({5, 5, 5}, {1, 1}, glm::vec3(1, 0, 0));  // 3: unused, normal along the default tangent
+    add({0, 0, 0}, {0, 0}, up);                  // 4..6: collinear, but a proper uv triangle
+    add({1, 0, 0}, {1, 0}, up);
+    add({2, 0, 0}, {0, 1}, up);
+    mesh.indices = {0, 1, 2,   // zero uv area
+                    4, 5, 6,   // zero world area
+                    0, 0, 0};  // fully degenerate
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    EXPECT_EQ(mesh.vertices.size(), 7u);
+    expect_valid_frames(mesh);
+    EXPECT_EQ(mesh.units_per_uv, 1.0f);  // no usable triangle: left neutral
+    EXPECT_EQ(mesh.vertices[3].tangent.w, 1.0f);
+
+    // Same again with zero normals: the frame still comes out finite.
+    for (Vertex& v : mesh.vertices) v.normal = glm::vec3(0.0f);
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    for (const Vertex& v : mesh.vertices) {
+        ASSERT_TRUE(finite3(glm::vec3(v.tangent)));
+        EXPECT_NEAR(glm::length(glm::vec3(v.tangent)), 1.0f, 1e-5f);
+    }
+}
+
+TEST(MeshTangents, ZeroNormalFallsBackToFaceNormal) {
+    Mesh mesh = make_plane(2.0f);
+    for (Vertex& v : mesh.vertices) v.normal = glm::vec3(0.0f);
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    for (const Vertex& v : mesh.vertices) {
+        EXPECT_NEAR(v.tangent.x, 1.0f, 1e-6f);
+        EXPECT_EQ(v.tangent.w, 1.0f);
+    }
+}
+
+TEST(MeshTangents, FrameDoesNotDependOnWinding) {
+    // Clockwise triangles with the same normals and uvs: the uv map, hence
+    // the frame, is unchanged; only the uv-area sign flips.
+    // Flipping every other triangle also checks that inconsistent winding
+    // alone is not taken for mirrored uvs (no vertex gets split).
+    for (std::size_t step : {3, 6}) {
+        Mesh mesh = make_plane(2.0f, 2);
+        for (std::size_t f = 0; f < mesh.indices.size(); f += step)
+            std::swap(mesh.indices[f + 1], mesh.indices[f + 2]);
+        ASSERT_TRUE(generate_tangents(mesh).ok());
+        EXPECT_EQ(mesh.vertices.size(), 9u);
+        for (const Vertex& v : mesh.vertices)
+            EXPECT_LT(glm::length(v.tangent - glm::vec4(1, 0, 0, 1)), 1e-6f);
+    }
+}
+
+TEST(MeshTangents, RotatedUvsGiveRotatedTangent) {
+    // uv rotated 90 degrees: +u runs along +y, +v along -x.
+    Mesh mesh = make_plane(2.0f);
+    for (Vertex& v : mesh.vertices) v.uv = glm::vec2(v.uv.y, 1.0f - v.uv.x);
+    ASSERT_TRUE(generate_tangents(mesh).ok());
+    expect_good_mesh(mesh);
+    for (const Vertex& v : mesh.vertices) {
+        EXPECT_NEAR(v.tangent.y, 1.0f, 1e-6f);
+        EXPECT_EQ(v.tangent.w, 1.0f);
+        EXPECT_NEAR(bitangent(v).x, -1.0f, 1e-6f);
+    }
+}
+
+}  // namespace
+}  // namespace px

@@ -1,0 +1,15 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace px::tools {
+
+// Each subcommand registers itself and runs from its callback; the status it
+// sets is the program's exit status.
+void add_render_command(CLI::App& app);
+void add_shaders_command(CLI::App& app);
+
+void set_exit_status(int status);
+int exit_status();
+
+}  // namespace px::tools
