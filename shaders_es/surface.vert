@@ -47,7 +47,7 @@ void main() {
 #endif
     v_view_ts = view_ts;
 
-    for (int i = 0; i < PX_MAX_LIGHTS; ++i) {
+    for (int i = 0; i < PX_MAX_LIGHTS; i++) {
         highp vec3 to_light = u_light_vector[i].w > 0.5 ? u_light_vector[i].xyz - world_position.xyz
                                                         : u_light_vector[i].xyz;
         // Left unnormalised: normalising per vertex visibly damaged lighting

@@ -44,7 +44,7 @@ PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump floa
     m.height_below = m.height_above;
     if (m.height_above >= 1.0) return m;  // hit at the very top
     // GLSL ES 1.00 Appendix A: a constant bound with an early break.
-    for (int i = 1; i <= PX_MAX_SAMPLES; ++i) {
+    for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
         mediump float ray = 1.0 - float(i) * step;
         PX_HIGHP vec2 uv = uv0 + (ray - u_polygon_height) * parallax;
         mediump float h = px_trace_height(uv);

@@ -15,7 +15,7 @@ mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height
     PX_HIGHP vec2 shift = (u_height_scale / light_dir.z) * light_dir.xy;
     mediump float step = (1.0 - hit_height) / float(PX_SHADOW_SAMPLES);
 #if PX_SHADOW == PX_SHADOW_HARD
-    for (int j = 1; j <= PX_SHADOW_SAMPLES; ++j) {
+    for (int j = 1; j <= PX_SHADOW_SAMPLES; j++) {
         mediump float ray = hit_height + float(j) * step;
         mediump float h = px_trace_height(uv_hit + (ray - hit_height) * shift);
         // Half an 8-bit quantum above the ray counts as a blocker.
@@ -28,7 +28,7 @@ mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height
     // of the light's disc it hides: the blocker-to-receiver penumbra estimate
     // of Tatarchuk 2005 (w_p = w_s (d_r - d_b) / d_b) in angular form.
     mediump float steepest = -1024.0;  // tangent of blocker elevation x horizontal / light_dir.z
-    for (int j = 1; j <= PX_SHADOW_SAMPLES; ++j) {
+    for (int j = 1; j <= PX_SHADOW_SAMPLES; j++) {
         mediump float ray = hit_height + float(j) * step;
         mediump float h = px_trace_height(uv_hit + (ray - hit_height) * shift);
         steepest = max(steepest, (h - hit_height) / (ray - hit_height));

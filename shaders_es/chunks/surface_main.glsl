@@ -53,7 +53,7 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     mediump vec3 normal = normalize(normal_texel.xyz * 2.0 - 1.0);
 #endif
     mediump vec3 color = u_ambient * albedo.rgb;
-    for (int i = 0; i < PX_MAX_LIGHTS; ++i) {
+    for (int i = 0; i < PX_MAX_LIGHTS; i++) {
         if (i >= u_light_count) break;
         mediump vec3 light_dir = normalize(v_light_ts[i]);
         mediump float visibility = 1.0;

@@ -10,7 +10,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
     PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
     mediump float above = m.ray_above;  // ray height known to be above the surface
     mediump float below = m.ray_below;  // ray height known to be on or under it
-    for (int i = 0; i < PX_REFINE_STEPS; ++i) {
+    for (int i = 0; i < PX_REFINE_STEPS; i++) {
         mediump float middle = 0.5 * (above + below);
         mediump float h = px_trace_height(uv + (middle - u_polygon_height) * parallax);
         if (h >= middle) {

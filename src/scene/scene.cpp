@@ -352,7 +352,6 @@ public:
     }
     bool has(const std::string& key) const { return get(key) != nullptr; }
     std::string sub(const std::string& key) const { return field_path(path_, key); }
-    const std::string& path() const { return path_; }
 
     template <typename T>
     void read(const std::string& key, T& out) const {
@@ -424,8 +423,11 @@ void read_source(Reader& r, const json& j, const std::string& path, bool height_
         out.kind = TextureSource::Kind::color;
         f.read("color", out.color);
     } else {
-        // Checking the keys first turns {"fiel": ...} into a "did you mean 'file'".
-        Fields f(r, &j, path, {"file", "procedural", "color"});
+        // Checking the keys first turns {"fiel": ...} into a "did you mean 'file'";
+        // keys valid in some form ({"size": 64}) get the message below instead.
+        Fields f(r, &j, path,
+                 {"file", "procedural", "color", "convention", "size", "level", "count", "frequency", "mortar",
+                  "line_width", "radius", "text"});
         r.fail(path, "needs one of \"file\", \"procedural\" or \"color\"");
     }
 }

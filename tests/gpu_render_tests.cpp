@@ -1,0 +1,265 @@
+// Rendering behaviour on surfaceless Mesa, run once with an OpenGL ES 2.0
+// context and once with ES 3.0 (PX_TEST_ES). Each test states the property
+// of the techniques it checks; tolerances are in 8-bit levels.
+#include "gpu_fixture.h"
+
+#include <cstring>
+
+namespace px::test {
+namespace {
+
+const Technique kParallaxTechniques[] = {Technique::parallax, Technique::offset_limited, Technique::steep,
+                                         Technique::pom, Technique::relief};
+const Technique kMarchTechniques[] = {Technique::steep, Technique::pom, Technique::relief};
+
+PlaneScene bricks_scene() {
+    PlaneScene p;
+    p.field.kind = FieldKind::bricks;
+    p.field.size = 128;
+    p.field.count = 4;
+    return p;
+}
+
+TEST(Context, IsTheRequestedEsVersion) {
+    const Caps caps = query_caps();
+    EXPECT_EQ(caps.es_major, test_es_major()) << caps.version;
+    EXPECT_EQ(caps.es_minor, 0) << "asked for a true ES " << test_es_major() << ".0 context, got " << caps.version;
+    if (test_es_major() == 2) EXPECT_NE(caps.glsl_version.find("1.0"), std::string::npos) << caps.glsl_version;
+}
+
+// Every technique, with every option it has switched on, compiles, links and
+// draws without a GL error, and draws the plane (not just the background).
+TEST(Techniques, EachRendersWithoutGlErrors) {
+    for (const TechniqueInfo& info : technique_table()) {
+        PlaneScene p = bricks_scene();
+        p.technique = info.id;
+        p.view_angle_deg = 50.0f;
+        p.options.shadow = ShadowMode::soft;
+        p.options.depth_write = true;
+        p.options.lod = true;
+        const SceneDesc scene = p.build();
+        const Rendered r = render(scene);
+        ASSERT_EQ(r.reports.size(), 1u) << info.name;
+        EXPECT_EQ(r.reports[0].variant.technique, info.id);
+        EXPECT_EQ(r.reports[0].variant.es_major, test_es_major());
+        EXPECT_EQ(r.reports[0].variant.depth_write, (info.options & kOptDepth) != 0) << info.name;
+        // The plane covers the centre of the image; the background is near black.
+        EXPECT_GT(luminance(r.image, 64, 64, 4), 20.0) << info.name << ": the plane was not drawn";
+    }
+}
+
+// With a flat height field there is nothing to see through: every parallax
+// technique must give the normal-mapping image, with the relief's top on the
+// polygon (level 1, default bias) and with the polygon mid-relief (level
+// 128/255, exact in 8 bits, bias -level * scale). 32 samples put one of
+// steep's layers on 0.5, within 1/255 of the surface.
+TEST(Techniques, FlatHeightFieldMatchesNormalMapping) {
+    for (float level : {1.0f, 128.0f / 255.0f}) {
+        PlaneScene p;
+        p.field.kind = FieldKind::flat;
+        p.field.size = 64;
+        p.field.level = level;
+        p.height_bias = -level * p.height_scale;
+        p.view_angle_deg = 70.0f;  // grazing: offsets would be large if any
+        p.options.shadow = ShadowMode::hard;
+        p.options.min_samples = p.options.max_samples = 32;
+        p.technique = Technique::normal;
+        const Image reference = render(p.build()).image;
+        for (Technique t : kParallaxTechniques) {
+            p.technique = t;
+            const ImageDiff d = compare(render(p.build()).image, reference);
+            // Bound: steep's layer at 0.5 sits 1/510 under the stored 128/255;
+            // times the parallax vector at 70 degrees (0.08 * tan 70 = 0.22)
+            // that is 0.00043 uv, times the albedo's steepest slope (127 * 2 pi
+            // * 8 levels per uv) 2.7 levels; +1 for rounding.
+            EXPECT_LE(d.max, 4) << technique_name(t) << " at level " << level;
+        }
+    }
+}
+
+// Viewed straight on (a narrow field of view along the normal), V.xy is
+// about zero and so are the offsets: the image is the normal-mapping one.
+// At the image centre V is the normal; elsewhere it is within 0.5 degrees,
+// where a 0.08-deep relief still shifts uv by up to 0.0007 (4 levels on the
+// sine albedo's steepest slope), so the whole image is held to a small mean.
+TEST(Techniques, OffsetsVanishStraightOn) {
+    PlaneScene p = bricks_scene();
+    p.view_angle_deg = 0.0f;
+    p.distance = 60.0f;
+    p.fov_deg = 1.0f;  // V within 0.5 degrees of the normal: offsets under 0.2 texel
+    p.technique = Technique::normal;
+    auto build = [&p]() {
+        SceneDesc s = p.build();
+        s.camera.far_plane = 100.0f;
+        return s;
+    };
+    const Image reference = render(build()).image;
+    for (Technique t : kParallaxTechniques) {
+        p.technique = t;
+        const Image image = render(build()).image;
+        const ImageDiff d = compare(image, reference);
+        EXPECT_LT(d.mean, 1.5) << technique_name(t);
+        for (int y = 61; y <= 66; ++y)
+            for (int x = 61; x <= 66; ++x)
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_LE(std::abs(int(image.texel(x, y)[c]) - int(reference.texel(x, y)[c])), 2)
+                        << technique_name(t) << " at the centre pixel " << x << "," << y;
+    }
+}
+
+// At a grazing view the marched techniques see the bricks' sides and hide the
+// mortar behind them: the image must differ clearly from normal mapping.
+TEST(Techniques, MarchingDiffersFromNormalMappingAtGrazingView) {
+    PlaneScene p = bricks_scene();
+    p.view_angle_deg = 75.0f;
+    p.distance = 2.5f;
+    p.technique = Technique::normal;
+    const Image reference = render(p.build()).image;
+    for (Technique t : kMarchTechniques) {
+        p.technique = t;
+        const ImageDiff d = compare(render(p.build()).image, reference);
+        EXPECT_GT(d.mean, 4.0) << technique_name(t) << " looks like normal mapping at 75 degrees";
+    }
+}
+
+// Written depth follows the height field: a probe plane placed halfway down a
+// pit, drawn after the relief, shows through only where the traced surface is
+// deeper than the probe (the pit) and nowhere when depth is not written.
+TEST(Depth, WrittenDepthFollowsTheHeightField) {
+    for (Technique t : kMarchTechniques) {
+        for (bool depth_write : {true, false}) {
+            PlaneScene p;
+            p.field.kind = FieldKind::pit;
+            p.field.size = 128;
+            p.field.radius = 0.25f;
+            p.height_scale = 0.2f;  // the pit is 0.2 tiles = 0.4 world units deep
+            p.technique = t;
+            p.options.depth_write = depth_write;
+            p.view_angle_deg = 20.0f;
+            p.textured_albedo = false;
+            SceneDesc scene = p.build();
+            MaterialDesc probe_material;
+            probe_material.name = "probe";
+            probe_material.albedo.kind = TextureSource::Kind::color;
+            probe_material.albedo.color = glm::vec3(0.0f, 1.0f, 0.0f);
+            probe_material.height_scale = 0.0f;
+            probe_material.technique.technique = Technique::flat;
+            scene.materials.push_back(probe_material);
+            ObjectDesc probe;
+            probe.name = "probe";
+            probe.mesh.kind = MeshKind::plane;
+            probe.mesh.size = 2.0f;
+            probe.transform.translate = glm::vec3(0.0f, 0.0f, -0.2f);  // half the pit's depth
+            probe.material = "probe";
+            scene.objects.push_back(probe);
+
+            const Rendered r = render(scene);
+            auto greenness = [&](glm::vec3 world) {
+                const glm::vec2 px = project(scene, world, 128);
+                const std::uint8_t* c = r.image.texel(int(px.x), int(px.y));
+                return int(c[1]) - int(c[0]);
+            };
+            // Pit centre (uv 0.5, 0.5) and the flat top (uv 0.1, 0.5).
+            const int pit = greenness(glm::vec3(0.0f, 0.0f, 0.0f));
+            const int top = greenness(glm::vec3(-0.8f, 0.0f, 0.0f));
+            EXPECT_LT(top, 10) << technique_name(t) << ": probe seen through the relief's top";
+            if (depth_write)
+                EXPECT_GT(pit, 100) << technique_name(t) << ": the pit's written depth is not behind the probe";
+            else
+                EXPECT_LT(pit, 10) << technique_name(t) << ": without depth write the polygon must hide the probe";
+        }
+    }
+}
+
+// A pit under a low light: the floor next to the wall that faces away from
+// the light is dark with self-shadowing (hard and soft) and lit without.
+TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
+    for (Technique t : kMarchTechniques) {
+        PlaneScene p;
+        p.field.kind = FieldKind::pit;
+        p.field.size = 128;
+        p.field.radius = 0.25f;
+        p.height_scale = 0.1f;
+        p.technique = t;
+        p.view_angle_deg = 0.0f;
+        p.light_elevation_deg = 25.0f;  // shadow 0.1 / tan(25) = 0.21 tiles long
+        p.textured_albedo = false;
+        const SceneDesc lit_scene = p.build();
+        // Pit floor at uv (0.68, 0.5): 0.07 tiles from the wall toward the light.
+        const glm::vec2 probe = project(lit_scene, glm::vec3(0.36f, 0.0f, 0.0f), 128);
+        const double lit = luminance(render(lit_scene).image, int(probe.x), int(probe.y));
+        for (ShadowMode mode : {ShadowMode::hard, ShadowMode::soft}) {
+            p.options.shadow = mode;
+            const double shadowed = luminance(render(p.build()).image, int(probe.x), int(probe.y));
+            EXPECT_LT(shadowed, 0.4 * lit) << technique_name(t) << " shadow=" << shadow_mode_name(mode)
+                                           << ": lit " << lit << ", shadowed " << shadowed;
+        }
+        // The flat top, in the open, stays lit with shadows on.
+        p.options.shadow = ShadowMode::hard;
+        const glm::vec2 open = project(lit_scene, glm::vec3(-0.8f, 0.0f, 0.0f), 128);
+        const Image with_shadows = render(p.build()).image;
+        EXPECT_GT(luminance(with_shadows, int(open.x), int(open.y)), 0.8 * lit) << technique_name(t);
+    }
+}
+
+// The renderer draws into a framebuffer the host app owns (not 0, not made by
+// platform/) and puts back the state it changed.
+TEST(HostIntegration, DrawsIntoTheHostFramebufferAndRestoresState) {
+    auto host_target = platform::OffscreenTarget::create(64, 64);  // stands in for the app's FBO
+    ASSERT_TRUE(host_target.ok()) << host_target.error().message;
+    auto other = platform::OffscreenTarget::create(32, 32);
+    ASSERT_TRUE(other.ok());
+    // Host state before the draw: another framebuffer bound, its own viewport.
+    glBindFramebuffer(GL_FRAMEBUFFER, other->target().framebuffer);
+    glViewport(1, 2, 3, 4);
+    glDisable(GL_DEPTH_TEST);
+
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok());
+    PlaneScene p = bricks_scene();
+    ASSERT_TRUE((*renderer)->load(p.build()).ok());
+    Status s = (*renderer)->draw(host_target->target());
+    ASSERT_TRUE(s.ok()) << s.error().message;
+
+    GLint bound = 0, viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &bound);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    EXPECT_EQ(GLuint(bound), other->target().framebuffer);
+    EXPECT_EQ(viewport[0], 1);
+    EXPECT_EQ(viewport[3], 4);
+    EXPECT_FALSE(glIsEnabled(GL_DEPTH_TEST));
+    auto image = host_target->read_pixels();
+    ASSERT_TRUE(image.ok());
+    EXPECT_GT(luminance(*image, 32, 32, 3), 20.0) << "nothing drawn into the host framebuffer";
+}
+
+TEST(Errors, IncompleteTargetIsReportedNotDrawn) {
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok());
+    ASSERT_TRUE((*renderer)->load(bricks_scene().build()).ok());
+    FramebufferHandle empty = make_framebuffer();  // no attachments
+    Status s = (*renderer)->draw(RenderTarget{empty.get(), 64, 64});
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("incomplete"), std::string::npos) << s.error().message;
+}
+
+TEST(Errors, MissingTextureFileNamesTheFileAndMaterial) {
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok());
+    SceneDesc scene = bricks_scene().build();
+    scene.materials[0].albedo.kind = TextureSource::Kind::file;
+    scene.materials[0].albedo.path = "/nonexistent/albedo.png";
+    Status s = (*renderer)->load(scene);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("/nonexistent/albedo.png"), std::string::npos) << s.error().message;
+    EXPECT_NE(s.error().message.find("surface"), std::string::npos) << s.error().message;
+}
+
+}  // namespace
+}  // namespace px::test
+
+int main(int argc, char** argv) {
+    ::testing::InitGoogleTest(&argc, argv);
+    ::testing::AddGlobalTestEnvironment(new px::test::GpuEnvironment);
+    return RUN_ALL_TESTS();
+}
