@@ -67,6 +67,18 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
                 for (int x = 0; x < normal->width; ++x) normal->texel(x, y)[3] = to_byte(out.field.at(x, y));
         }
         out.normal = std::move(*normal);
+    } else if (m.normal.kind == TextureSource::Kind::procedural) {
+        // Normals of another field than the one traced (packing keeps the traced height).
+        Result<HeightField> bumps = make_height_field(m.normal.field);
+        if (!bumps) return with_context(where + " normal", bumps.error());
+        out.normal = derive_normal_map(*bumps, m.height_scale, false);
+        if (m.pack_height_in_normal_alpha) {
+            if (bumps->width != out.field.width || bumps->height != out.field.height)
+                return make_error(where + ": the procedural normal field and the height field must be the same size "
+                                          "to pack height into the normal map's alpha");
+            for (int y = 0; y < bumps->height; ++y)
+                for (int x = 0; x < bumps->width; ++x) out.normal.texel(x, y)[3] = to_byte(out.field.at(x, y));
+        }
     } else {
         out.normal = derive_normal_map(out.field, m.height_scale, m.pack_height_in_normal_alpha);
     }

@@ -1,0 +1,186 @@
+// The technique catalogue, variant keys, the planner and shader assembly:
+// pure logic, no GL.
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "effects/variant.h"
+#include "gl/program.h"
+#include "gl/shader_source.h"
+#include "scene/scene.h"
+
+namespace px {
+namespace {
+
+TEST(Catalogue, NamesAreUniqueAndParseBack) {
+    std::set<std::string> names;
+    for (const TechniqueInfo& info : technique_table()) {
+        EXPECT_TRUE(names.insert(info.name).second) << info.name;
+        Result<Technique> t = parse_technique(info.name);
+        ASSERT_TRUE(t.ok());
+        EXPECT_EQ(*t, info.id);
+        EXPECT_EQ(&technique_info(info.id), &info) << "table order must match the enum";
+    }
+    EXPECT_EQ(names.size(), static_cast<size_t>(kTechniqueCount));
+}
+
+TEST(Catalogue, UnknownTechniqueListsTheKnownOnes) {
+    Result<Technique> t = parse_technique("pomm");
+    ASSERT_FALSE(t.ok());
+    EXPECT_NE(t.error().message.find("'pomm'"), std::string::npos);
+    EXPECT_NE(t.error().message.find("relief"), std::string::npos);
+}
+
+TEST(Catalogue, OptionRangesAreChecked) {
+    TechniqueOptions o;
+    o.max_samples = 300;
+    EXPECT_FALSE(validate_options(o).ok());
+    o.max_samples = 4;
+    o.min_samples = 8;
+    Status s = validate_options(o);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("max_samples"), std::string::npos);
+    EXPECT_TRUE(validate_options(TechniqueOptions{}).ok());
+}
+
+TEST(VariantKey, EveryEnumeratedVariantHasItsOwnKey) {
+    for (int es : {2, 3}) {
+        std::set<std::uint64_t> keys;
+        const std::vector<VariantKey> variants = enumerate_variants(es);
+        for (const VariantKey& k : variants) EXPECT_TRUE(keys.insert(k.bits()).second) << k.describe();
+        EXPECT_GT(variants.size(), 50u);
+    }
+}
+
+TEST(VariantKey, OptionsATechniqueLacksDoNotChangeTheKey) {
+    VariantKey a;
+    a.technique = Technique::parallax;
+    VariantKey b = a;
+    b.shadow = ShadowMode::soft;
+    b.max_samples = 64;
+    b.depth_write = true;
+    EXPECT_EQ(a.bits(), b.bits());
+    a.technique = b.technique = Technique::pom;
+    EXPECT_NE(a.bits(), b.bits());
+}
+
+MaterialDesc material(Technique t) {
+    MaterialDesc m;
+    m.name = "m";
+    m.technique.technique = t;
+    return m;
+}
+
+TEST(Planner, KeepsWhatTheContextCanDo) {
+    MaterialDesc m = material(Technique::pom);
+    m.technique.depth_write = true;
+    m.technique.lod = true;
+    m.technique.shadow = ShadowMode::soft;
+    Result<VariantPlan> plan = plan_variant(m, Caps::full(2));
+    ASSERT_TRUE(plan.ok());
+    EXPECT_TRUE(plan->key.depth_write);
+    EXPECT_TRUE(plan->key.lod);
+    EXPECT_EQ(plan->key.shadow, ShadowMode::soft);
+    EXPECT_TRUE(plan->notes.empty());
+}
+
+TEST(Planner, DropsWhatAnEs2ContextLacksAndSaysWhy) {
+    Caps bare = Caps::full(2);
+    bare.extensions.clear();
+    MaterialDesc m = material(Technique::relief);
+    m.technique.depth_write = true;
+    m.technique.lod = true;
+    Result<VariantPlan> plan = plan_variant(m, bare);
+    ASSERT_TRUE(plan.ok());
+    EXPECT_FALSE(plan->key.depth_write);
+    EXPECT_FALSE(plan->key.lod);
+    ASSERT_EQ(plan->notes.size(), 2u);
+    EXPECT_NE(plan->notes[0].find("GL_EXT_frag_depth"), std::string::npos);
+    EXPECT_NE(plan->notes[1].find("GL_OES_standard_derivatives"), std::string::npos);
+}
+
+TEST(Planner, ZeroReliefFallsBackToNormalMapping) {
+    MaterialDesc m = material(Technique::pom);
+    m.height_scale = 0.0f;
+    Result<VariantPlan> plan = plan_variant(m, Caps::full(3));
+    ASSERT_TRUE(plan.ok());
+    EXPECT_EQ(plan->key.technique, Technique::normal);
+    ASSERT_EQ(plan->notes.size(), 1u);
+    EXPECT_NE(plan->notes[0].find("height_scale is 0"), std::string::npos);
+}
+
+TEST(Planner, OptionsTheTechniqueLacksAreNoted) {
+    MaterialDesc m = material(Technique::offset_limited);
+    m.technique.shadow = ShadowMode::hard;
+    Result<VariantPlan> plan = plan_variant(m, Caps::full(3));
+    ASSERT_TRUE(plan.ok());
+    EXPECT_EQ(plan->key.shadow, ShadowMode::none);
+    ASSERT_EQ(plan->notes.size(), 1u);
+    EXPECT_NE(plan->notes[0].find("offset_limited"), std::string::npos);
+}
+
+// Habit 4 (STYLE.md): #version first, then extensions, then defines.
+TEST(ShaderSource, VersionComesFirstThenExtensionsThenDefines) {
+    VariantKey k;
+    k.technique = Technique::pom;
+    k.es_major = 2;
+    k.max_samples = 16;
+    k.depth_write = true;
+    Result<VariantSources> s = assemble_variant(k);
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    const std::string& text = s->fragment.text;
+    EXPECT_EQ(text.rfind("#version 100\n", 0), 0u);
+    const size_t extension = text.find("#extension GL_EXT_frag_depth : require");
+    const size_t define = text.find("#define PX_MAX_SAMPLES 16");
+    ASSERT_NE(extension, std::string::npos);
+    ASSERT_NE(define, std::string::npos);
+    EXPECT_LT(extension, define);
+    EXPECT_EQ(text.find("#include"), std::string::npos) << "includes must be expanded";
+    // The ES 3.0 source of the same variant needs no extension.
+    k.es_major = 3;
+    Result<VariantSources> s3 = assemble_variant(k);
+    ASSERT_TRUE(s3.ok());
+    EXPECT_EQ(s3->fragment.text.rfind("#version 300 es\n", 0), 0u);
+    EXPECT_EQ(s3->fragment.text.find("#extension"), std::string::npos);
+}
+
+TEST(ShaderSource, MissingIncludeNamesTheFile) {
+    Result<std::string> s = expand_includes("no/such_file.glsl");
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("no/such_file.glsl"), std::string::npos);
+}
+
+// Every chunk is included once per source even when two files include it.
+TEST(ShaderSource, ChunksAreIncludedOnce) {
+    Result<std::string> s = expand_includes("techniques/pom.frag");
+    ASSERT_TRUE(s.ok());
+    const std::string marker = "struct PxHit";
+    const size_t first = s->find(marker);
+    ASSERT_NE(first, std::string::npos);
+    EXPECT_EQ(s->find(marker, first + 1), std::string::npos);
+}
+
+// Every uniform, attribute and varying carries a deliberate precision
+// qualifier (Mesa defaults sampler2D to lowp and returns fp16 texels).
+TEST(ShaderSource, EveryDeclarationHasAPrecisionQualifier) {
+    const std::regex declaration(R"(^\s*(uniform|PX_VARYING|PX_ATTRIBUTE)\s+(\w+)\s+(\w+))");
+    const std::regex qualified(R"(^\s*(uniform|PX_VARYING|PX_ATTRIBUTE)\s+(lowp|mediump|highp|PX_HIGHP)\s)");
+    int declarations = 0;
+    for (const EmbeddedShader& file : embedded_shaders()) {
+        std::istringstream in(file.text);
+        int line_number = 0;
+        for (std::string line; std::getline(in, line);) {
+            ++line_number;
+            if (!std::regex_search(line, declaration)) continue;
+            if (line.find("bool ") != std::string::npos) continue;  // bools have no precision
+            ++declarations;
+            EXPECT_TRUE(std::regex_search(line, qualified)) << file.path << ":" << line_number << ": " << line;
+        }
+    }
+    EXPECT_GT(declarations, 30);
+}
+
+}  // namespace
+}  // namespace px
