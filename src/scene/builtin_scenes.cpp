@@ -105,12 +105,12 @@ const glm::vec3 kPaleStone{0.82f, 0.79f, 0.72f};
 SceneDesc default_scene() {
     SceneDesc s;
     s.name = "default";
-    s.camera = orbit({0.0f, 0.4f, 0.0f}, 4.2f, -90.0f, 17.0f);
+    s.camera = orbit({0.0f, 0.0f, 0.0f}, 2.9f, -90.0f, 24.0f);
     s.ambient = glm::vec3(0.10f);
     s.background = {0.05f, 0.06f, 0.09f};
     // From the left and slightly in front, 20 degrees up: vertical joints are
     // shadowed along their left walls, horizontal ones a little.
-    LightDesc light = sun(200.0f, 20.0f, 2.2f, {1.0f, 0.95f, 0.88f});
+    LightDesc light = sun(235.0f, 22.0f, 2.2f, {1.0f, 0.95f, 0.88f});
     light.angular_radius_deg = 1.5f;
     s.lights = {light};
 
@@ -119,10 +119,11 @@ SceneDesc default_scene() {
     FieldSpec bricks = field(FieldKind::bricks);
     FieldSpec text = field(FieldKind::text, 512);  // 8 glyphs across: 512 texels keep their edges crisp
     text.text = "PARALLAX";
-    s.materials = {material("bricks", kBrickRed, bricks, 0.06f, pom, glm::vec2(2.0f)),
+    s.materials = {material("bricks", kBrickRed, bricks, 0.06f, pom, glm::vec2(3.0f)),
                    material("lettering", kPaleStone, text, 0.06f, pom)};
-    s.objects = {object("brick floor", plane(1.8f), "bricks", {-0.95f, 0.4f, 0.0f}),
-                 object("text slab", plane(1.8f), "lettering", {0.95f, 0.4f, 0.0f})};
+    // The lettering in front, the brick floor running away behind it.
+    s.objects = {object("brick floor", plane(2.6f), "bricks", {0.0f, 1.25f, -0.001f}),
+                 object("text slab", plane(2.0f), "lettering", {0.0f, -1.05f, 0.0f})};
     return s;
 }
 
