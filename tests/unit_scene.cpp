@@ -558,13 +558,16 @@ TEST(BuiltinScenes, DefaultShowsParallaxAtALowAngle) {
     Result<SceneDesc> s = builtin_scene("default");
     ASSERT_TRUE(s.ok());
     const float cam = camera_elevation_deg(s->camera);
-    EXPECT_GE(cam, 15.0f);
-    EXPECT_LE(cam, 20.0f);
+    // Low enough that parallax shows, high enough to see the surface.
+    EXPECT_GE(cam, 10.0f);
+    EXPECT_LE(cam, 30.0f);
     ASSERT_EQ(s->lights.size(), 1u);
     EXPECT_EQ(s->lights[0].kind, LightKind::directional);
-    EXPECT_NEAR(light_elevation_deg(s->lights[0]), 20.0f, 2.0f);
-    // From the side: mostly horizontal travel across the view, not along it.
-    EXPECT_GT(std::abs(s->lights[0].direction.x), std::abs(s->lights[0].direction.y));
+    // A low, raking light: joints and glyphs cast shadows.
+    EXPECT_LE(light_elevation_deg(s->lights[0]), 30.0f);
+    EXPECT_GE(light_elevation_deg(s->lights[0]), 10.0f);
+    // Partly from the side, so shadows fall across the view, not only along it.
+    EXPECT_GT(std::abs(s->lights[0].direction.x), 0.3f);
 
     bool bricks = false, text = false;
     for (const ObjectDesc& o : s->objects) {
@@ -578,7 +581,7 @@ TEST(BuiltinScenes, DefaultShowsParallaxAtALowAngle) {
         EXPECT_EQ(m->albedo.kind, TextureSource::Kind::color);
         if (m->height.field.kind == FieldKind::bricks) {
             bricks = true;
-            EXPECT_FLOAT_EQ(m->uv.scale.x, 2.0f);
+            EXPECT_GT(m->uv.scale.x, 1.0f);  // tiled: many bricks
             EXPECT_GT(m->albedo.color.r, m->albedo.color.b);  // red-brown
         }
         if (m->height.field.kind == FieldKind::text) {
