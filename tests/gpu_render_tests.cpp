@@ -255,6 +255,25 @@ TEST(Errors, MissingTextureFileNamesTheFileAndMaterial) {
     EXPECT_NE(s.error().message.find("surface"), std::string::npos) << s.error().message;
 }
 
+// A shader that fails to compile reports the stage, the driver's log, the
+// offending line and the variant's defines.
+TEST(Errors, ShaderCompileFailureCarriesLogLineAndDefines) {
+    AssembledSource vs;
+    vs.text = test_es_major() >= 3 ? "#version 300 es\nvoid main() { gl_Position = vec4(0.0); }\n"
+                                   : "#version 100\nvoid main() { gl_Position = vec4(0.0); }\n";
+    AssembledSource fs;
+    fs.text = (test_es_major() >= 3 ? std::string("#version 300 es\n") : std::string("#version 100\n")) +
+              "precision mediump float;\nvoid main() {\n  undeclared_name = 1.0;\n}\n";
+    fs.defines_summary = "PX_TEST_DEFINE=7";
+    auto program = build_program(vs, fs, "broken test variant");
+    ASSERT_FALSE(program.ok());
+    const std::string& m = program.error().message;
+    EXPECT_NE(m.find("fragment shader of variant 'broken test variant'"), std::string::npos) << m;
+    EXPECT_NE(m.find("PX_TEST_DEFINE=7"), std::string::npos) << m;
+    EXPECT_NE(m.find("undeclared_name"), std::string::npos) << m;
+    EXPECT_NE(m.find("4 |"), std::string::npos) << "the offending source line is quoted: " << m;
+}
+
 }  // namespace
 }  // namespace px::test
 

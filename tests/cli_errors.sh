@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Bad input to `parallax render` gets one clear message on stderr naming what
+# was wrong and where, a non-zero exit, and no output image.
+# Usage: cli_errors.sh PARALLAX_BINARY
+set -uo pipefail
+parallax=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+# expect_error DESCRIPTION EXPECTED_TEXT ARGS...
+expect_error() {
+    local description=$1 expected=$2
+    shift 2
+    local out="$work/out.png"
+    rm -f "$out"
+    local stderr
+    stderr=$("$parallax" "$@" 2>&1 >/dev/null)
+    local status=$?
+    if [ "$status" = 0 ]; then
+        echo "FAIL: $description: exit status 0"; failures=$((failures + 1)); return
+    fi
+    if ! grep -qF -- "$expected" <<<"$stderr"; then
+        echo "FAIL: $description: message lacks '$expected':"; echo "  $stderr"; failures=$((failures + 1)); return
+    fi
+    if [ -e "$out" ]; then
+        echo "FAIL: $description: wrote $out anyway"; failures=$((failures + 1)); return
+    fi
+    echo "ok: $description -> $(head -1 <<<"$stderr")"
+}
+
+printf '{\n  "objects": [\n    {"mesh": {"type": "plane"},}\n  ]\n}\n' >"$work/malformed.json"
+printf '{"objects": [{"mesh": {"type": "plane"}, "material": "m"}], "materials": [{"name": "m", "technique": "pomm"}]}\n' >"$work/technique.json"
+printf '{"objects": [{"mesh": {"type": "plane"}}], "materials": [{"name": "default", "hieght_scale": 0.1}]}\n' >"$work/field.json"
+printf '{"objects": [{"mesh": {"type": "plane"}, "material": "m"}], "materials": [{"name": "m", "albedo": "missing.png"}]}\n' >"$work/texture.json"
+
+expect_error "missing scene file" "$work/nope.json" render "$work/nope.json" -o "$work/out.png"
+expect_error "unknown built-in scene" "default, bricks" render no_such_scene -o "$work/out.png"
+expect_error "malformed JSON gives line and column" "malformed.json:3:" render "$work/malformed.json" -o "$work/out.png"
+expect_error "unknown technique in a scene" "unknown technique 'pomm'" render "$work/technique.json" -o "$work/out.png"
+expect_error "unknown field, with a suggestion" "hieght_scale" render "$work/field.json" -o "$work/out.png"
+expect_error "missing texture file" "missing.png" render "$work/texture.json" -o "$work/out.png"
+expect_error "unknown --technique" "unknown technique 'bump'" render default --technique bump -o "$work/out.png"
+expect_error "bad --size" "--size" render default --size 12by3 -o "$work/out.png"
+expect_error "unsupported --es" "--es" render default --es 4 -o "$work/out.png"
+MESA_GLES_VERSION_OVERRIDE=3.1 expect_error "contradicting MESA_GLES_VERSION_OVERRIDE" \
+    "MESA_GLES_VERSION_OVERRIDE=3.1 contradicts" render default --es 2 --size 16x16 -o "$work/out.png"
+
+[ "$failures" = 0 ] && echo "all CLI error cases behave" || { echo "$failures CLI error case(s) failed"; exit 1; }
