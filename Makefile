@@ -1,6 +1,7 @@
 # ParallaxES: the two commands of the quick start, and their parts.
 #   make run    install missing Debian packages, build, render out/default.png
 #   make test   the same set-up, then the whole suite through ctest
+MAKEFLAGS += --no-print-directory
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
@@ -33,7 +34,7 @@ build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
 run: build
-	@$(BUILD_DIR)/parallax render default -o out/default.png --size 512x512
+	@$(BUILD_DIR)/parallax render default -o out/default.png --size 512x512 --es 3
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

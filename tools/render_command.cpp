@@ -21,7 +21,7 @@ int g_exit_status = 0;
 
 struct RenderArgs {
     std::string scene;
-    std::string output = "out/render.png";
+    std::string output;  // default: out/<scene name>.png
     std::string size = "512x512";
     std::string technique;
     int es = 3;
@@ -97,15 +97,21 @@ int run_render(const RenderArgs& a) {
     }
     std::sort(times_ms.begin(), times_ms.end());
 
+    // Default output: out/<scene>.png, named after the built-in scene or file.
+    std::string output = a.output;
+    if (output.empty()) {
+        std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
+        output = "out/" + stem + ".png";
+    }
     Result<Image> image = target->read_pixels();
     if (!image) return fail(image.error().message);
-    const std::filesystem::path out(a.output);
+    const std::filesystem::path out(output);
     if (out.has_parent_path()) {
         std::error_code ec;
         std::filesystem::create_directories(out.parent_path(), ec);
         if (ec) return fail("cannot create folder '" + out.parent_path().string() + "': " + ec.message());
     }
-    Status written = write_png(a.output, *image);
+    Status written = write_png(output, *image);
     if (!written) return fail(written.error().message);
 
     const Caps& caps = (*renderer)->caps();
@@ -117,7 +123,7 @@ int run_render(const RenderArgs& a) {
                     technique_name(r.requested), r.variant.describe().c_str());
         for (const std::string& note : r.notes) std::printf("             note: %s\n", note.c_str());
     }
-    std::printf("image      %s (%dx%d)\n", a.output.c_str(), width, height);
+    std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
     std::printf("frame      %.2f ms median of %d (min %.2f, max %.2f), %d program(s); wall clock around glFinish\n",
                 times_ms[times_ms.size() / 2], a.frames, times_ms.front(), times_ms.back(),
                 static_cast<int>((*renderer)->program_count()));
@@ -133,7 +139,7 @@ void add_render_command(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to a PNG");
     cmd->add_option("scene", args->scene, "A scene file (.json) or the name of a built-in scene (default: default)");
-    cmd->add_option("-o,--output", args->output, "Output PNG")->capture_default_str();
+    cmd->add_option("-o,--output", args->output, "Output PNG (default: out/<scene>.png)");
     cmd->add_option("--size", args->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--technique", args->technique, "Override every material's technique");
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();

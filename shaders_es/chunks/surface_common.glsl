@@ -7,7 +7,10 @@ uniform lowp sampler2D u_albedo_map;
 // sampler precision (lowp) returns fp16 texels and heights are compared with
 // the ray at 1/256 steps; mediump holds 8-bit texels exactly on every GPU.
 uniform mediump sampler2D u_normal_map;
-#ifndef PX_PACKED_HEIGHT
+// The traced height. GLSL ES 1.00 always reads it from its own texture, bound
+// at base level only (see below); when packed, that texture is the packed
+// normal map again, without mips, and height is its alpha.
+#if defined(PX_READS_HEIGHT) && (!defined(PX_PACKED_HEIGHT) || PX_ES < 3)
 uniform mediump sampler2D u_height_map;
 #endif
 
@@ -22,11 +25,14 @@ uniform mediump float u_light_angular_radius[PX_MAX_LIGHTS];  // radians, soft s
 uniform mediump vec3 u_ambient;
 uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 
-#ifdef PX_PACKED_HEIGHT
+#if defined(PX_PACKED_HEIGHT) && PX_ES >= 3
 #define PX_HEIGHT_SAMPLER u_normal_map
-#define PX_HEIGHT_CHANNEL a
 #else
 #define PX_HEIGHT_SAMPLER u_height_map
+#endif
+#ifdef PX_PACKED_HEIGHT
+#define PX_HEIGHT_CHANNEL a
+#else
 #define PX_HEIGHT_CHANNEL r
 #endif
 
@@ -34,7 +40,8 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 // value is undefined in non-uniform control flow). GLSL ES 3.00: textureGrad
 // with the gradients of the unshifted uv taken before the loop. GLSL ES 1.00
 // has no texture2DGrad without GL_EXT_shader_texture_lod, so the renderer
-// binds the traced texture with base-level filtering (GL_LINEAR) instead.
+// binds a base-level-only copy of the traced texture (GL_LINEAR) instead, and
+// the shading reads keep their mip chain.
 #if PX_ES >= 3
 #define PX_TRACE_GRADIENTS , PX_HIGHP vec2 uv_dx, PX_HIGHP vec2 uv_dy
 #define PX_TRACE_GRADIENT_ARGS , uv_dx, uv_dy

@@ -10,7 +10,7 @@ namespace {
 bool power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
 }  // namespace
 
-Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what) {
+Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps) {
     if (image.width < 1 || image.height < 1 || image.pixels.empty())
         return make_error(what + ": empty image");
     if (image.width > caps.max_texture_size || image.height > caps.max_texture_size)
@@ -42,7 +42,7 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
     t.handle = make_texture();
     t.width = image.width;
     t.height = image.height;
-    t.mipmapped = true;
+    t.mipmapped = mipmaps;
     glBindTexture(GL_TEXTURE_2D, t.handle.get());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
@@ -50,18 +50,14 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    if (mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, 0);
     Status s = check_gl("uploading " + what);
     if (!s) return s.error();
     return t;
 }
 
-void bind_texture(const Texture& texture, bool base_level_only) {
-    glBindTexture(GL_TEXTURE_2D, texture.handle.get());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                    base_level_only || !texture.mipmapped ? GL_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
-}
+void bind_texture(const Texture& texture) { glBindTexture(GL_TEXTURE_2D, texture.handle.get()); }
 
 }  // namespace px

@@ -18,11 +18,11 @@ struct Texture {
 // RGBA8 texture, GL_REPEAT, trilinear with a full mip chain. Errors: empty
 // image, larger than the context allows, or a non-power-of-two size on an
 // ES 2.0 context without GL_OES_texture_npot (which cannot repeat or mipmap it).
-Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what);
+// With mipmaps = false: the base level only, GL_LINEAR (for reads inside
+// tracing loops on GLSL ES 1.00, which has no gradient sampling).
+Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps = true);
 
-// Min filter for the next draw: trilinear, or base level only (for textures
-// read inside tracing loops on GLSL ES 1.00, where no explicit gradient
-// sampling exists). Binds the texture to GL_TEXTURE_2D of the active unit.
-void bind_texture(const Texture& texture, bool base_level_only);
+// Binds the texture to GL_TEXTURE_2D of the active unit.
+void bind_texture(const Texture& texture);
 
 }  // namespace px

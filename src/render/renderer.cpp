@@ -26,7 +26,10 @@ struct GpuMaterial {
     const MaterialDesc* desc = nullptr;
     Texture albedo;
     Texture normal;
-    Texture height;  // empty when packed
+    // What tracing loops read: the separate height map, or on GLSL ES 1.00 a
+    // base-level-only copy of the packed normal map (or of the height map).
+    // Empty when the traced reads come from `normal` (packed, ES 3.0).
+    Texture height;
     VariantPlan plan;
     const Program* program = nullptr;
 };
@@ -200,8 +203,13 @@ Status Renderer::load(const SceneDesc& scene) {
         Result<Texture> normal = upload_texture(images->normal, caps_, what + " normal map");
         if (!normal) return normal.error();
         g.normal = std::move(*normal);
-        if (images->height) {
-            Result<Texture> height = upload_texture(*images->height, caps_, what + " height map");
+        const bool traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
+        const bool base_level_trace = traced && g.plan.key.es_major < 3;
+        const Image* trace_image = images->height ? &*images->height
+                                   : base_level_trace ? &images->normal
+                                                      : nullptr;
+        if (trace_image) {
+            Result<Texture> height = upload_texture(*trace_image, caps_, what + " traced height", !base_level_trace);
             if (!height) return height.error();
             g.height = std::move(*height);
         }
@@ -279,7 +287,6 @@ Status Renderer::draw(const RenderTarget& target) {
         const GpuMesh& mesh = scene_->meshes[object.mesh];
         const MaterialDesc& m = *material.desc;
         const Program& p = *material.program;
-        const VariantKey& key = material.plan.key;
         glUseProgram(p.id());
 
         const glm::mat4 model = object.desc->transform.matrix();
@@ -323,19 +330,15 @@ Status Renderer::draw(const RenderTarget& target) {
         glUniform1f(p.uniform("u_specular"), 0.25f);
         glUniform1f(p.uniform("u_shininess"), 32.0f);
 
-        // Textures read inside tracing loops are sampled at the base level on
-        // GLSL ES 1.00 (no gradient sampling there; see surface_common.glsl).
-        const bool traced = (technique_info(key.technique).options & kOptHeight) != 0;
-        const bool base_level = traced && key.es_major < 3;
         glActiveTexture(GL_TEXTURE0);
-        bind_texture(material.albedo, false);
+        bind_texture(material.albedo);
         glUniform1i(p.uniform("u_albedo_map"), 0);
         glActiveTexture(GL_TEXTURE1);
-        bind_texture(material.normal, base_level && key.packed_height);
+        bind_texture(material.normal);
         glUniform1i(p.uniform("u_normal_map"), 1);
         if (material.height.handle) {
             glActiveTexture(GL_TEXTURE2);
-            bind_texture(material.height, base_level);
+            bind_texture(material.height);
             glUniform1i(p.uniform("u_height_map"), 2);
         }
 
