@@ -155,6 +155,67 @@ TEST(Lod, ThresholdSwitchesBetweenFullEffectAndNormalMapping) {
     }
 }
 
+// The view ray goes the right way: seen from -y at 60 degrees, a ray entering
+// a pit just past its near edge travels on (+v) to the pit floor, while one
+// entering just before its far edge meets the far wall near the top. A probe
+// plane halfway down the pit shows only where the hit is deeper than it; a
+// reversed offset would swap the two.
+TEST(Depth, ViewRayTravelsAwayFromTheViewer) {
+    for (Technique t : kMarchTechniques) {
+        PlaneScene p;
+        p.field.kind = FieldKind::pit;
+        p.field.size = 128;
+        p.field.radius = 0.25f;
+        p.height_scale = 0.1f;
+        p.technique = t;
+        p.options.depth_write = true;
+        p.options.min_samples = p.options.max_samples = 64;
+        p.view_angle_deg = 60.0f;
+        p.textured_albedo = false;
+        SceneDesc scene = p.build();
+        MaterialDesc probe_material;
+        probe_material.name = "probe";
+        probe_material.albedo.kind = TextureSource::Kind::color;
+        probe_material.albedo.color = glm::vec3(0.0f, 1.0f, 0.0f);
+        probe_material.height_scale = 0.0f;
+        probe_material.technique.technique = Technique::flat;
+        scene.materials.push_back(probe_material);
+        ObjectDesc probe;
+        probe.name = "probe";
+        probe.mesh.kind = MeshKind::plane;
+        probe.transform.translate = glm::vec3(0.0f, 0.0f, -0.1f);  // half of 0.1 tiles x 2 units per tile
+        probe.material = "probe";
+        scene.objects.push_back(probe);
+        const Rendered r = render(scene, 256);
+        auto greenness = [&](float v) {
+            const glm::vec2 px = project(scene, glm::vec3(0.0f, (v - 0.5f) * 2.0f, 0.0f), 256);
+            const std::uint8_t* c = r.image.texel(int(px.x), int(px.y));
+            return int(c[1]) - int(c[0]);
+        };
+        // Near edge at v = 0.25: the ray from v = 0.28 reaches the floor at
+        // v = 0.28 + 0.1 tan 60 = 0.45, inside the pit.
+        EXPECT_GT(greenness(0.28f), 100) << technique_name(t) << ": the ray past the near edge did not reach the floor";
+        // Far edge at v = 0.75: the ray from v = 0.73 meets the far wall 0.012 deep.
+        EXPECT_LT(greenness(0.73f), 10) << technique_name(t) << ": the ray before the far edge went deep";
+    }
+}
+
+// After a context loss the renderer forgets its GL objects without touching
+// GL, and loads again.
+TEST(HostIntegration, AbandonThenReload) {
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok());
+    const SceneDesc scene = bricks_scene().build();
+    ASSERT_TRUE((*renderer)->load(scene).ok());
+    (*renderer)->abandon();
+    EXPECT_EQ((*renderer)->program_count(), 0u);
+    EXPECT_FALSE((*renderer)->draw(RenderTarget{0, 8, 8}).ok()) << "drawing with nothing loaded must be an error";
+    ASSERT_TRUE((*renderer)->load(scene).ok());
+    auto target = platform::OffscreenTarget::create(32, 32);
+    ASSERT_TRUE(target.ok());
+    ASSERT_TRUE((*renderer)->draw(target->target()).ok());
+}
+
 // Written depth follows the height field: a probe plane placed halfway down a
 // pit, drawn after the relief, shows through only where the traced surface is
 // deeper than the probe (the pit) and nowhere when depth is not written.
