@@ -12,6 +12,25 @@ const Technique kParallaxTechniques[] = {Technique::parallax, Technique::offset_
                                          Technique::pom, Technique::relief};
 const Technique kMarchTechniques[] = {Technique::steep, Technique::pom, Technique::relief};
 
+// A flat green plane parallel to the test plane at height z, drawn after it:
+// it shows wherever the relief's written depth lies behind z.
+void add_probe_plane(SceneDesc& scene, float z) {
+    MaterialDesc material;
+    material.name = "probe";
+    material.albedo.kind = TextureSource::Kind::color;
+    material.albedo.color = glm::vec3(0.0f, 1.0f, 0.0f);
+    material.height_scale = 0.0f;
+    material.technique.technique = Technique::flat;
+    scene.materials.push_back(material);
+    ObjectDesc probe;
+    probe.name = "probe";
+    probe.mesh.kind = MeshKind::plane;
+    probe.mesh.size = 2.0f;
+    probe.transform.translate = glm::vec3(0.0f, 0.0f, z);
+    probe.material = "probe";
+    scene.objects.push_back(probe);
+}
+
 PlaneScene bricks_scene() {
     PlaneScene p;
     p.field.kind = FieldKind::bricks;
@@ -173,19 +192,7 @@ TEST(Depth, ViewRayTravelsAwayFromTheViewer) {
         p.view_angle_deg = 60.0f;
         p.textured_albedo = false;
         SceneDesc scene = p.build();
-        MaterialDesc probe_material;
-        probe_material.name = "probe";
-        probe_material.albedo.kind = TextureSource::Kind::color;
-        probe_material.albedo.color = glm::vec3(0.0f, 1.0f, 0.0f);
-        probe_material.height_scale = 0.0f;
-        probe_material.technique.technique = Technique::flat;
-        scene.materials.push_back(probe_material);
-        ObjectDesc probe;
-        probe.name = "probe";
-        probe.mesh.kind = MeshKind::plane;
-        probe.transform.translate = glm::vec3(0.0f, 0.0f, -0.1f);  // half of 0.1 tiles x 2 units per tile
-        probe.material = "probe";
-        scene.objects.push_back(probe);
+        add_probe_plane(scene, -0.1f);  // half of 0.1 tiles x 2 units per tile
         const Rendered r = render(scene, 256);
         auto greenness = [&](float v) {
             const glm::vec2 px = project(scene, glm::vec3(0.0f, (v - 0.5f) * 2.0f, 0.0f), 256);
@@ -232,20 +239,7 @@ TEST(Depth, WrittenDepthFollowsTheHeightField) {
             p.view_angle_deg = 20.0f;
             p.textured_albedo = false;
             SceneDesc scene = p.build();
-            MaterialDesc probe_material;
-            probe_material.name = "probe";
-            probe_material.albedo.kind = TextureSource::Kind::color;
-            probe_material.albedo.color = glm::vec3(0.0f, 1.0f, 0.0f);
-            probe_material.height_scale = 0.0f;
-            probe_material.technique.technique = Technique::flat;
-            scene.materials.push_back(probe_material);
-            ObjectDesc probe;
-            probe.name = "probe";
-            probe.mesh.kind = MeshKind::plane;
-            probe.mesh.size = 2.0f;
-            probe.transform.translate = glm::vec3(0.0f, 0.0f, -0.2f);  // half the pit's depth
-            probe.material = "probe";
-            scene.objects.push_back(probe);
+            add_probe_plane(scene, -0.2f);  // half the pit's depth
 
             const Rendered r = render(scene);
             auto greenness = [&](glm::vec3 world) {
