@@ -8,7 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "assets/texture.h"
-#include "render/material_images.h"
+#include "scene/material_images.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "render/material_images.h"
+#include "scene/material_images.h"
 
 #include <algorithm>
 #include <cmath>

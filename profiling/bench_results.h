@@ -1,0 +1,56 @@
+// The accuracy/time benchmark's results and the report writers: one row per
+// scene, view angle, technique and sample setting.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace px::profiling {
+
+struct BenchRow {
+    std::string scene;        // bench scene name
+    double angle_deg = 0.0;   // view angle from the normal
+    std::string technique;    // catalogue name, or "displaced_mesh" for the real-geometry baseline
+    int samples = 0;          // max_samples (0 where the technique has none)
+    // Error against the exact reference (see src/reference/metrics.h).
+    long pixels = 0;
+    double uv_error_mean = 0.0;  // texels
+    double uv_error_p95 = 0.0;
+    double uv_error_max = 0.0;
+    double wrong_surface_share = 0.0;
+    double depth_error_mean = 0.0;
+    double depth_error_max = 0.0;
+    double shadow_disagreement = 0.0;
+    double color_psnr_db = 0.0;
+    // Time: wall clock around glFinish after a warm-up, over repeated frames.
+    double frame_ms_median = 0.0;
+    double frame_ms_min = 0.0;
+    double frame_ms_max = 0.0;
+    double ns_per_pixel = 0.0;   // median frame time / pixels drawn
+    double ratio_to_normal = 0.0;  // median of per-round (this / normal mapping), interleaved
+};
+
+struct BenchRun {
+    std::string date;           // ISO 8601
+    std::string command;        // the command line that made it
+    std::string gl_renderer;    // GL_RENDERER
+    std::string gl_version;     // GL_VERSION
+    int threads = 0;            // llvmpipe threads (LP_NUM_THREADS or the CPU count)
+    int width = 0, height = 0;  // image size
+    int frames = 0;             // timed frames per setting
+    std::vector<BenchRow> rows;
+};
+
+Status write_csv(const BenchRun& run, const std::string& path);
+Status write_json(const BenchRun& run, const std::string& path);
+// Error (mean texels, log scale) against time (ratio to normal mapping) per
+// technique, one panel per angle class, the Pareto frontier marked.
+Status write_pareto_svg(const BenchRun& run, const std::string& path);
+// Per scene and angle: the cheapest setting reaching 1, 0.5 and 0.25 texel
+// mean error and its cost relative to normal mapping; says where a technique
+// never gets there.
+Status write_report_md(const BenchRun& run, const std::string& path);
+
+}  // namespace px::profiling
