@@ -5,6 +5,8 @@
 
 #include <cstring>
 
+#include "render/surface_capture.h"
+
 namespace px::test {
 namespace {
 
@@ -204,6 +206,41 @@ TEST(Depth, ViewRayTravelsAwayFromTheViewer) {
         EXPECT_GT(greenness(0.28f), 100) << technique_name(t) << ": the ray past the near edge did not reach the floor";
         // Far edge at v = 0.75: the ray from v = 0.73 meets the far wall 0.012 deep.
         EXPECT_LT(greenness(0.73f), 10) << technique_name(t) << ": the ray before the far edge went deep";
+    }
+}
+
+// The debug outputs carry what the shader computed: on a flat relief at the
+// polygon, seen straight on, the hit is the polygon's own uv at height 1;
+// with the relief 0.1 deep under it, the hit moves by -0.1 * V.xy / V.z.
+TEST(DebugOutput, CapturesHitUvHeightAndVisibility) {
+    for (float level : {1.0f, 0.0f}) {
+        PlaneScene p;
+        p.field.kind = FieldKind::flat;
+        p.field.size = 64;
+        p.field.level = level;
+        p.height_scale = 0.1f;
+        p.technique = Technique::pom;
+        p.view_angle_deg = 0.0f;
+        p.options.shadow = ShadowMode::hard;
+        const SceneDesc scene = p.build();
+        auto renderer = Renderer::create();
+        ASSERT_TRUE(renderer.ok());
+        ASSERT_TRUE((*renderer)->load(scene).ok());
+        auto surfaces = capture_surfaces(**renderer, 128, 128);
+        ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
+        EXPECT_FALSE(surfaces->at(0, 0).covered) << "the corner shows background";
+        // World point (0.4, 0.2) is polygon uv (0.7, 0.6); from the camera at
+        // (0, 0, 3) the view vector there is (-0.4, -0.2, 3) / |.|.
+        const glm::vec2 px = project(scene, glm::vec3(0.4f, 0.2f, 0.0f), 128);
+        const reference::SurfaceSample& s = surfaces->at(int(px.x), int(px.y));
+        ASSERT_TRUE(s.covered);
+        const glm::dvec2 expected = level == 1.0f ? glm::dvec2(0.7, 0.6)
+                                                  : glm::dvec2(0.7, 0.6) - 0.1 * glm::dvec2(-0.4, -0.2) / 3.0;
+        // Half a pixel of the 128-pixel view spans 0.004 uv; allow that.
+        EXPECT_NEAR(s.uv.x, expected.x, 0.006) << "level " << level;
+        EXPECT_NEAR(s.uv.y, expected.y, 0.006) << "level " << level;
+        EXPECT_NEAR(s.height, level, 1.0 / 256.0);
+        EXPECT_NEAR(s.visibility, 1.0, 1e-3) << "a flat relief casts no shadow";
     }
 }
 

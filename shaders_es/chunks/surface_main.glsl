@@ -5,6 +5,9 @@
 #ifdef PX_SHADOW
 #include "chunks/shadows.glsl"
 #endif
+#ifdef PX_DEBUG_OUTPUT
+#include "chunks/debug_output.glsl"
+#endif
 
 #ifdef PX_DEPTH_WRITE
 uniform PX_HIGHP mat4 u_depth_projection;  // the vertex stage's u_projection, kept apart: a uniform in both stages must have one precision (GLSL ES 1.00, 4.5.3)
@@ -109,5 +112,19 @@ void main() {
     px_write_depth(hit.height, view_ts.z);
 #endif
 #endif
+#ifdef PX_DEBUG_OUTPUT
+    PxHit shown = hit;
+#if defined(PX_HAS_TRACE) && defined(PX_LOD)
+    if (lod_blend >= 0.5) shown = surface;
+#endif
+    mediump float visibility = 1.0;
+#ifdef PX_SHADOW
+    if (u_light_count > 0)
+        visibility = px_light_visibility(shown.uv, shown.height, normalize(v_light_ts[0]),
+                                         u_light_angular_radius[0] PX_TRACE_GRADIENT_ARGS);
+#endif
+    PX_FRAG_COLOR = px_debug_output(shown.uv, shown.height, visibility);
+#else
     PX_FRAG_COLOR = vec4(color, 1.0);
+#endif
 }

@@ -36,6 +36,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.max_samples) << 12;     // 16 bits
     b |= static_cast<std::uint64_t>(k.refine_steps) << 28;    // 8 bits
     b |= static_cast<std::uint64_t>(k.shadow_samples) << 36;  // 8 bits
+    b |= static_cast<std::uint64_t>(k.debug_output & 0x7) << 44;  // 3 bits
     return b;
 }
 
@@ -55,6 +56,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     }
     if (k.depth_write) d.push_back({"PX_DEPTH_WRITE", ""});
     if (k.lod) d.push_back({"PX_LOD", ""});
+    if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
     return d;
 }
 
@@ -77,6 +79,7 @@ std::string VariantKey::describe() const {
     if (k.depth_write) s << " depth";
     if (k.lod) s << " lod";
     if (has_option(k.technique, kOptHeight)) s << (k.packed_height ? " packed" : " separate-height");
+    if (k.debug_output) s << " debug" << int(k.debug_output);
     return s.str();
 }
 
@@ -166,6 +169,15 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                         k.lod = lod != 0;
                         add(k);
                     }
+        // Debug outputs, with every option the technique has switched on.
+        for (int debug = 1; debug <= 4; ++debug) {
+            VariantKey k = base;
+            k.shadow = ShadowMode::soft;
+            k.depth_write = true;
+            k.lod = true;
+            k.debug_output = static_cast<std::uint8_t>(debug);
+            if (es_major >= 3 || debug >= 2) add(k);
+        }
         // Loop bounds at their extremes.
         if (info.options & kOptSamples) {
             for (int samples : {1, info.max_samples_limit}) {

@@ -29,6 +29,9 @@ struct VariantKey {
     std::uint16_t max_samples = 0;   // linear-search loop bound (march techniques)
     std::uint8_t refine_steps = 0;   // relief
     std::uint8_t shadow_samples = 0; // shadow-ray loop bound
+    // 0: colour. 1: hit uv, height and visibility to a float target. 2, 3, 4:
+    // the same packed into RGBA8 over three passes (shaders_es/chunks/debug_output.glsl).
+    std::uint8_t debug_output = 0;
 
     // A unique 64-bit value per variant: the program cache's key.
     std::uint64_t bits() const;

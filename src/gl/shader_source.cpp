@@ -63,7 +63,8 @@ std::string preamble(ShaderStage stage, int es_major) {
     p += "precision mediump float;\nprecision mediump int;\n";
     if (es_major >= 3) {
         p += "#define PX_HIGHP highp\n#define PX_VARYING in\n";
-        p += "layout(location = 0) out mediump vec4 px_frag_color;\n";
+        // highp: the debug outputs write hit uvs to a float target.
+        p += "layout(location = 0) out highp vec4 px_frag_color;\n";
         p += "#define PX_FRAG_COLOR px_frag_color\n#define PX_FRAG_DEPTH gl_FragDepth\n";
     } else {
         p += "#ifdef GL_FRAGMENT_PRECISION_HIGH\n#define PX_HIGHP highp\n#else\n#define PX_HIGHP mediump\n#endif\n";

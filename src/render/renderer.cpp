@@ -31,7 +31,6 @@ struct GpuMaterial {
     // Empty when the traced reads come from `normal` (packed, ES 3.0).
     Texture height;
     VariantPlan plan;
-    const Program* program = nullptr;
 };
 
 struct GpuObject {
@@ -213,9 +212,9 @@ Status Renderer::load(const SceneDesc& scene) {
             if (!height) return height.error();
             g.height = std::move(*height);
         }
+        // Build the colour program now, so a shader error surfaces at load.
         Result<const Program*> program = gpu->programs.get(g.plan.key);
         if (!program) return with_context(what, program.error());
-        g.program = *program;
         gpu->materials.push_back(std::move(g));
     }
     for (const ObjectDesc& o : desc.objects) {
@@ -239,7 +238,7 @@ Status Renderer::load(const SceneDesc& scene) {
     return {};
 }
 
-Status Renderer::draw(const RenderTarget& target) {
+Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
     if (!scene_) return make_error("draw: no scene loaded");
     if (target.width < 1 || target.height < 1)
         return make_error("draw: target size " + std::to_string(target.width) + "x" + std::to_string(target.height) +
@@ -252,7 +251,10 @@ Status Renderer::draw(const RenderTarget& target) {
         return make_error(std::string("draw: target framebuffer ") + std::to_string(target.framebuffer) +
                           " is incomplete: " + framebuffer_status_name(status));
     glViewport(0, 0, target.width, target.height);
-    glClearColor(scene.background.r, scene.background.g, scene.background.b, 1.0f);
+    if (debug_output == 0)
+        glClearColor(scene.background.r, scene.background.g, scene.background.b, 1.0f);
+    else  // alpha marks drawn pixels: -1 (float target) or 0 (packed) where nothing is
+        glClearColor(0.0f, 0.0f, 0.0f, debug_output == 1 ? -1.0f : 0.0f);
     glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
@@ -286,7 +288,11 @@ Status Renderer::draw(const RenderTarget& target) {
         const GpuMaterial& material = scene_->materials[object.material];
         const GpuMesh& mesh = scene_->meshes[object.mesh];
         const MaterialDesc& m = *material.desc;
-        const Program& p = *material.program;
+        VariantKey key = material.plan.key;
+        key.debug_output = debug_output;
+        Result<const Program*> program = scene_->programs.get(key);
+        if (!program) return with_context("material '" + m.name + "'", program.error());
+        const Program& p = **program;
         glUseProgram(p.id());
 
         const glm::mat4 model = object.desc->transform.matrix();

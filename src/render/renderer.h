@@ -48,7 +48,9 @@ public:
     // Draws the loaded scene into `target`. GL state the renderer changes
     // (framebuffer, viewport, program, depth and cull state, texture and
     // buffer bindings) is restored afterwards for the host app.
-    Status draw(const RenderTarget& target);
+    // `debug_output` (VariantKey::debug_output) draws what each shader
+    // computed instead of colour; see render/surface_capture.h.
+    Status draw(const RenderTarget& target, std::uint8_t debug_output = 0);
 
     const std::vector<DrawReport>& reports() const { return reports_; }
     size_t program_count() const;

@@ -1,0 +1,34 @@
+// Debug outputs: what the shader computed, not its colour, so that error is
+// measured on the hit itself (src/render/surface_capture.cpp reads them).
+//   PX_DEBUG_OUTPUT 1: a float target: (u, v, height, visibility of light 0).
+//   PX_DEBUG_OUTPUT 2, 3, 4: RGBA8 passes (GLSL ES 1.00, or no float target):
+//     fract(u) in 24 bits | fract(v) in 24 bits | height and visibility in
+//     16 bits each. Alpha 1 marks a drawn pixel (the target is cleared to 0).
+// All highp: the packing needs 24 exact integer bits.
+
+PX_HIGHP vec3 px_pack24(PX_HIGHP float x) {
+    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * 16777215.0 + 0.5);
+    PX_HIGHP float r = floor(e / 65536.0);
+    e -= r * 65536.0;
+    PX_HIGHP float g = floor(e / 256.0);
+    PX_HIGHP float b = e - g * 256.0;
+    return vec3(r, g, b) / 255.0;
+}
+
+PX_HIGHP vec2 px_pack16(PX_HIGHP float x) {
+    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * 65535.0 + 0.5);
+    PX_HIGHP float high = floor(e / 256.0);
+    return vec2(high, e - high * 256.0) / 255.0;
+}
+
+PX_HIGHP vec4 px_debug_output(PX_HIGHP vec2 hit_uv, PX_HIGHP float hit_height, PX_HIGHP float visibility) {
+#if PX_DEBUG_OUTPUT == 1
+    return vec4(hit_uv, hit_height, visibility);
+#elif PX_DEBUG_OUTPUT == 2
+    return vec4(px_pack24(fract(hit_uv.x)), 1.0);
+#elif PX_DEBUG_OUTPUT == 3
+    return vec4(px_pack24(fract(hit_uv.y)), 1.0);
+#else
+    return vec4(px_pack16(hit_height), px_pack16(visibility));
+#endif
+}

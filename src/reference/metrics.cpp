@@ -1,0 +1,104 @@
+#include "reference/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace px::reference {
+
+namespace {
+
+// The shorter way round a tile: d - round(d), in [-0.5, 0.5). Hit uvs are
+// unbounded (tiles repeat), so uv 0.999 and 1.001 are the same texel row.
+double wrap_tile(double d) { return d - std::floor(d + 0.5); }
+
+std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+}  // namespace
+
+Result<ErrorMetrics> compare_surfaces(const SurfaceImage& measured, const SurfaceImage& truth, int texture_width,
+                                      int texture_height) {
+    if (measured.width != truth.width || measured.height != truth.height)
+        return make_error("compare_surfaces: measured image is " + size_text(measured.width, measured.height) +
+                          " but the reference is " + size_text(truth.width, truth.height));
+    const size_t count = static_cast<size_t>(std::max(truth.width, 0)) * static_cast<size_t>(std::max(truth.height, 0));
+    if (measured.samples.size() != count || truth.samples.size() != count)
+        return make_error("compare_surfaces: sample count does not match the image size " +
+                          size_text(truth.width, truth.height));
+    if (texture_width < 1 || texture_height < 1)
+        return make_error("compare_surfaces: texture size " + size_text(texture_width, texture_height) +
+                          " is empty");
+
+    ErrorMetrics m;
+    std::vector<double> uv_errors;
+    uv_errors.reserve(count);
+    double depth_sum = 0.0;
+    double shadow_sum = 0.0;
+    long wrong = 0;
+    for (size_t i = 0; i < count; ++i) {
+        const SurfaceSample& a = measured.samples[i];
+        const SurfaceSample& b = truth.samples[i];
+        if (!a.covered || !b.covered) continue;
+        const double du = wrap_tile(a.uv.x - b.uv.x) * texture_width;
+        const double dv = wrap_tile(a.uv.y - b.uv.y) * texture_height;
+        const double e = std::sqrt(du * du + dv * dv);
+        uv_errors.push_back(e);
+        if (e > 1.0) ++wrong;
+        const double dh = std::fabs(a.height - b.height);
+        depth_sum += dh;
+        m.depth_error_max = std::max(m.depth_error_max, dh);
+        shadow_sum += std::fabs(a.visibility - b.visibility);
+    }
+    m.pixels = static_cast<long>(uv_errors.size());
+    if (m.pixels == 0) return m;  // nothing to compare: all errors stay 0
+
+    const double n = static_cast<double>(m.pixels);
+    double uv_sum = 0.0;
+    for (double e : uv_errors) {
+        uv_sum += e;
+        m.uv_error_max = std::max(m.uv_error_max, e);
+    }
+    m.uv_error_mean = uv_sum / n;
+    // Nearest-rank percentile: the smallest error at least 95% of pixels reach.
+    const size_t rank = static_cast<size_t>(std::ceil(0.95 * n)) - 1;
+    std::nth_element(uv_errors.begin(), uv_errors.begin() + static_cast<std::ptrdiff_t>(rank), uv_errors.end());
+    m.uv_error_p95 = uv_errors[rank];
+    m.wrong_surface_share = static_cast<double>(wrong) / n;
+    m.depth_error_mean = depth_sum / n;
+    m.shadow_disagreement = shadow_sum / n;
+    // color_psnr_db stays 0: surfaces carry no colour; callers fill it from color_psnr().
+    return m;
+}
+
+double color_psnr(const Image& measured, const Image& truth, const SurfaceImage& mask) {
+    // A broken precondition gives NaN: it fails every threshold comparison
+    // instead of passing as a plausible number.
+    const bool sizes_match = measured.width == truth.width && measured.height == truth.height &&
+                             mask.width == truth.width && mask.height == truth.height;
+    const size_t count = static_cast<size_t>(std::max(truth.width, 0)) * static_cast<size_t>(std::max(truth.height, 0));
+    if (!sizes_match || measured.channels < 3 || truth.channels < 3 || mask.samples.size() != count ||
+        measured.pixels.size() != count * static_cast<size_t>(measured.channels) ||
+        truth.pixels.size() != count * static_cast<size_t>(truth.channels))
+        return std::numeric_limits<double>::quiet_NaN();
+
+    double squared_sum = 0.0;
+    long values = 0;
+    for (int y = 0; y < truth.height; ++y)
+        for (int x = 0; x < truth.width; ++x) {
+            if (!mask.at(x, y).covered) continue;
+            const std::uint8_t* a = measured.texel(x, y);
+            const std::uint8_t* b = truth.texel(x, y);
+            for (int c = 0; c < 3; ++c) {
+                const double d = static_cast<double>(a[c]) - static_cast<double>(b[c]);
+                squared_sum += d * d;
+            }
+            values += 3;
+        }
+    if (values == 0 || squared_sum == 0.0) return 99.0;
+    const double mse = squared_sum / static_cast<double>(values);
+    // Capped so that "identical" (99) always ranks at least as high as any real score.
+    return std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse));
+}
+
+}  // namespace px::reference

@@ -1,0 +1,316 @@
+#include "reference/reference_image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "effects/variant.h"
+#include "reference/tracer.h"
+#include "scene/material_images.h"
+
+namespace px::reference {
+
+namespace {
+
+// One material's data as the GPU samples it.
+struct MaterialData {
+    const MaterialDesc* desc = nullptr;
+    MaterialImages images;
+    HeightField traced;        // 8-bit quantised: what the shader reads
+    bool reads_height = false; // the GPU's surface output covers it
+    glm::dmat2 uv_matrix{1.0};
+    glm::dvec2 uv_offset{0.0};
+    glm::dmat2 uv_frame{1.0};
+    double height_scale = 0.0;
+    double polygon_height = 1.0;
+};
+
+// One plane object, with its world tangent frame built as surface.vert does.
+struct PlaneData {
+    const MaterialData* material = nullptr;
+    double half_size = 1.0;
+    glm::dmat4 model{1.0};
+    glm::dmat4 inverse_model{1.0};
+    double winding_sign = 1.0;  // sign of det(model3): mirroring flips which side GL culls
+    glm::dvec3 t{1.0, 0.0, 0.0}, b{0.0, 1.0, 0.0}, n{0.0, 0.0, 1.0};
+};
+
+struct LightData {
+    bool point = false;
+    glm::dvec3 vector{0.0};  // toward the light (directional) or its position (point)
+    glm::dvec3 color{1.0};
+    double angular_radius = 0.0;  // radians
+};
+
+// Same matrix as the renderer's uv_matrix(), in double.
+glm::dmat2 uv_matrix(const UvTransform& uv) {
+    const double a = glm::radians(static_cast<double>(uv.rotation_deg));
+    const glm::dmat2 rotation(std::cos(a), std::sin(a), -std::sin(a), std::cos(a));
+    return rotation * glm::dmat2(uv.scale.x, 0.0, 0.0, uv.scale.y);
+}
+
+// GL_LINEAR with GL_REPEAT at the base level, as HeightField::sample_bilinear
+// does; channels past the image's last repeat it (grey images), alpha 1 when absent.
+glm::dvec4 sample_bilinear(const Image& image, glm::dvec2 uv) {
+    const int w = image.width;
+    const int h = image.height;
+    const double tx = uv.x * w - 0.5;
+    const double ty = uv.y * h - 0.5;
+    const double fx = std::floor(tx);
+    const double fy = std::floor(ty);
+    const double ax = tx - fx;
+    const double ay = ty - fy;
+    auto wrap = [](double i, int n) {
+        const long long r = static_cast<long long>(std::fmod(i, static_cast<double>(n)));
+        return static_cast<int>(r < 0 ? r + n : r);
+    };
+    const int x0 = wrap(fx, w);
+    const int y0 = wrap(fy, h);
+    const int x1 = x0 + 1 == w ? 0 : x0 + 1;
+    const int y1 = y0 + 1 == h ? 0 : y0 + 1;
+    auto texel = [&](int x, int y) {
+        const std::uint8_t* p = image.texel(x, y);
+        glm::dvec4 v(1.0);
+        for (int c = 0; c < 3; ++c) v[c] = p[std::min(c, image.channels - 1)] / 255.0;
+        if (image.channels == 4) v.w = p[3] / 255.0;
+        return v;
+    };
+    return glm::mix(glm::mix(texel(x0, y0), texel(x1, y0), ax), glm::mix(texel(x0, y1), texel(x1, y1), ax), ay);
+}
+
+// Into the material's texture frame: tangent-space components, then the uv
+// frame on xy (surface.vert), normalised. Zero when v is zero.
+glm::dvec3 to_texture_frame(const PlaneData& plane, glm::dvec3 v) {
+    glm::dvec3 ts(glm::dot(v, plane.t), glm::dot(v, plane.b), glm::dot(v, plane.n));
+    const glm::dvec2 xy = plane.material->uv_frame * glm::dvec2(ts.x, ts.y);
+    ts = glm::dvec3(xy, ts.z);
+    const double len = glm::length(ts);
+    return len > 0.0 ? ts / len : glm::dvec3(0.0);
+}
+
+std::uint8_t to_byte(double v) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+}
+
+struct Frame {
+    glm::dvec3 eye{0.0};
+    glm::dmat4 inverse_view_projection{1.0};
+    glm::dvec3 ambient{0.0};
+    glm::dvec3 background{0.0};
+    std::vector<PlaneData> planes;
+    std::vector<LightData> lights;
+    ReferenceOptions options;
+    int width = 0, height = 0;
+};
+
+double light_visibility(const Frame& f, const MaterialData& m, const ReliefHit& hit, glm::dvec3 light_ts,
+                        double angular_radius) {
+    switch (f.options.shadow) {
+        case ShadowMode::none: return 1.0;
+        case ShadowMode::hard:
+        case ShadowMode::soft:
+            // No relief to trace: only the geometric horizon can hide the light.
+            if (!(m.height_scale > 0.0)) return light_ts.z > 0.0 ? 1.0 : 0.0;
+            if (f.options.shadow == ShadowMode::hard)
+                return hard_visibility(m.traced, hit.uv, hit.height, light_ts, m.height_scale);
+            return soft_visibility(m.traced, hit.uv, hit.height, light_ts, m.height_scale, angular_radius,
+                                   f.options.soft_samples);
+    }
+    return 1.0;
+}
+
+void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint8_t* rgba) {
+    // The pixel centre's ray from the near to the far plane: s in [0, 1]
+    // is exactly the depth range the GPU keeps (near/far clipping).
+    const glm::dvec2 ndc((x + 0.5) / f.width * 2.0 - 1.0, (y + 0.5) / f.height * 2.0 - 1.0);
+    const glm::dvec4 near_h = f.inverse_view_projection * glm::dvec4(ndc, -1.0, 1.0);
+    const glm::dvec4 far_h = f.inverse_view_projection * glm::dvec4(ndc, 1.0, 1.0);
+    const glm::dvec3 origin = glm::dvec3(near_h) / near_h.w;
+    const glm::dvec3 direction = glm::dvec3(far_h) / far_h.w - origin;
+
+    const PlaneData* nearest = nullptr;
+    double nearest_s = 2.0;
+    glm::dvec2 mesh_uv(0.0);
+    for (const PlaneData& p : f.planes) {
+        const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(origin, 1.0));
+        const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(direction, 0.0));
+        // Back faces are culled: the front is the side from which the
+        // (possibly mirrored) triangles wind counter-clockwise.
+        if (!(p.winding_sign * d.z < 0.0)) continue;
+        const double s = -o.z / d.z;
+        if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
+        const glm::dvec3 q = o + s * d;
+        if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) continue;
+        nearest = &p;
+        nearest_s = s;
+        mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
+    }
+    if (!nearest) {
+        for (int c = 0; c < 3; ++c) rgba[c] = to_byte(f.background[c]);
+        rgba[3] = 255;
+        return;
+    }
+
+    const PlaneData& p = *nearest;
+    const MaterialData& m = *p.material;
+    const glm::dvec3 world = origin + nearest_s * direction;  // on the polygon
+    const glm::dvec2 uv = m.uv_matrix * mesh_uv + m.uv_offset;
+    const glm::dvec3 view_ts = to_texture_frame(p, f.eye - world);
+
+    ReliefHit hit;
+    hit.uv = uv;
+    hit.height = m.polygon_height;
+    // Scale 0 is a flat polygon; z <= 0 only under a mirroring transform that
+    // the shaders do not handle either: shade the polygon itself.
+    if (m.height_scale > 0.0 && view_ts.z > 0.0)
+        hit = trace_view(m.traced, uv, view_ts, m.height_scale, m.polygon_height);
+
+    // px_shade: ambient * albedo + per light visibility * colour * (albedo N.L + specular).
+    const glm::dvec3 albedo = glm::dvec3(sample_bilinear(m.images.albedo, hit.uv));
+    glm::dvec3 normal = glm::dvec3(sample_bilinear(m.images.normal, hit.uv)) * 2.0 - 1.0;
+    normal = glm::length(normal) > 0.0 ? glm::normalize(normal) : glm::dvec3(0.0, 0.0, 1.0);
+    glm::dvec3 color = f.ambient * albedo;
+    double first_visibility = 1.0;
+    for (size_t i = 0; i < f.lights.size(); ++i) {
+        const LightData& l = f.lights[i];
+        const glm::dvec3 to_light = l.point ? l.vector - world : l.vector;
+        const glm::dvec3 light_ts = to_texture_frame(p, to_light);
+        const double visibility = light_visibility(f, m, hit, light_ts, l.angular_radius);
+        if (i == 0) first_visibility = visibility;
+        const double n_dot_l = std::max(glm::dot(normal, light_ts), 0.0);
+        const glm::dvec3 half_sum = light_ts + view_ts;
+        const double half_len = glm::length(half_sum);
+        const double n_dot_h = half_len > 0.0 ? std::max(glm::dot(normal, half_sum / half_len), 0.0) : 0.0;
+        const double specular = n_dot_l > 0.0 ? 0.25 * std::pow(n_dot_h, 32.0) : 0.0;
+        color += visibility * l.color * (albedo * n_dot_l + glm::dvec3(specular));
+    }
+    for (int c = 0; c < 3; ++c) rgba[c] = to_byte(color[c]);
+    rgba[3] = 255;
+
+    sample.covered = m.reads_height;
+    sample.uv = hit.uv;
+    sample.height = hit.height;
+    sample.visibility = first_visibility;
+}
+
+}  // namespace
+
+Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int height,
+                                        const ReferenceOptions& options) {
+    if (width < 1 || height < 1)
+        return make_error("reference: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                          " is empty");
+    if (options.shadow == ShadowMode::soft && options.soft_samples < 1)
+        return make_error("reference: soft_samples must be at least 1, got " + std::to_string(options.soft_samples));
+    Status valid = validate_scene(scene);
+    if (!valid) return valid.error();
+    for (const ObjectDesc& o : scene.objects)
+        if (o.mesh.kind != MeshKind::plane)
+            return make_error("reference: object '" + o.name + "' is a " + mesh_kind_name(o.mesh.kind) +
+                              "; the exact reference handles planes only");
+
+    // Materials: only those a plane uses, built once each.
+    std::vector<MaterialData> materials(scene.materials.size());
+    std::vector<bool> built(scene.materials.size(), false);
+    Frame f;
+    f.width = width;
+    f.height = height;
+    f.options = options;
+    ReferenceImage out;
+    for (const ObjectDesc& o : scene.objects) {
+        size_t mi = scene.materials.size();
+        for (size_t i = 0; i < scene.materials.size(); ++i)
+            if (scene.materials[i].name == o.material) mi = i;
+        if (mi == scene.materials.size())
+            return make_error("reference: object '" + o.name + "' names unknown material '" + o.material + "'");
+        MaterialData& m = materials[mi];
+        if (!built[mi]) {
+            const MaterialDesc& desc = scene.materials[mi];
+            Result<MaterialImages> images = build_material_images(desc, scene.base_dir);
+            if (!images) return images.error();
+            m.desc = &desc;
+            m.images = std::move(*images);
+            m.traced = quantized_8bit(m.images.field);
+            m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
+            m.uv_matrix = uv_matrix(desc.uv);
+            m.uv_offset = glm::dvec2(desc.uv.offset);
+            const double det = std::fabs(glm::determinant(m.uv_matrix));
+            m.uv_frame = det > 0.0 ? m.uv_matrix / std::sqrt(det) : glm::dmat2(1.0);
+            m.height_scale = desc.height_scale;
+            m.polygon_height = desc.height_scale > 0.0f ? -static_cast<double>(desc.bias()) / desc.height_scale : 1.0;
+            built[mi] = true;
+        }
+        if (m.reads_height && out.texture_width == 0) {
+            out.texture_width = m.traced.width;
+            out.texture_height = m.traced.height;
+        }
+
+        PlaneData p;
+        p.material = &m;
+        p.half_size = 0.5 * static_cast<double>(o.mesh.size);
+        p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
+        p.inverse_model = glm::inverse(p.model);
+        const glm::dmat3 model3(p.model);
+        const double det3 = glm::determinant(model3);
+        if (!(std::fabs(det3) > 0.0))
+            return make_error("reference: object '" + o.name + "' has a singular transform");
+        p.winding_sign = det3 < 0.0 ? -1.0 : 1.0;
+        // surface.vert's frame: n from the normal matrix, t Gram-Schmidt
+        // against it, b = handedness * cross(n, t) (mesh tangent w = +1).
+        p.n = glm::normalize(glm::inverseTranspose(model3) * glm::dvec3(0.0, 0.0, 1.0));
+        glm::dvec3 t = model3 * glm::dvec3(1.0, 0.0, 0.0);
+        p.t = glm::normalize(t - p.n * glm::dot(p.n, t));
+        p.b = p.winding_sign * glm::cross(p.n, p.t);
+        f.planes.push_back(p);
+    }
+
+    const CameraDesc& cam = scene.camera;
+    const double aspect = static_cast<double>(width) / static_cast<double>(height);
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(cam.position), glm::dvec3(cam.target), glm::dvec3(cam.up));
+    const glm::dmat4 projection = glm::perspective(glm::radians(static_cast<double>(cam.fov_y_deg)), aspect,
+                                                   static_cast<double>(cam.near_plane),
+                                                   static_cast<double>(cam.far_plane));
+    f.inverse_view_projection = glm::inverse(projection * view);
+    f.eye = glm::dvec3(cam.position);
+    f.ambient = glm::dvec3(scene.ambient);
+    f.background = glm::dvec3(scene.background);
+    // As the renderer: the first kMaxLights lights, colour times intensity.
+    const size_t light_count = std::min<size_t>(scene.lights.size(), static_cast<size_t>(kMaxLights));
+    for (size_t i = 0; i < light_count; ++i) {
+        const LightDesc& l = scene.lights[i];
+        LightData d;
+        d.point = l.kind == LightKind::point;
+        d.vector = d.point ? glm::dvec3(l.position) : -glm::normalize(glm::dvec3(l.direction));
+        d.color = glm::dvec3(l.color) * static_cast<double>(l.intensity);
+        d.angular_radius = glm::radians(static_cast<double>(l.angular_radius_deg));
+        f.lights.push_back(d);
+    }
+
+    out.surface.width = width;
+    out.surface.height = height;
+    out.surface.samples.assign(static_cast<size_t>(width) * height, SurfaceSample{});
+    out.color.width = width;
+    out.color.height = height;
+    out.color.channels = 4;
+    out.color.pixels.assign(static_cast<size_t>(width) * height * 4, 0);
+
+    // Rows interleaved over threads; each pixel depends on nothing but the
+    // frame, so the image is the same for any thread count.
+    const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+    auto work = [&](int first) {
+        for (int y = first; y < height; y += threads)
+            for (int x = 0; x < width; ++x)
+                render_pixel(f, x, y, out.surface.samples[static_cast<size_t>(y) * width + x], out.color.texel(x, y));
+    };
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(work, i);
+    work(0);
+    for (std::thread& t : pool) t.join();
+    return out;
+}
+
+}  // namespace px::reference

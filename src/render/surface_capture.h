@@ -1,0 +1,19 @@
+// Reads back what the shaders computed per pixel (hit uv, height, visibility
+// of the first light) by drawing the loaded scene with its debug variants.
+// ES 3.0 with GL_EXT_color_buffer_float: one pass into an RGBA32F target.
+// Otherwise (ES 2.0): three passes into RGBA8, packed in 24 and 16 bits
+// (shaders_es/chunks/debug_output.glsl); uvs then come back modulo the tile,
+// which is how errors are measured anyway.
+#pragma once
+
+#include "core/result.h"
+#include "reference/metrics.h"
+#include "render/renderer.h"
+
+namespace px {
+
+// Needs a current context and a loaded scene; creates and deletes its own
+// framebuffer and restores the host's binding.
+Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height);
+
+}  // namespace px
