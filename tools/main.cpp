@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     px::tools::add_render_command(app);
     px::tools::add_shaders_command(app);
+    px::tools::add_bench_command(app, argc, argv);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -37,15 +37,18 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 #endif
 
 // Height reads inside tracing loops never use implicit derivatives (their
-// value is undefined in non-uniform control flow). GLSL ES 3.00: textureGrad
-// with the gradients of the unshifted uv taken before the loop. GLSL ES 1.00
-// has no texture2DGrad without GL_EXT_shader_texture_lod, so the renderer
-// binds a base-level-only copy of the traced texture (GL_LINEAR) instead, and
-// the shading reads keep their mip chain.
+// value is undefined in non-uniform control flow), and they read the base
+// level: the traced surface is the texture's own, not a blurred mip of it, so
+// a hit is exact up to the search (the reference traces the same surface).
+// GLSL ES 3.00: textureLod at level 0. GLSL ES 1.00 has no lod sampling in
+// the fragment stage without GL_EXT_shader_texture_lod, so the renderer binds
+// a base-level-only copy of the traced texture instead, and the shading reads
+// keep their mip chain. The gradients of the unshifted uv still travel with
+// the trace for the shading reads (textureGrad after the offset).
 #if PX_ES >= 3
 #define PX_TRACE_GRADIENTS , PX_HIGHP vec2 uv_dx, PX_HIGHP vec2 uv_dy
 #define PX_TRACE_GRADIENT_ARGS , uv_dx, uv_dy
-#define px_trace_height(uv) textureGrad(PX_HEIGHT_SAMPLER, (uv), uv_dx, uv_dy).PX_HEIGHT_CHANNEL
+#define px_trace_height(uv) textureLod(PX_HEIGHT_SAMPLER, (uv), 0.0).PX_HEIGHT_CHANNEL
 #else
 #define PX_TRACE_GRADIENTS
 #define PX_TRACE_GRADIENT_ARGS

@@ -76,13 +76,17 @@ long walk_cells(const HeightField& field, const Ray& ray, double t_min, double t
     const int step_x = d.x > 0 ? 1 : (d.x < 0 ? -1 : 0);
     const int step_y = d.y > 0 ? 1 : (d.y < 0 ? -1 : 0);
     // Time at which the ray leaves the current cell through its x (y) side.
+    // (A reciprocal: off by an ulp or so, which only moves a boundary by as
+    // much; local coordinates are recomputed from the origin and clamped.)
+    const double inv_x = step_x != 0 ? 1.0 / d.x : 0.0;
+    const double inv_y = step_y != 0 ? 1.0 / d.y : 0.0;
     const auto next_x = [&] {
-        return step_x > 0 ? (static_cast<double>(i + 1) - ox) / d.x
-                          : (step_x < 0 ? (static_cast<double>(i) - ox) / d.x : kInf);
+        return step_x > 0 ? (static_cast<double>(i + 1) - ox) * inv_x
+                          : (step_x < 0 ? (static_cast<double>(i) - ox) * inv_x : kInf);
     };
     const auto next_y = [&] {
-        return step_y > 0 ? (static_cast<double>(j + 1) - oy) / d.y
-                          : (step_y < 0 ? (static_cast<double>(j) - oy) / d.y : kInf);
+        return step_y > 0 ? (static_cast<double>(j + 1) - oy) * inv_y
+                          : (step_y < 0 ? (static_cast<double>(j) - oy) * inv_y : kInf);
     };
     double tx = next_x();
     double ty = next_y();

@@ -31,6 +31,7 @@ struct GpuMaterial {
     // Empty when the traced reads come from `normal` (packed, ES 3.0).
     Texture height;
     VariantPlan plan;
+    HeightField field;  // 8-bit quantised, as uploaded: for displaced meshes
 };
 
 struct GpuObject {
@@ -196,6 +197,8 @@ Status Renderer::load(const SceneDesc& scene) {
         Result<MaterialImages> images = build_material_images(m, desc.base_dir);
         if (!images) return images.error();
         const std::string what = "material '" + m.name + "'";
+        g.field = images->field;
+        for (float& h : g.field.texels) h = std::round(h * 255.0f) / 255.0f;
         Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo");
         if (!albedo) return albedo.error();
         g.albedo = std::move(*albedo);
@@ -218,16 +221,32 @@ Status Renderer::load(const SceneDesc& scene) {
         gpu->materials.push_back(std::move(g));
     }
     for (const ObjectDesc& o : desc.objects) {
-        Mesh mesh = build_mesh(o.mesh);
         const std::string what = "object '" + o.name + "'";
+        size_t material_index = 0;
+        for (size_t i = 0; i < desc.materials.size(); ++i)
+            if (desc.materials[i].name == o.material) material_index = i;
+        Mesh mesh;
+        if (o.mesh.displaced) {
+            if (o.mesh.kind != MeshKind::plane)
+                return make_error(what + ": only planes can be displaced (mesh.displaced)");
+            const GpuMaterial& material = gpu->materials[material_index];
+            const MaterialDesc& m = *material.desc;
+            const float tiles = std::sqrt(std::fabs(glm::determinant(uv_matrix(m.uv))));
+            const float scale = m.height_scale;
+            Result<Mesh> displaced = make_displaced_plane(o.mesh.size, material.field, scale,
+                                                          scale > 0.0f ? -m.bias() / scale : 1.0f, o.mesh.size / tiles);
+            if (!displaced) return with_context(what, displaced.error());
+            mesh = std::move(*displaced);
+        } else {
+            mesh = build_mesh(o.mesh);
+        }
         Result<GpuMesh> g = upload_mesh(mesh, caps_, what);
         if (!g) return g.error();
         gpu->meshes.push_back(std::move(*g));
         GpuObject object;
         object.desc = &o;
         object.mesh = gpu->meshes.size() - 1;
-        for (size_t i = 0; i < desc.materials.size(); ++i)
-            if (desc.materials[i].name == o.material) object.material = i;
+        object.material = material_index;
         gpu->objects.push_back(object);
         const GpuMaterial& material = gpu->materials[object.material];
         reports.push_back(DrawReport{o.name, o.material, material.desc->technique.technique, material.plan.key,

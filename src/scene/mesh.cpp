@@ -391,3 +391,37 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
 }
 
 }  // namespace px
+
+namespace px {
+
+Result<Mesh> make_displaced_plane(float size, const HeightField& field, float height_scale, float polygon_height,
+                                  float units_per_tile) {
+    if (field.width < 1 || field.height < 1) return make_error("displaced plane: the height field is empty");
+    const int columns = field.width;
+    const int rows = field.height;
+    Mesh mesh;
+    mesh.vertices.reserve(static_cast<size_t>(columns + 1) * (rows + 1));
+    for (int j = 0; j <= rows; ++j)
+        for (int i = 0; i <= columns; ++i) {
+            Vertex v;
+            v.uv = glm::vec2(static_cast<float>(i) / static_cast<float>(columns), static_cast<float>(j) / static_cast<float>(rows));
+            const double h = field.sample_bilinear(v.uv.x, v.uv.y);
+            v.position = glm::vec3((v.uv.x - 0.5f) * size, (v.uv.y - 0.5f) * size,
+                                   static_cast<float>(h - polygon_height) * height_scale * units_per_tile);
+            v.normal = glm::vec3(0.0f, 0.0f, 1.0f);
+            v.tangent = glm::vec4(1.0f, 0.0f, 0.0f, 1.0f);
+            mesh.vertices.push_back(v);
+        }
+    const auto index = [columns](int i, int j) { return static_cast<std::uint32_t>(j * (columns + 1) + i); };
+    mesh.indices.reserve(static_cast<size_t>(columns) * rows * 6);
+    for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < columns; ++i) {
+            // Counter-clockwise seen from +z, as make_plane.
+            mesh.indices.insert(mesh.indices.end(), {index(i, j), index(i + 1, j), index(i + 1, j + 1),
+                                                     index(i, j), index(i + 1, j + 1), index(i, j + 1)});
+        }
+    mesh.units_per_uv = size;
+    return mesh;
+}
+
+}  // namespace px

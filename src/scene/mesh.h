@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "assets/heightfield.h"
 #include "core/result.h"
 
 namespace px {
@@ -43,6 +44,15 @@ Mesh make_uv_sphere(float radius = 1.0f, int slices = 48, int stacks = 24);
 // Torus around the z axis: u around the ring, v around the tube.
 Mesh make_torus(float ring_radius = 1.0f, float tube_radius = 0.35f, int ring_segments = 64,
                 int tube_segments = 32);
+
+// A plane like make_plane(size) whose vertices, one per texel of `field`
+// (at uv i/width, j/height, heights sampled bilinearly with wrap), move
+// along the normal to where the relief is: z = (h - polygon_height) *
+// height_scale * units_per_tile, with height_scale in tile units. The
+// tangent frame stays the plane's: the normal map shades it, as with
+// parallax. Errors: an empty field.
+Result<Mesh> make_displaced_plane(float size, const HeightField& field, float height_scale, float polygon_height,
+                                  float units_per_tile);
 
 // Recomputes every vertex tangent from positions, normals and uvs of an
 // indexed triangle list (per-triangle uv derivatives, accumulated and

@@ -497,12 +497,13 @@ void read_object(Reader& r, const json& j, const std::string& path, ObjectDesc& 
     f.read("name", o.name);
     f.read("material", o.material);
 
-    Fields mesh(r, f.get("mesh"), f.sub("mesh"), {"type", "size", "segments", "radius", "tube_radius"});
+    Fields mesh(r, f.get("mesh"), f.sub("mesh"), {"type", "size", "segments", "radius", "tube_radius", "displaced"});
     mesh.read_named("type", parse_mesh_kind, o.mesh.kind);
     mesh.read("size", o.mesh.size);
     mesh.read("segments", o.mesh.segments);
     mesh.read("radius", o.mesh.radius);
     mesh.read("tube_radius", o.mesh.tube_radius);
+    mesh.read("displaced", o.mesh.displaced);
 
     Fields t(r, f.get("transform"), f.sub("transform"), {"translate", "rotate_deg", "scale"});
     t.read("translate", o.transform.translate);
@@ -665,6 +666,8 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
               "must be within 1..1024, got " + std::to_string(mesh.segments));
     c.require(mesh.radius > 0.0f && std::isfinite(mesh.radius), path + ".mesh.radius",
               "must be greater than 0, got " + num(mesh.radius));
+    c.require(!mesh.displaced || mesh.kind == MeshKind::plane, path + ".mesh.displaced",
+              "only a plane can be displaced");
     c.require(mesh.tube_radius > 0.0f && std::isfinite(mesh.tube_radius), path + ".mesh.tube_radius",
               "must be greater than 0, got " + num(mesh.tube_radius));
     if (mesh.kind == MeshKind::torus)  // a thicker tube passes through the axis and folds over itself

@@ -85,6 +85,10 @@ struct MeshDesc {
     int segments = 1;           // plane
     float radius = 1.0f;        // sphere radius, torus ring radius
     float tube_radius = 0.35f;  // torus
+    // plane only: real geometry instead of parallax, the relief of the
+    // object's material displaced into a grid of one vertex per texel (the
+    // accuracy benchmark's baseline). Drawn with the material's shading.
+    bool displaced = false;
 };
 
 struct ObjectDesc {

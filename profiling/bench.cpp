@@ -1,0 +1,289 @@
+#include "bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <memory>
+
+#include "gl/gl.h"
+#include "reference/reference_image.h"
+#include "reference/tracer.h"
+#include "render/renderer.h"
+#include "render/surface_capture.h"
+#include "scene/material_images.h"
+
+namespace px::profiling {
+
+namespace {
+
+struct SceneSpec {
+    const char* name;
+    FieldKind kind;
+    int size;
+    float height_scale;
+    ShadowMode shadow;
+};
+
+// Smooth, stepped, thin and shadowed reliefs: where the techniques part ways.
+const std::vector<SceneSpec>& scene_specs() {
+    static const std::vector<SceneSpec> specs = {
+        {"sine", FieldKind::sine, 256, 0.08f, ShadowMode::none},
+        {"bricks", FieldKind::bricks, 256, 0.06f, ShadowMode::none},
+        {"text", FieldKind::text, 512, 0.05f, ShadowMode::none},
+        {"hemispheres", FieldKind::hemispheres, 256, 0.1f, ShadowMode::none},
+        {"bricks_shadowed", FieldKind::bricks, 256, 0.06f, ShadowMode::hard},
+    };
+    return specs;
+}
+
+const SceneSpec* find_spec(const std::string& name) {
+    for (const SceneSpec& s : scene_specs())
+        if (name == s.name) return &s;
+    return nullptr;
+}
+
+struct Setting {
+    std::string technique;  // catalogue name or kDisplacedMesh
+    int samples = 0;
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+std::string now_iso8601() {
+    const std::time_t t = std::time(nullptr);
+    char buffer[32];
+    std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+    return buffer;
+}
+
+Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene) {
+    Result<std::unique_ptr<Renderer>> r = Renderer::create();
+    if (!r) return r.error();
+    Status loaded = (*r)->load(scene);
+    if (!loaded) return loaded.error();
+    return r;
+}
+
+SceneDesc with_setting(const SceneDesc& base, const Setting& setting, ShadowMode shadow) {
+    SceneDesc s = base;
+    MaterialDesc& m = s.materials[0];
+    if (setting.technique == kDisplacedMesh) {
+        m.technique.technique = Technique::normal;
+        s.objects[0].mesh.displaced = true;
+        return s;
+    }
+    m.technique.technique = parse_technique(setting.technique).value();
+    if (setting.samples > 0) m.technique.min_samples = m.technique.max_samples = setting.samples;
+    m.technique.shadow = shadow;
+    return s;
+}
+
+}  // namespace
+
+std::vector<std::string> bench_scene_names() {
+    std::vector<std::string> names;
+    for (const SceneSpec& s : scene_specs()) names.push_back(s.name);
+    return names;
+}
+
+ShadowMode bench_scene_shadow(const std::string& name) {
+    const SceneSpec* spec = find_spec(name);
+    return spec ? spec->shadow : ShadowMode::none;
+}
+
+std::vector<std::string> bench_technique_names() {
+    std::vector<std::string> names;
+    for (const TechniqueInfo& info : technique_table())
+        if (info.id != Technique::flat) names.push_back(info.name);
+    names.push_back(kDisplacedMesh);
+    return names;
+}
+
+Result<SceneDesc> bench_scene(const std::string& name, double angle_deg) {
+    const SceneSpec* spec = find_spec(name);
+    if (!spec) {
+        std::string known;
+        for (const std::string& n : bench_scene_names()) known += (known.empty() ? "" : ", ") + n;
+        return make_error("unknown bench scene '" + name + "' (known: " + known + ")");
+    }
+    if (!(angle_deg >= 0.0 && angle_deg < 90.0))
+        return make_error("view angle " + std::to_string(angle_deg) + " is outside [0, 90) degrees");
+    SceneDesc s;
+    s.name = spec->name;
+    const double a = angle_deg * M_PI / 180.0;
+    const float distance = 2.2f;
+    s.camera.position = glm::vec3(0.0f, static_cast<float>(-distance * std::sin(a)),
+                                  static_cast<float>(distance * std::cos(a)));
+    s.camera.target = glm::vec3(0.0f);
+    s.camera.up = angle_deg < 1.0 ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f);
+    s.camera.fov_y_deg = 45.0f;
+    LightDesc light;
+    const double azimuth = 30.0 * M_PI / 180.0, elevation = 35.0 * M_PI / 180.0;
+    light.direction = -glm::vec3(static_cast<float>(std::cos(elevation) * std::cos(azimuth)),
+                                 static_cast<float>(std::cos(elevation) * std::sin(azimuth)),
+                                 static_cast<float>(std::sin(elevation)));
+    light.angular_radius_deg = 2.0f;
+    s.lights = {light};
+
+    MaterialDesc m;
+    m.name = "surface";
+    m.albedo.kind = TextureSource::Kind::color;
+    m.albedo.color = glm::vec3(0.75f, 0.7f, 0.65f);
+    m.height.kind = TextureSource::Kind::procedural;
+    m.height.field.kind = spec->kind;
+    m.height.field.size = spec->size;
+    if (spec->kind == FieldKind::text) m.height.field.text = "PARALLAX";
+    m.height_scale = spec->height_scale;
+    m.technique.technique = Technique::pom;  // marks the plane as relief for the reference
+    s.materials = {m};
+    ObjectDesc o;
+    o.name = "plane";
+    o.mesh.kind = MeshKind::plane;
+    o.mesh.size = 2.4f;
+    o.mesh.segments = 64;
+    o.material = "surface";
+    s.objects = {o};
+    return s;
+}
+
+Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& target,
+                           const std::function<Result<Image>()>& read_color, const Progress& progress) {
+    const std::vector<std::string> scenes = options.scenes.empty() ? bench_scene_names() : options.scenes;
+    const std::vector<std::string> techniques =
+        options.techniques.empty() ? bench_technique_names() : options.techniques;
+    if (options.frames < 1) return make_error("frames must be at least 1");
+    for (const std::string& s : scenes)
+        if (!find_spec(s)) return bench_scene(s, 0.0).error();
+
+    std::vector<Setting> settings;
+    for (const std::string& name : techniques) {
+        if (name == kDisplacedMesh) {
+            settings.push_back({name, 0});
+            continue;
+        }
+        Result<Technique> t = parse_technique(name);
+        if (!t) return make_error("--techniques: " + t.error().message + ", " + kDisplacedMesh);
+        const TechniqueInfo& info = technique_info(*t);
+        if (info.options & kOptSamples) {
+            for (int samples : options.samples) {
+                if (samples < 1 || samples > info.max_samples_limit)
+                    return make_error("--samples: " + std::to_string(samples) + " is outside 1.." +
+                                      std::to_string(info.max_samples_limit) + " for " + info.name);
+                settings.push_back({name, samples});
+            }
+        } else {
+            settings.push_back({name, 0});
+        }
+    }
+
+    BenchRun run;
+    run.date = now_iso8601();
+    run.command = options.command;
+    run.gl_renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    run.gl_version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    run.threads = options.threads;
+    run.width = target.width;
+    run.height = target.height;
+    run.frames = options.frames;
+    const int total = static_cast<int>(scenes.size() * options.angles.size() * settings.size());
+    int done = 0;
+
+    for (const std::string& scene_name : scenes) {
+        const ShadowMode shadow = bench_scene_shadow(scene_name);
+        for (double angle : options.angles) {
+            Result<SceneDesc> base = bench_scene(scene_name, angle);
+            if (!base) return base.error();
+            reference::ReferenceOptions reference_options;
+            reference_options.shadow = shadow;
+            Result<reference::ReferenceImage> truth =
+                reference::render_reference(*base, target.width, target.height, reference_options);
+            if (!truth) return with_context("reference for " + scene_name, truth.error());
+            Result<MaterialImages> images = build_material_images(base->materials[0], base->base_dir);
+            if (!images) return images.error();
+            const HeightField field = reference::quantized_8bit(images->field);
+
+            SceneDesc normal_scene = *base;
+            normal_scene.materials[0].technique.technique = Technique::normal;
+            Result<std::unique_ptr<Renderer>> normal = load_renderer(normal_scene);
+            if (!normal) return normal.error();
+
+            for (const Setting& setting : settings) {
+                const SceneDesc scene = with_setting(*base, setting, shadow);
+                Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene);
+                if (!renderer) return with_context(setting.technique, renderer.error());
+
+                // What the shader computed, against the reference.
+                Result<reference::SurfaceImage> surfaces = capture_surfaces(**renderer, target.width, target.height);
+                if (!surfaces) return surfaces.error();
+                if (setting.technique == kDisplacedMesh) {
+                    // Normal mapping reports the polygon's height; the mesh's is the field's at its uv.
+                    for (reference::SurfaceSample& s : surfaces->samples)
+                        if (s.covered) s.height = field.sample_bilinear(s.uv.x, s.uv.y);
+                }
+                Result<reference::ErrorMetrics> error = reference::compare_surfaces(
+                    *surfaces, truth->surface, truth->texture_width, truth->texture_height);
+                if (!error) return error.error();
+
+                // Colour, then time: warm both programs, then interleave
+                // normal mapping and the setting so both see the same machine.
+                Status drawn = (*renderer)->draw(target);
+                if (!drawn) return drawn.error();
+                Result<Image> color = read_color();
+                if (!color) return color.error();
+                Status warm = (*normal)->draw(target);
+                if (!warm) return warm.error();
+                glFinish();
+                std::vector<double> times, ratios;
+                for (int frame = 0; frame < options.frames; ++frame) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    (void)(*normal)->draw(target);
+                    glFinish();
+                    const auto t1 = std::chrono::steady_clock::now();
+                    (void)(*renderer)->draw(target);
+                    glFinish();
+                    const auto t2 = std::chrono::steady_clock::now();
+                    times.push_back(ms_between(t1, t2));
+                    ratios.push_back(ms_between(t1, t2) / std::max(ms_between(t0, t1), 1e-6));
+                }
+
+                BenchRow row;
+                row.scene = scene_name;
+                row.angle_deg = angle;
+                row.technique = setting.technique;
+                row.samples = setting.samples;
+                row.pixels = error->pixels;
+                row.uv_error_mean = error->uv_error_mean;
+                row.uv_error_p95 = error->uv_error_p95;
+                row.uv_error_max = error->uv_error_max;
+                row.wrong_surface_share = error->wrong_surface_share;
+                row.depth_error_mean = error->depth_error_mean;
+                row.depth_error_max = error->depth_error_max;
+                row.shadow_disagreement = error->shadow_disagreement;
+                row.color_psnr_db = reference::color_psnr(*color, truth->color, truth->surface);
+                row.frame_ms_median = median(times);
+                row.frame_ms_min = *std::min_element(times.begin(), times.end());
+                row.frame_ms_max = *std::max_element(times.begin(), times.end());
+                row.ns_per_pixel = error->pixels > 0 ? row.frame_ms_median * 1e6 / static_cast<double>(error->pixels) : 0.0;
+                row.ratio_to_normal = median(ratios);
+                run.rows.push_back(row);
+                ++done;
+                if (progress) {
+                    std::string what = scene_name + " " + std::to_string(static_cast<int>(angle)) + "deg " + setting.technique;
+                    if (setting.samples) what += " " + std::to_string(setting.samples);
+                    progress(done, total, what);
+                }
+            }
+        }
+    }
+    return run;
+}
+
+}  // namespace px::profiling

@@ -1,0 +1,48 @@
+// The accuracy/time sweep behind `parallax bench`: for every bench scene,
+// view angle, technique and sample setting, the error of what the shader
+// computed against the exact reference, beside the frame time.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "assets/image.h"
+#include "bench_results.h"
+#include "core/result.h"
+#include "render/target.h"
+#include "scene/scene.h"
+
+namespace px::profiling {
+
+// Bench scenes: one plane, one material, seen from `angle_deg` off its normal.
+std::vector<std::string> bench_scene_names();
+Result<SceneDesc> bench_scene(const std::string& name, double angle_deg);
+// The shadow mode a bench scene measures (and its reference uses).
+ShadowMode bench_scene_shadow(const std::string& name);
+
+// "displaced_mesh": the real-geometry baseline (one vertex per texel).
+inline const char* kDisplacedMesh = "displaced_mesh";
+std::vector<std::string> bench_technique_names();
+
+struct BenchOptions {
+    std::vector<std::string> scenes;      // empty: every bench scene
+    std::vector<std::string> techniques;  // empty: every technique and the baseline
+    std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
+    std::vector<double> angles{0, 30, 60, 75, 85, 89};
+    int width = 256;
+    int height = 256;
+    int frames = 7;          // timed rounds per setting (each: normal mapping, then the setting)
+    std::string command;     // recorded in the results
+    int threads = 0;         // recorded: llvmpipe's thread count
+};
+
+// Called after each setting: done, total, and what was just measured.
+using Progress = std::function<void(int done, int total, const std::string& what)>;
+
+// Needs a current context. `target` is an offscreen colour target of the
+// options' size and `read_color` reads it back (platform/ provides both).
+Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& target,
+                           const std::function<Result<Image>()>& read_color, const Progress& progress);
+
+}  // namespace px::profiling

@@ -1,0 +1,49 @@
+// Maximum mip-maps (Tevs, Ihrke & Seidel 2008; Drobot 2010's quadtree) over
+// the BILINEARLY FILTERED height field, for the "maxmip" technique.
+//
+// Cone maps and max pyramids built over texel samples are not conservative
+// once the GPU filters bilinearly (Bán, Valasek et al., EGSR 2024): the
+// filtered surface between texel centres is not bounded by the sample at any
+// one centre. So level 0 holds one value per CELL, the square between four
+// neighbouring texel centres (the domain of one bilinear patch): cell (i, j)
+// spans texel space [i + 0.5, i + 1.5] x [j + 0.5, j + 1.5], has corner
+// texels (i, j), (i+1, j), (i, j+1), (i+1, j+1) (wrapping, GL_REPEAT), and
+// stores the max of those four. A bilinear patch is a convex combination of
+// its corners, so that max bounds the filtered surface over the cell exactly.
+// Level k stores the max over 2x2 of level k-1 (2x1 or 1x2 once one side is
+// down to 1), like the GL mip chain's sizes: max(1, w >> k) x max(1, h >> k).
+//
+// Values are the 8-bit heights the GPU samples (round(h * 255)), so the
+// pyramid is exact in an 8-bit texture and in a mediump sampler.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "assets/heightfield.h"
+#include "assets/image.h"
+#include "core/result.h"
+
+namespace px {
+
+struct MaxMipmap {
+    int width = 0;   // level 0 cells across = field width in texels (a power of two)
+    int height = 0;  // level 0 cells down = field height in texels (a power of two)
+    // levels[k]: max(1, width >> k) x max(1, height >> k), one channel
+    // (R = max height * 255), row 0 = v = 0; levels.back() is 1 x 1. Ready to
+    // upload as mip level k of a texture read with texelFetch.
+    std::vector<Image> levels;
+
+    int level_count() const { return static_cast<int>(levels.size()); }
+    // The 8-bit max of node (x, y) of `level`; x and y wrap (any integer).
+    std::uint8_t max_byte(int level, long long x, long long y) const;
+    // The same as a normalised height (byte / 255), as the shader reads it.
+    float max_height(int level, long long x, long long y) const;
+};
+
+// Builds the pyramid from the field quantised to 8 bits (round(h * 255), h
+// clamped to [0, 1]). Errors: an empty field, a width or height that is not a
+// power of two (the message names the size), texel count not width * height.
+Result<MaxMipmap> build_max_mipmap(const HeightField& field);
+
+}  // namespace px

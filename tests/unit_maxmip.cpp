@@ -1,0 +1,445 @@
+// Unit tests for the maxmip technique's CPU side: the maximum mip-map over
+// the bilinearly filtered field (assets/max_mipmap.h) and the quadtree
+// traversal that mirrors shaders_es/techniques/maxmip.frag
+// (reference/maxmip_trace.h), checked against the exact reference tracer.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "assets/heightfield.h"
+#include "assets/max_mipmap.h"
+#include "reference/maxmip_trace.h"
+#include "reference/tracer.h"
+
+namespace px {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The iteration budget (PX_MAX_SAMPLES for maxmip.frag) that the traversal
+// must stay within on 256-texel fields at up to 89 degrees with the relief
+// kHeightScale deep; see the report printed by the agreement tests.
+constexpr int kBudget = 4096;
+constexpr double kHeightScale = 0.1;
+// Hit agreement with the exact reference, in texels of the base level.
+constexpr double kTolerance = 1e-3;
+
+HeightField generate(const FieldSpec& spec) {
+    Result<HeightField> r = make_height_field(spec);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return r.ok() ? std::move(r).value() : HeightField{};
+}
+
+MaxMipmap build(const HeightField& field) {
+    Result<MaxMipmap> r = build_max_mipmap(field);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return r.ok() ? std::move(r).value() : MaxMipmap{};
+}
+
+HeightField random_field(std::mt19937& rng, int w, int h) {
+    HeightField f;
+    f.width = w;
+    f.height = h;
+    f.texels.resize(static_cast<size_t>(w) * h);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::bernoulli_distribution sparse(0.1);
+    // Mostly low with rare tall texels: isolated peaks are where a bound
+    // taken from samples alone fails.
+    for (float& t : f.texels) t = sparse(rng) ? unit(rng) : 0.2f * unit(rng);
+    return reference::quantized_8bit(f);
+}
+
+// --- The pyramid ------------------------------------------------------------------
+
+TEST(MaxMipmap, LevelZeroBoundsTheBilinearSurfaceOfEachCell) {
+    std::mt19937 rng(1234);
+    const int sizes[][2] = {{4, 4}, {8, 8}, {16, 4}, {2, 32}, {64, 64}, {1, 8}};
+    long checked = 0;
+    double tightest = 1.0;  // smallest slack seen: 0 shows the bound is attained
+    for (const auto& s : sizes) {
+        for (int repeat = 0; repeat < 4; ++repeat) {
+            const HeightField f = random_field(rng, s[0], s[1]);
+            const MaxMipmap m = build(f);
+            ASSERT_EQ(m.width, s[0]);
+            ASSERT_EQ(m.height, s[1]);
+            std::uniform_int_distribution<int> cx(-2 * s[0], 3 * s[0]);
+            std::uniform_int_distribution<int> cy(-2 * s[1], 3 * s[1]);
+            std::uniform_real_distribution<double> frac(0.0, 1.0);
+            for (int k = 0; k < 4000; ++k) {
+                // A point in cell (i, j): texel space [i + 0.5, i + 1.5] x [j + 0.5, j + 1.5].
+                const int i = cx(rng);
+                const int j = cy(rng);
+                const double x = i + 0.5 + frac(rng);
+                const double y = j + 0.5 + frac(rng);
+                const double surface = f.sample_bilinear(x / f.width, y / f.height);
+                const double bound = m.max_height(0, i, j);
+                ASSERT_LE(surface, bound + 1e-9) << "cell (" << i << ", " << j << ") of a " << f.width << "x"
+                                                 << f.height << " field at (" << x << ", " << y << ")";
+                tightest = std::min(tightest, bound - surface);
+                ++checked;
+            }
+            // And at the corners themselves, where a sample-only bound is
+            // already wrong for the cells beside a peak.
+            for (int j = 0; j < f.height; ++j)
+                for (int i = 0; i < f.width; ++i)
+                    for (int dy = 0; dy < 2; ++dy)
+                        for (int dx = 0; dx < 2; ++dx)
+                            ASSERT_GE(m.max_height(0, i, j), f.at(i + dx, j + dy)) << i << "," << j;
+        }
+    }
+    EXPECT_GT(checked, 0);
+    EXPECT_LT(tightest, 0.05);  // the bound is not vacuous
+}
+
+TEST(MaxMipmap, EveryNodeBoundsItsChildrenAndShapesMatchTheMipChain) {
+    std::mt19937 rng(99);
+    const int sizes[][2] = {{32, 32}, {64, 8}, {4, 128}, {1, 1}, {2, 1}};
+    for (const auto& s : sizes) {
+        const HeightField f = random_field(rng, s[0], s[1]);
+        const MaxMipmap m = build(f);
+        int expected_levels = 1;
+        while ((1 << (expected_levels - 1)) < std::max(s[0], s[1])) ++expected_levels;
+        ASSERT_EQ(m.level_count(), expected_levels) << s[0] << "x" << s[1];
+        for (int k = 0; k < m.level_count(); ++k) {
+            const Image& img = m.levels[static_cast<size_t>(k)];
+            EXPECT_EQ(img.width, std::max(1, s[0] >> k));
+            EXPECT_EQ(img.height, std::max(1, s[1] >> k));
+            EXPECT_EQ(img.pixels.size(), static_cast<size_t>(img.width) * img.height * img.channels);
+        }
+        EXPECT_EQ(m.levels.back().width, 1);
+        EXPECT_EQ(m.levels.back().height, 1);
+        for (int k = 1; k < m.level_count(); ++k) {
+            const Image& parent = m.levels[static_cast<size_t>(k)];
+            const Image& child = m.levels[static_cast<size_t>(k - 1)];
+            for (int y = 0; y < parent.height; ++y)
+                for (int x = 0; x < parent.width; ++x) {
+                    int children_max = 0;
+                    for (int cy = 0; cy < child.height; ++cy)
+                        for (int cx = 0; cx < child.width; ++cx) {
+                            // Child (cx, cy) belongs to parent (cx * pw / cw, cy * ph / ch).
+                            if (cx * parent.width / child.width != x || cy * parent.height / child.height != y)
+                                continue;
+                            children_max = std::max(children_max, int{m.max_byte(k - 1, cx, cy)});
+                        }
+                    ASSERT_GE(int{m.max_byte(k, x, y)}, children_max) << "level " << k << " node " << x << "," << y;
+                    // Tight as well: no looser than the children need.
+                    ASSERT_EQ(int{m.max_byte(k, x, y)}, children_max) << "level " << k << " node " << x << "," << y;
+                }
+        }
+        // The root bounds the whole field.
+        const float top = *std::max_element(f.texels.begin(), f.texels.end());
+        EXPECT_NEAR(m.max_height(m.level_count() - 1, 0, 0), top, 1e-6);
+    }
+}
+
+TEST(MaxMipmap, LevelZeroStoresTheQuantisedCornerMax) {
+    HeightField f;
+    f.width = 4;
+    f.height = 2;
+    // Row 0 then row 1; one spike at (3, 1) so wrapping shows.
+    f.texels = {0.0f, 0.1f, 0.2f, 0.0f, 0.0f, 0.0f, 0.0f, 0.7f};
+    const MaxMipmap m = build(f);
+    ASSERT_EQ(m.level_count(), 3);
+    EXPECT_EQ(m.levels[0].channels, 1);
+    // Cell (i, j) has corners (i..i+1, j..j+1), wrapped.
+    EXPECT_EQ(m.max_byte(0, 0, 0), std::lround(0.1 * 255));
+    EXPECT_EQ(m.max_byte(0, 1, 0), std::lround(0.2 * 255));
+    EXPECT_EQ(m.max_byte(0, 2, 0), std::lround(0.7 * 255));  // (3, 1)
+    EXPECT_EQ(m.max_byte(0, 3, 0), std::lround(0.7 * 255));  // corners x 3 and 0 (wrapped)
+    EXPECT_EQ(m.max_byte(0, 3, 1), std::lround(0.7 * 255));  // rows 1 and 0 (wrapped)
+    EXPECT_EQ(m.max_byte(0, 0, 1), std::lround(0.1 * 255));  // rows 1 and 0 (wrapped): (1, 0)
+    EXPECT_EQ(m.max_byte(0, 1, 1), std::lround(0.2 * 255));
+    // Level 1 is 2 x 1 (the height stops at 1), level 2 the root.
+    EXPECT_EQ(m.levels[1].width, 2);
+    EXPECT_EQ(m.levels[1].height, 1);
+    EXPECT_EQ(m.max_byte(1, 0, 0), std::lround(0.2 * 255));
+    EXPECT_EQ(m.max_byte(1, 1, 0), std::lround(0.7 * 255));
+    EXPECT_EQ(m.max_byte(2, 0, 0), std::lround(0.7 * 255));
+    EXPECT_FLOAT_EQ(m.max_height(2, 5, -3), static_cast<float>(std::lround(0.7 * 255)) / 255.0f);
+}
+
+TEST(MaxMipmap, NonPowerOfTwoSizesAreErrorsNamingTheSize) {
+    HeightField f;
+    f.width = 300;
+    f.height = 256;
+    f.texels.assign(static_cast<size_t>(f.width) * f.height, 0.5f);
+    Result<MaxMipmap> r = build_max_mipmap(f);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("300x256"), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find("power of two"), std::string::npos) << r.error().message;
+
+    f.width = 64;
+    f.height = 48;
+    f.texels.assign(static_cast<size_t>(f.width) * f.height, 0.5f);
+    Result<MaxMipmap> r2 = build_max_mipmap(f);
+    ASSERT_FALSE(r2.ok());
+    EXPECT_NE(r2.error().message.find("64x48"), std::string::npos) << r2.error().message;
+
+    HeightField empty;
+    EXPECT_FALSE(build_max_mipmap(empty).ok());
+}
+
+// --- The traversal against the exact reference ---------------------------------------
+
+struct Agreement {
+    long rays = 0;
+    long disagreements = 0;
+    long exhausted = 0;
+    int max_iterations = 0;
+    double max_error = 0.0;       // texels, against trace_view
+    double max_walk_error = 0.0;  // texels, against first_hit on the walked float ray
+    long line_hits = 0;      // reference hits on a raised texel's cells (lines field)
+    std::string first_failures;
+};
+
+glm::dvec3 view_direction(double angle_deg, double azimuth) {
+    const double a = angle_deg * kPi / 180.0;
+    return {std::sin(a) * std::cos(azimuth), std::sin(a) * std::sin(azimuth), std::cos(a)};
+}
+
+// Inputs as the shader receives them: float values (highp uv, view vector).
+glm::dvec2 as_float(glm::dvec2 v) { return glm::dvec2(glm::vec2(v)); }
+glm::dvec3 as_float(glm::dvec3 v) { return glm::dvec3(glm::vec3(v)); }
+
+// Traces one view ray both ways and accumulates the comparison: against
+// trace_view (the exact hit for the input), and against first_hit on the
+// float ray the traversal actually walks (its own error alone).
+void compare_view(const HeightField& q, const MaxMipmap& m, glm::dvec2 uv_in, glm::dvec3 view_in,
+                  double polygon_height, Agreement& a) {
+    const glm::dvec2 uv = as_float(uv_in);
+    const glm::dvec3 view = as_float(view_in);
+    const reference::ReliefHit truth = reference::trace_view(q, uv, view, kHeightScale, polygon_height);
+    const reference::MaxmipHit got = reference::maxmip_trace_view(m, q, uv, view, kHeightScale, polygon_height, kBudget);
+    const reference::Ray walked = reference::maxmip_view_ray(m, uv, view, kHeightScale, polygon_height);
+    const reference::Hit same_ray = reference::first_hit(q, walked, 0.0, 1.0);
+    const glm::dvec2 size(q.width, q.height);
+    const double error = glm::length((got.uv - truth.uv) * size);
+    const double walk_error = glm::length(glm::dvec2(got.position) - glm::dvec2(same_ray.position));
+    ++a.rays;
+    a.max_iterations = std::max(a.max_iterations, got.iterations);
+    if (got.budget_exhausted) ++a.exhausted;
+    a.max_error = std::max(a.max_error, error);
+    a.max_walk_error = std::max(a.max_walk_error, walk_error);
+    if (truth.height > 0.0 && truth.height < 1.0) {
+        // On a line's slope or top: the cells beside a raised texel.
+        const glm::dvec2 texel = truth.uv * size;
+        const int i = static_cast<int>(std::floor(texel.x - 0.5));
+        if (q.at(i, 0) > 0.0f || q.at(i + 1, 0) > 0.0f) ++a.line_hits;
+    }
+    if (!(error <= kTolerance) || !(walk_error <= kTolerance) || !got.hit) {
+        if (++a.disagreements <= 5) {
+            std::ostringstream s;
+            s.precision(9);
+            s << "  uv (" << uv.x << ", " << uv.y << ") view (" << view.x << ", " << view.y << ", " << view.z
+              << ") polygon " << polygon_height << ": reference (" << truth.uv.x * size.x << ", "
+              << truth.uv.y * size.y << ", h " << truth.height << "), maxmip (" << got.uv.x * size.x << ", "
+              << got.uv.y * size.y << ", h " << got.height << "), " << error << " texels, walk error " << walk_error
+              << ", " << got.iterations << " iterations" << (got.budget_exhausted ? " (budget ran out)" : "")
+              << "\n";
+            a.first_failures += s.str();
+        }
+    }
+}
+
+struct FieldCase {
+    const char* name;
+    FieldSpec spec;
+};
+
+std::vector<FieldCase> agreement_fields() {
+    std::vector<FieldCase> cases;
+    FieldSpec lines;
+    lines.kind = FieldKind::lines;
+    lines.size = 256;
+    lines.count = 16;
+    lines.line_width = 1;
+    cases.push_back({"lines(16, width 1)", lines});
+    FieldSpec spike;
+    spike.kind = FieldKind::spike;
+    spike.size = 256;
+    cases.push_back({"spike", spike});
+    FieldSpec text;
+    text.kind = FieldKind::text;
+    text.size = 256;
+    text.text = "PARALLAX";
+    cases.push_back({"text PARALLAX", text});
+    FieldSpec sine;
+    sine.kind = FieldKind::sine;
+    sine.size = 256;
+    sine.frequency = 4.0f;
+    cases.push_back({"sine", sine});
+    FieldSpec bricks;
+    bricks.kind = FieldKind::bricks;
+    bricks.size = 256;
+    bricks.count = 8;
+    cases.push_back({"bricks", bricks});
+    return cases;
+}
+
+constexpr double kAngles[] = {0.0, 30.0, 60.0, 75.0, 85.0, 89.0};
+
+// Many rays (fixed seed) per field and angle, random uv over several tiles
+// (wrap), random azimuth, the polygon at the top and half-way down.
+TEST(MaxmipTrace, AgreesWithTheExactReferenceOnEveryFieldAndAngle) {
+    constexpr int kRaysPerAngle = 1500;
+    std::mt19937 rng(20240601);
+    std::uniform_real_distribution<double> uv_dist(-3.0, 3.0);
+    std::uniform_real_distribution<double> azimuth(0.0, 2.0 * kPi);
+    std::printf("maxmip: max iterations per angle (budget %d, relief %.2f deep, 256 texels)\n", kBudget, kHeightScale);
+    std::vector<int> worst(std::size(kAngles), 0);
+    for (const FieldCase& c : agreement_fields()) {
+        const HeightField q = reference::quantized_8bit(generate(c.spec));
+        const MaxMipmap m = build(q);
+        ASSERT_EQ(m.level_count(), 9);
+        std::printf("  %-20s", c.name);
+        for (size_t ai = 0; ai < std::size(kAngles); ++ai) {
+            Agreement a;
+            for (int r = 0; r < kRaysPerAngle; ++r) {
+                const glm::dvec2 uv(uv_dist(rng), uv_dist(rng));
+                const double polygon = r % 4 == 3 ? 0.5 : 1.0;
+                compare_view(q, m, uv, view_direction(kAngles[ai], azimuth(rng)), polygon, a);
+            }
+            std::printf(" %5.0f°: %4d (%.1e %.1e)", kAngles[ai], a.max_iterations, a.max_error, a.max_walk_error);
+            worst[ai] = std::max(worst[ai], a.max_iterations);
+            EXPECT_EQ(a.disagreements, 0) << c.name << " at " << kAngles[ai] << " degrees: " << a.disagreements
+                                          << " of " << a.rays << " rays off by more than " << kTolerance
+                                          << " texel (max " << a.max_error << ")\n"
+                                          << a.first_failures;
+            EXPECT_EQ(a.exhausted, 0) << c.name << " at " << kAngles[ai] << " degrees";
+            EXPECT_LE(a.max_iterations, kBudget);
+        }
+        std::printf("\n");
+    }
+    std::printf("  %-20s", "all fields");
+    for (size_t ai = 0; ai < std::size(kAngles); ++ai) std::printf(" %5.0f°: %4d", kAngles[ai], worst[ai]);
+    std::printf("\n");
+}
+
+// 1-texel lines crossed at grazing angles: the reference hits the lines
+// (their cells are two texels of a tent profile, the thinnest feature the
+// texture holds); the traversal must hit exactly the same line, never step
+// over it, never stop at one the reference passes.
+TEST(MaxmipTrace, NeverStepsOverAOneTexelLine) {
+    FieldSpec spec;
+    spec.kind = FieldKind::lines;
+    spec.size = 256;
+    spec.count = 4;
+    spec.line_width = 1;
+    const HeightField q = reference::quantized_8bit(generate(spec));
+    const MaxMipmap m = build(q);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> uv_dist(0.0, 1.0);
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    Agreement a;
+    for (double angle : {75.0, 85.0, 88.0, 89.0}) {
+        for (int r = 0; r < 3000; ++r) {
+            // Across the lines (azimuth near 0 or pi), mostly.
+            const double az = (r % 2 == 0 ? 0.0 : kPi) + jitter(rng);
+            compare_view(q, m, {uv_dist(rng), uv_dist(rng)}, view_direction(angle, az), 1.0, a);
+        }
+    }
+    EXPECT_GT(a.line_hits, 1000) << "the rays should hit lines, or the test shows nothing";
+    EXPECT_EQ(a.disagreements, 0) << a.disagreements << " of " << a.rays << " (max error " << a.max_error
+                                  << " texels)\n"
+                                  << a.first_failures;
+    EXPECT_EQ(a.exhausted, 0);
+    std::printf("maxmip: 1-texel lines: %ld of %ld rays hit a line, max %d iterations, max error %.2g texels\n",
+                a.line_hits, a.rays, a.max_iterations, a.max_error);
+}
+
+// Rays starting exactly on cell boundaries and corners, moving along the
+// axes and diagonals (exits exactly on boundaries, ties between x and y),
+// and vertical rays: each must agree with the reference and terminate.
+TEST(MaxmipTrace, BoundaryAlignedAndVerticalRays) {
+    FieldSpec spec;
+    spec.kind = FieldKind::spike;
+    spec.size = 64;
+    const HeightField spike = reference::quantized_8bit(generate(spec));
+    spec.kind = FieldKind::lines;
+    spec.count = 8;
+    const HeightField lines = reference::quantized_8bit(generate(spec));
+    spec.kind = FieldKind::sine;
+    const HeightField sine = reference::quantized_8bit(generate(spec));
+    Agreement a;
+    for (const HeightField* f : {&spike, &lines, &sine}) {
+        const MaxMipmap m = build(*f);
+        for (int ty = 0; ty < 64; ty += 3)
+            for (int tx = 0; tx < 64; tx += 5) {
+                // Texel space x = i + 0.5 is a cell boundary; x = i the middle of one.
+                for (double off : {0.5, 0.0}) {
+                    const glm::dvec2 uv((tx + off) / 64.0, (ty + off) / 64.0);
+                    for (int k = 0; k < 8; ++k) {
+                        const double az = k * kPi / 4.0;
+                        for (double angle : {0.0, 45.0, 80.0})
+                            compare_view(*f, m, uv, view_direction(angle, az), 1.0, a);
+                    }
+                }
+            }
+    }
+    EXPECT_EQ(a.disagreements, 0) << a.first_failures;
+    EXPECT_EQ(a.exhausted, 0);
+}
+
+// The ray form (maxmip_first_hit) against first_hit, including rays that
+// start above the relief's top and steep and shallow slopes.
+TEST(MaxmipTrace, FirstHitAgreesWithReferenceFirstHit) {
+    FieldSpec spec;
+    spec.kind = FieldKind::text;
+    spec.size = 128;
+    spec.text = "ES";
+    const HeightField q = reference::quantized_8bit(generate(spec));
+    const MaxMipmap m = build(q);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> pos(-200.0, 300.0);
+    std::uniform_real_distribution<double> dir(-60.0, 60.0);
+    std::uniform_real_distribution<double> start(1.0, 1.5);
+    int checked = 0;
+    for (int r = 0; r < 2000; ++r) {
+        reference::Ray ray;
+        ray.origin = {pos(rng), pos(rng), start(rng)};
+        ray.direction = {dir(rng), dir(rng), -0.5};
+        const reference::Hit truth = reference::first_hit(q, ray, 0.0, ray.origin.z / 0.5);
+        const reference::MaxmipHit got = reference::maxmip_first_hit(m, q, ray, kBudget);
+        ASSERT_TRUE(truth.hit);
+        ASSERT_TRUE(got.hit) << r;
+        ASSERT_FALSE(got.budget_exhausted);
+        const double error = glm::length(glm::dvec2(got.position) - glm::dvec2(truth.position));
+        EXPECT_LE(error, kTolerance) << "ray " << r << ": reference (" << truth.position.x << ", " << truth.position.y
+                                     << ", " << truth.position.z << "), maxmip (" << got.position.x << ", "
+                                     << got.position.y << ", " << got.position.z << ")";
+        EXPECT_NEAR(got.t, truth.t, 1e-4);
+        ++checked;
+    }
+    EXPECT_EQ(checked, 2000);
+    // A ray that does not descend has no hit.
+    reference::Ray up;
+    up.origin = {10, 10, 0.5};
+    up.direction = {1, 0, 0.1};
+    EXPECT_FALSE(reference::maxmip_first_hit(m, q, up, kBudget).hit);
+}
+
+// A budget too small to finish is reported, never silently taken as a hit,
+// and the point returned is still above the surface (conservative).
+TEST(MaxmipTrace, ExhaustedBudgetIsReported) {
+    FieldSpec spec;
+    spec.kind = FieldKind::lines;
+    spec.size = 256;
+    spec.count = 16;
+    const HeightField q = reference::quantized_8bit(generate(spec));
+    const MaxMipmap m = build(q);
+    const reference::MaxmipHit got =
+        reference::maxmip_trace_view(m, q, {0.3, 0.4}, view_direction(89.0, 0.1), kHeightScale, 1.0, 4);
+    EXPECT_TRUE(got.budget_exhausted);
+    EXPECT_FALSE(got.hit);
+    EXPECT_EQ(got.iterations, 4);
+    EXPECT_GE(got.height, q.sample_bilinear(got.uv.x, got.uv.y) - 1e-6);
+}
+
+}  // namespace
+}  // namespace px

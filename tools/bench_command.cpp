@@ -1,0 +1,124 @@
+// parallax bench [--scenes ...] [--techniques ...] [--samples ...] [--angles ...]
+//                [--size WxH] [--frames N] [--quick] [--out DIR]
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench.h"
+#include "commands.h"
+#include "headless_context.h"
+#include "offscreen_target.h"
+
+namespace px::tools {
+
+namespace {
+
+struct BenchArgs {
+    std::vector<std::string> scenes;
+    std::vector<std::string> techniques;
+    std::vector<int> samples;
+    std::vector<double> angles;
+    std::string size = "256x256";
+    int frames = 0;
+    bool quick = false;
+    std::string out = "out/bench";
+    std::string command;
+};
+
+int fail(const std::string& message) {
+    std::fprintf(stderr, "parallax: error: %s\n", message.c_str());
+    return 1;
+}
+
+// A progress bar on a terminal; a line per tenth of the work otherwise.
+void show_progress(int done, int total, const std::string& what) {
+    static const bool terminal = isatty(STDERR_FILENO) != 0;
+    if (terminal) {
+        const int width = 30;
+        const int filled = total > 0 ? done * width / total : width;
+        std::fprintf(stderr, "\r[%s%s] %d/%d %-40.40s", std::string(static_cast<size_t>(filled), '#').c_str(),
+                     std::string(static_cast<size_t>(width - filled), '.').c_str(), done, total, what.c_str());
+        if (done == total) std::fprintf(stderr, "\n");
+    } else if (total > 0 && (done * 10 / total != (done - 1) * 10 / total || done == total)) {
+        std::fprintf(stderr, "bench: %d/%d (%s)\n", done, total, what.c_str());
+    }
+    std::fflush(stderr);
+}
+
+int run(BenchArgs a) {
+    profiling::BenchOptions o;
+    if (a.quick) {  // under 2 minutes on 2 cores
+        o.scenes = {"bricks", "text"};
+        o.angles = {30, 75, 85};
+        o.samples = {8, 32, 128};
+        o.frames = 3;
+        if (a.size == "256x256") a.size = "128x128";
+    }
+    if (!a.scenes.empty()) o.scenes = a.scenes;
+    if (!a.techniques.empty()) o.techniques = a.techniques;
+    if (!a.samples.empty()) o.samples = a.samples;
+    if (!a.angles.empty()) o.angles = a.angles;
+    if (a.frames > 0) o.frames = a.frames;
+    int width = 0, height = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(a.size.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x' || width < 1 || height < 1)
+        return fail("--size '" + a.size + "': expected WIDTHxHEIGHT, e.g. 256x256");
+    o.width = width;
+    o.height = height;
+    o.command = a.command;
+    const char* threads = std::getenv("LP_NUM_THREADS");
+    o.threads = threads ? std::atoi(threads) : static_cast<int>(std::thread::hardware_concurrency());
+
+    std::error_code ec;
+    std::filesystem::create_directories(a.out, ec);
+    if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
+
+    platform::ContextOptions context_options;
+    context_options.es_major = 3;  // float debug targets; maxmip needs ES 3.0
+    auto context = platform::HeadlessContext::create(context_options);
+    if (!context) return fail(context.error().message);
+    auto target = platform::OffscreenTarget::create(width, height);
+    if (!target) return fail(target.error().message);
+    auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
+                                       show_progress);
+    if (!result) return fail(result.error().message);
+
+    const std::string base = a.out + "/";
+    for (const auto& [writer, name] :
+         {std::pair{&profiling::write_csv, "results.csv"}, std::pair{&profiling::write_json, "results.json"},
+          std::pair{&profiling::write_pareto_svg, "pareto.svg"}, std::pair{&profiling::write_report_md, "report.md"}}) {
+        Status s = writer(*result, base + name);
+        if (!s) return fail(s.error().message);
+    }
+    std::printf("bench: %zu settings measured on %s; wrote %sresults.csv, results.json, pareto.svg, report.md\n",
+                result->rows.size(), result->gl_renderer.c_str(), base.c_str());
+    return 0;
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, int argc, char** argv) {
+    auto args = std::make_shared<BenchArgs>();
+    std::ostringstream command;
+    for (int i = 0; i < argc; ++i) command << (i ? " " : "") << (i == 0 ? "parallax" : argv[i]);
+    args->command = command.str();
+    CLI::App* cmd = app.add_subcommand("bench", "Sweep error against the exact reference beside frame time");
+    cmd->add_option("--scenes", args->scenes, "Bench scenes (default: all)")->delimiter(',');
+    cmd->add_option("--techniques", args->techniques, "Techniques, and displaced_mesh (default: all)")->delimiter(',');
+    cmd->add_option("--samples", args->samples, "max_samples settings (default 4,8,16,32,64,128,256)")->delimiter(',');
+    cmd->add_option("--angles", args->angles, "View angles from the normal, degrees (default 0,30,60,75,85,89)")
+        ->delimiter(',');
+    cmd->add_option("--size", args->size, "Image size")->capture_default_str();
+    cmd->add_option("--frames", args->frames, "Timed rounds per setting (default 7; --quick 3)");
+    cmd->add_flag("--quick", args->quick, "A small grid that finishes in under 2 minutes");
+    cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+    cmd->callback([args]() { set_exit_status(run(*args)); });
+}
+
+}  // namespace px::tools
