@@ -4,8 +4,6 @@
 // Every writer builds its whole text in memory, writes it to path + ".tmp" and
 // renames that over path, so a failure never leaves a partial file behind.
 // Numbers are formatted with std::to_chars, which ignores the C locale.
-#include "bench_results.h"
-
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -15,12 +13,13 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "bench_results.h"
 
 namespace px::profiling {
 namespace {
@@ -161,15 +160,17 @@ struct Technique {
 std::vector<Technique> techniques_in(const BenchRun& run) {
     std::vector<Technique> out;
     for (const TechniqueStyle& style : kKnownTechniques) {
-        const bool present = std::any_of(run.rows.begin(), run.rows.end(),
-                                         [&](const BenchRow& r) { return r.technique == style.name; });
+        const bool present =
+            std::any_of(run.rows.begin(), run.rows.end(), [&](const BenchRow& r) { return r.technique == style.name; });
         if (present) out.push_back({style.name, style.colour, style.marker});
     }
     size_t extra = 0;
     for (const BenchRow& row : run.rows) {
-        const bool seen = std::any_of(out.begin(), out.end(), [&](const Technique& t) { return t.name == row.technique; });
+        const bool seen =
+            std::any_of(out.begin(), out.end(), [&](const Technique& t) { return t.name == row.technique; });
         if (seen) continue;
-        out.push_back({row.technique, kExtraColours[extra % kExtraColours.size()], kExtraMarkers[extra % kExtraMarkers.size()]});
+        out.push_back(
+            {row.technique, kExtraColours[extra % kExtraColours.size()], kExtraMarkers[extra % kExtraMarkers.size()]});
         ++extra;
     }
     return out;
@@ -202,7 +203,8 @@ std::string setting_text(const BenchRow& row) {
 
 // Number of code points (display width estimates).
 size_t utf8_length(const std::string& s) {
-    return static_cast<size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+    return static_cast<size_t>(
+        std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
 }
 
 std::string xml_escape(const std::string& s) {
@@ -210,14 +212,26 @@ std::string xml_escape(const std::string& s) {
     out.reserve(s.size());
     for (const char c : s) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&apos;"; break;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
             case '\n':
             case '\r':
-            case '\t': out += ' '; break;
+            case '\t':
+                out += ' ';
+                break;
             default:
                 // Other control characters are not allowed in XML 1.0.
                 if (static_cast<unsigned char>(c) >= 0x20) out += c;
@@ -231,9 +245,12 @@ std::string xml_escape(const std::string& s) {
 std::string md_text(const std::string& s) {
     std::string out;
     for (const char c : s) {
-        if (c == '|') out += "\\|";
-        else if (c == '\n' || c == '\r') out += ' ';
-        else out += c;
+        if (c == '|')
+            out += "\\|";
+        else if (c == '\n' || c == '\r')
+            out += ' ';
+        else
+            out += c;
     }
     return out;
 }
@@ -273,7 +290,8 @@ std::string csv_number(double v) {
 }
 
 std::string csv_text(const BenchRun& run) {
-    std::string out = "date,gl_renderer,gl_version,threads,width,height,frames,scene,angle_deg,technique,samples,pixels";
+    std::string out =
+        "date,gl_renderer,gl_version,threads,width,height,frames,scene,angle_deg,technique,samples,pixels";
     for (const Measure& m : kMeasures) out += std::string(",") + m.name;
     out += '\n';
     // The run-level columns repeat on every row, so each row stands alone.
@@ -293,7 +311,9 @@ std::string csv_text(const BenchRun& run) {
 
 // =================================================================== JSON
 
-nlohmann::ordered_json json_number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); }
+nlohmann::ordered_json json_number(double v) {
+    return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
 
 std::string json_text(const BenchRun& run) {
     nlohmann::ordered_json rows = nlohmann::ordered_json::array();
@@ -338,9 +358,9 @@ size_t angle_class(double deg) {
 
 // Layout, in px.
 constexpr double kPlotW = 390, kPlotH = 330;
-constexpr double kLeft = 78;        // left of the first plot: y tick labels and axis label
-constexpr double kPanelGap = 62;    // between plots: the next panel's y tick labels
-constexpr double kLegendGap = 28;   // last plot to legend
+constexpr double kLeft = 78;       // left of the first plot: y tick labels and axis label
+constexpr double kPanelGap = 62;   // between plots: the next panel's y tick labels
+constexpr double kLegendGap = 28;  // last plot to legend
 constexpr double kLegendW = 190;
 constexpr double kRightPad = 16;
 constexpr double kMinWidth = 980;
@@ -445,7 +465,8 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
                                      : " fill=\"" + colour + "\" stroke=\"#ffffff\" stroke-width=\"0.8\"/>";
     auto polygon = [&](const std::vector<std::pair<double, double>>& unit) {
         std::string points;
-        for (const auto& [ux, uy] : unit) points += (points.empty() ? "" : " ") + num(x + r * ux) + "," + num(y + r * uy);
+        for (const auto& [ux, uy] : unit)
+            points += (points.empty() ? "" : " ") + num(x + r * ux) + "," + num(y + r * uy);
         return "<polygon points=\"" + points + "\"" + style;
     };
     auto regular = [&](int n, double rotation, double scale) {
@@ -459,12 +480,18 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
     switch (marker) {
         case Marker::circle:
             return "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(r) + "\"" + style;
-        case Marker::square: return regular(4, kPi / 4, 1.25);
-        case Marker::triangle_up: return regular(3, 0, 1.3);
-        case Marker::triangle_down: return regular(3, kPi, 1.3);
-        case Marker::diamond: return regular(4, 0, 1.3);
-        case Marker::pentagon: return regular(5, 0, 1.15);
-        case Marker::hexagon: return regular(6, 0, 1.12);
+        case Marker::square:
+            return regular(4, kPi / 4, 1.25);
+        case Marker::triangle_up:
+            return regular(3, 0, 1.3);
+        case Marker::triangle_down:
+            return regular(3, kPi, 1.3);
+        case Marker::diamond:
+            return regular(4, 0, 1.3);
+        case Marker::pentagon:
+            return regular(5, 0, 1.15);
+        case Marker::hexagon:
+            return regular(6, 0, 1.12);
         case Marker::star: {
             std::vector<std::pair<double, double>> unit;
             for (int i = 0; i < 10; ++i) {
@@ -478,8 +505,18 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
         case Marker::plus: {
             // A filled plus (12 corners), turned 45° for the cross.
             const double w = 0.38, l = 1.2;
-            const std::array<std::pair<double, double>, 12> plus{{{-w, -l}, {w, -l}, {w, -w}, {l, -w}, {l, w}, {w, w},
-                                                                  {w, l}, {-w, l}, {-w, w}, {-l, w}, {-l, -w}, {-w, -w}}};
+            const std::array<std::pair<double, double>, 12> plus{{{-w, -l},
+                                                                  {w, -l},
+                                                                  {w, -w},
+                                                                  {l, -w},
+                                                                  {l, w},
+                                                                  {w, w},
+                                                                  {w, l},
+                                                                  {-w, l},
+                                                                  {-w, w},
+                                                                  {-l, w},
+                                                                  {-l, -w},
+                                                                  {-w, -w}}};
             const double a = marker == Marker::cross ? kPi / 4 : 0.0;
             std::vector<std::pair<double, double>> unit;
             for (const auto& [px, py] : plus)
@@ -509,7 +546,7 @@ struct Panel {
     size_t angle_class;
     std::vector<PlotPoint> points;
     std::vector<Series> series;
-    std::vector<double> angles;  // sorted
+    std::vector<double> angles;    // sorted
     std::vector<size_t> frontier;  // point indices, by time
 };
 
@@ -563,7 +600,8 @@ private:
         for (size_t c = 0; c < by_class.size(); ++c) by_class[c].angle_class = c;
         for (const BenchRow& row : run_.rows) {
             const bool plottable = std::isfinite(row.angle_deg) && std::isfinite(row.ratio_to_normal) &&
-                                   row.ratio_to_normal > 0 && std::isfinite(row.uv_error_mean) && row.uv_error_mean >= 0;
+                                   row.ratio_to_normal > 0 && std::isfinite(row.uv_error_mean) &&
+                                   row.uv_error_mean >= 0;
             if (!plottable) {
                 ++unplotted_;
                 continue;
@@ -587,7 +625,8 @@ private:
                 auto it = std::find_if(panel.series.begin(), panel.series.end(), [&](const Series& series) {
                     return series.technique == t && series.scene == s && series.angle == p.row->angle_deg;
                 });
-                if (it == panel.series.end()) it = panel.series.insert(panel.series.end(), Series{t, s, p.row->angle_deg, {}});
+                if (it == panel.series.end())
+                    it = panel.series.insert(panel.series.end(), Series{t, s, p.row->angle_deg, {}});
                 it->points.push_back(i);
             }
             std::sort(panel.angles.begin(), panel.angles.end());
@@ -616,17 +655,18 @@ private:
         width_ = std::max(kMinWidth, legend_x_ + kLegendW + kRightPad);
         const double text_w = width_ - kLeft - kRightPad;
 
-        const std::string title = "Parallax mapping: accuracy against cost — " + (run_.gl_renderer.empty() ? "unknown renderer" : run_.gl_renderer) +
-                 ", " + (run_.date.empty() ? "undated" : run_.date) + ", " + std::to_string(run_.width) + "×" +
-                 std::to_string(run_.height);
+        const std::string title = "Parallax mapping: accuracy against cost — " +
+                                  (run_.gl_renderer.empty() ? "unknown renderer" : run_.gl_renderer) + ", " +
+                                  (run_.date.empty() ? "undated" : run_.date) + ", " + std::to_string(run_.width) +
+                                  "×" + std::to_string(run_.height);
         title_lines_ = wrap(title, text_w, 15);
         subtitle_lines_ = wrap(
             "One point per technique and sample count; a line joins one technique's sample counts on one scene "
             "(labels: samples). Black step line: the Pareto frontier of each panel, across all techniques and "
             "scenes in it: settings that no other setting beats in both time and error.",
             text_w, kFont);
-        top_ = 24 + 19.0 * static_cast<double>(title_lines_.size()) + 16.0 * static_cast<double>(subtitle_lines_.size()) +
-               44;  // panel title and its angle line
+        top_ = 24 + 19.0 * static_cast<double>(title_lines_.size()) +
+               16.0 * static_cast<double>(subtitle_lines_.size()) + 44;  // panel title and its angle line
         std::vector<std::string> notes;
         notes.push_back("Mean hit-uv error below " + general(kMinError) + " texel is drawn at " + general(kMinError) +
                         " (" + std::to_string(clamped_) + (clamped_ == 1 ? " point" : " points") +
@@ -659,9 +699,7 @@ private:
         }
     }
 
-    double plot_x(size_t panel_index) const {
-        return kLeft + static_cast<double>(panel_index) * (kPlotW + kPanelGap);
-    }
+    double plot_x(size_t panel_index) const { return kLeft + static_cast<double>(panel_index) * (kPlotW + kPanelGap); }
     double sx(double x, double x0) const { return x0 + x_axis_.fraction(x) * kPlotW; }
     double sy(double y) const { return top_ + (1.0 - y_axis_.fraction(y)) * kPlotH; }
 
@@ -682,8 +720,7 @@ private:
         const std::vector<Tick> xt = log_ticks(x_axis_), yt = log_ticks(y_axis_);
         for (const Tick& t : xt) {
             const double x = sx(t.value, x0);
-            if (t.labelled)
-                out_ += line_svg(x, y0, x, y1, "#e5e5e5", 0.8, "");
+            if (t.labelled) out_ += line_svg(x, y0, x, y1, "#e5e5e5", 0.8, "");
         }
         for (const Tick& t : yt) {
             const double y = sy(t.value);
@@ -710,7 +747,8 @@ private:
         for (const Series& s : p.series) {
             if (s.points.size() < 2) continue;
             std::string pts;
-            for (const size_t i : s.points) pts += (pts.empty() ? "" : " ") + num(p.points[i].sx) + "," + num(p.points[i].sy);
+            for (const size_t i : s.points)
+                pts += (pts.empty() ? "" : " ") + num(p.points[i].sx) + "," + num(p.points[i].sy);
             const char* dash = kSceneDashes[s.scene % kSceneDashes.size()];
             out_ += "<polyline points=\"" + pts + "\" fill=\"none\" stroke=\"" + techniques_[s.technique].colour +
                     "\" stroke-width=\"1.4\" stroke-opacity=\"0.85\" stroke-linejoin=\"round\"" +
@@ -741,11 +779,11 @@ private:
         for (const PlotPoint& pt : p.points) {
             const bool hollow = pt.row->angle_deg < p.angles.back();
             const Technique& t = techniques_[technique_index(techniques_, pt.row->technique)];
-            const std::string tip = setting_text(*pt.row) + " — " + pt.row->scene + " at " + angle_text(pt.row->angle_deg) +
-                                    ": " + human_sig(pt.row->uv_error_mean) + " texels, " +
-                                    human_fixed(pt.row->ratio_to_normal, 2) + "× normal";
-            out_ += std::string("<g class=\"point") + (pt.frontier ? " on-frontier" : "") + "\"><title>" + xml_escape(tip) +
-                    "</title>";
+            const std::string tip = setting_text(*pt.row) + " — " + pt.row->scene + " at " +
+                                    angle_text(pt.row->angle_deg) + ": " + human_sig(pt.row->uv_error_mean) +
+                                    " texels, " + human_fixed(pt.row->ratio_to_normal, 2) + "× normal";
+            out_ += std::string("<g class=\"point") + (pt.frontier ? " on-frontier" : "") + "\"><title>" +
+                    xml_escape(tip) + "</title>";
             if (pt.frontier)
                 out_ += "<circle cx=\"" + num(pt.sx) + "\" cy=\"" + num(pt.sy) +
                         "\" r=\"8\" fill=\"none\" stroke=\"#111111\" stroke-width=\"1\"/>";
@@ -763,15 +801,16 @@ private:
             std::string label = pt.row->samples > 0 ? std::to_string(pt.row->samples) : "";
             if (p.angles.size() > 1) {
                 for (const Series& s : p.series)
-                    if (s.points.size() > 1 && s.points.back() == i) label += (label.empty() ? "" : " · ") + angle_text(pt.row->angle_deg);
+                    if (s.points.size() > 1 && s.points.back() == i)
+                        label += (label.empty() ? "" : " · ") + angle_text(pt.row->angle_deg);
             }
             if (label.empty()) continue;
             place_label(pt.sx, pt.sy, label, area, taken);
         }
 
         // Frame and axes.
-        out_ += "<rect x=\"" + num(x0) + "\" y=\"" + num(y0) + "\" width=\"" + num(kPlotW) + "\" height=\"" + num(kPlotH) +
-                "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"0.9\"/>\n";
+        out_ += "<rect x=\"" + num(x0) + "\" y=\"" + num(y0) + "\" width=\"" + num(kPlotW) + "\" height=\"" +
+                num(kPlotH) + "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"0.9\"/>\n";
         for (const Tick& t : xt) {
             const double x = sx(t.value, x0);
             out_ += line_svg(x, y1, x, y1 + (t.labelled ? 5 : 3), "#333333", 0.8, "");
@@ -782,11 +821,13 @@ private:
             out_ += line_svg(x0 - (t.labelled ? 5 : 3), y, x0, y, "#333333", 0.8, "");
             if (t.labelled) out_ += text_svg(x0 - 8, y + 4, tick_label(t.value), "end", kFont, "#222222", "");
         }
-        out_ += text_svg(x0 + kPlotW / 2, y1 + 38, "frame time ÷ normal mapping (log scale)", "middle", kFont, "#222222", "");
+        out_ += text_svg(x0 + kPlotW / 2, y1 + 38, "frame time ÷ normal mapping (log scale)", "middle", kFont,
+                         "#222222", "");
         if (index == 0) {
             const double lx = x0 - 56, ly = y0 + kPlotH / 2;
-            out_ += "<text x=\"" + num(lx) + "\" y=\"" + num(ly) + "\" text-anchor=\"middle\" fill=\"#222222\" transform=\"rotate(-90 " +
-                    num(lx) + " " + num(ly) + ")\">mean hit-uv error, texels (log scale)</text>\n";
+            out_ += "<text x=\"" + num(lx) + "\" y=\"" + num(ly) +
+                    "\" text-anchor=\"middle\" fill=\"#222222\" transform=\"rotate(-90 " + num(lx) + " " + num(ly) +
+                    ")\">mean hit-uv error, texels (log scale)</text>\n";
         }
         out_ += "</g>\n";
     }
@@ -996,14 +1037,16 @@ std::string markdown_text(const BenchRun& run) {
     out += "- **llvmpipe threads:** " + std::to_string(run.threads) + "\n";
     out += "- **Image size:** " + std::to_string(run.width) + "×" + std::to_string(run.height) + "\n";
     out += "- **Frames:** " + std::to_string(run.frames) + " timed per setting, after a warm-up\n\n";
-    out += "Frame times come from llvmpipe, Mesa's rasteriser running on the CPU, standing in for a mobile GPU: "
-           "the ratios to normal mapping matter, not the absolute times. Error is the mean hit-uv error in texels "
-           "against the exact reference; *ratio* is frame time relative to normal mapping (the median of "
-           "interleaved per-round ratios); *ms* is the median frame time.\n\n";
+    out +=
+        "Frame times come from llvmpipe, Mesa's rasteriser running on the CPU, standing in for a mobile GPU: "
+        "the ratios to normal mapping matter, not the absolute times. Error is the mean hit-uv error in texels "
+        "against the exact reference; *ratio* is frame time relative to normal mapping (the median of "
+        "interleaved per-round ratios); *ms* is the median frame time.\n\n";
 
     out += "## Cheapest setting per error target\n\n";
-    out += "For each scene and view angle (from the normal): the setting with the lowest ratio to normal mapping "
-           "whose mean error is at most the target.\n";
+    out +=
+        "For each scene and view angle (from the normal): the setting with the lowest ratio to normal mapping "
+        "whose mean error is at most the target.\n";
     const std::vector<SceneAngle> groups = scene_angle_groups(run);
     if (groups.empty()) out += "\nNo rows.\n";
     for (const SceneAngle& g : groups) {
@@ -1031,10 +1074,11 @@ std::string markdown_text(const BenchRun& run) {
             const BenchRow* best = most_accurate(rows);
             for (const double target : kTargets) {
                 if (cheapest_reaching(rows, target) != nullptr) continue;
-                misses.push_back(md_text(t.name) + " never reaches " + target_text(target) + " at " + angle_text(g.angle) +
-                                 " on " + md_text(g.scene) +
-                                 (best != nullptr ? " (best: " + best_error_text(best->uv_error_mean, target) + " texels)"
-                                                  : std::string(" (no error measured)")));
+                misses.push_back(md_text(t.name) + " never reaches " + target_text(target) + " at " +
+                                 angle_text(g.angle) + " on " + md_text(g.scene) +
+                                 (best != nullptr
+                                      ? " (best: " + best_error_text(best->uv_error_mean, target) + " texels)"
+                                      : std::string(" (no error measured)")));
             }
         }
         if (misses.empty()) {
@@ -1046,11 +1090,13 @@ std::string markdown_text(const BenchRun& run) {
     }
 
     out += "\n## All settings\n\n";
-    out += "Errors against the exact reference: hit uv in texels; *wrong surface* is the share of pixels more than "
-           "one texel off; depth in units of the relief depth (mean / max); shadow disagreement is the mean "
-           "|visibility difference| of the first light; PSNR over covered pixels (99 = identical).\n\n";
-    out += "| scene | angle | technique | samples | uv mean | uv p95 | uv max | wrong surface | depth error (mean / max) "
-           "| shadow disagreement | PSNR (dB) | ms median [min–max] | ratio to normal |\n";
+    out +=
+        "Errors against the exact reference: hit uv in texels; *wrong surface* is the share of pixels more than "
+        "one texel off; depth in units of the relief depth (mean / max); shadow disagreement is the mean "
+        "|visibility difference| of the first light; PSNR over covered pixels (99 = identical).\n\n";
+    out +=
+        "| scene | angle | technique | samples | uv mean | uv p95 | uv max | wrong surface | depth error (mean / max) "
+        "| shadow disagreement | PSNR (dB) | ms median [min–max] | ratio to normal |\n";
     out += "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     std::vector<const BenchRow*> rows;
     for (const SceneAngle& g : groups) {
@@ -1067,8 +1113,9 @@ std::string markdown_text(const BenchRun& run) {
                human_sig(r->uv_error_p95) + " | " + human_sig(r->uv_error_max) + " | " +
                human_fixed(100.0 * r->wrong_surface_share, 1) + " % | " + human_sig(r->depth_error_mean) + " / " +
                human_sig(r->depth_error_max) + " | " + human_sig(r->shadow_disagreement) + " | " +
-               human_fixed(r->color_psnr_db, 1) + " | " + ms_text(r->frame_ms_median) + " [" + ms_text(r->frame_ms_min) +
-               "–" + ms_text(r->frame_ms_max) + "] | " + ratio_text(r->ratio_to_normal) + " |\n";
+               human_fixed(r->color_psnr_db, 1) + " | " + ms_text(r->frame_ms_median) + " [" +
+               ms_text(r->frame_ms_min) + "–" + ms_text(r->frame_ms_max) + "] | " + ratio_text(r->ratio_to_normal) +
+               " |\n";
     }
     return out;
 }

@@ -2,8 +2,7 @@
 // CSV, JSON, the Pareto SVG and the markdown report, on a synthetic run whose
 // answers are known, plus the atomic write and its errors.
 #include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
+#include <unistd.h>  // getpid: a per-process temp directory
 
 #include <cerrno>
 #include <cmath>
@@ -11,11 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <unistd.h>  // getpid: a per-process temp directory
 
 #include "bench_results.h"
 
@@ -128,8 +126,8 @@ BenchRun synthetic_run() {
         row(kPit, 75, "relief", 16, 0.45, 2.5),
         row(kPit, 75, "maxmip", 0, 0.01, 2.9),
     };
-    run.rows[12].color_psnr_db = kInf;       // pit steep: written as null / inf / ∞
-    run.rows[12].depth_error_max = kNaN;     // written as null / empty / n/a
+    run.rows[12].color_psnr_db = kInf;    // pit steep: written as null / inf / ∞
+    run.rows[12].depth_error_max = kNaN;  // written as null / empty / n/a
     return run;
 }
 
@@ -306,8 +304,10 @@ TEST(BenchReportMarkdown, CheapestSettingPerTargetAndNeverReaches) {
     const std::string all = section(md, "## All settings");
     EXPECT_EQ(count(all, "\n| bricks |"), 12u);
     EXPECT_EQ(count(all, "\n| pit \"deep\", v2 |"), 5u);
-    EXPECT_TRUE(contains(all, "| bricks | 75° | pom | 16 | 0.4 | 0.8 | 1.6 | 2.0 % | 0.01 / 0.2 | 0.05 | 35.0 | 20 [19–22] | 2.00× |"));
-    EXPECT_TRUE(contains(all, "| pit \"deep\", v2 | 75° | steep | 8 | 1.2 | 2.4 | 4.8 | 40.0 % | 0.01 / n/a | 0.05 | ∞ |"));
+    EXPECT_TRUE(contains(
+        all, "| bricks | 75° | pom | 16 | 0.4 | 0.8 | 1.6 | 2.0 % | 0.01 / 0.2 | 0.05 | 35.0 | 20 [19–22] | 2.00× |"));
+    EXPECT_TRUE(
+        contains(all, "| pit \"deep\", v2 | 75° | steep | 8 | 1.2 | 2.4 | 4.8 | 40.0 % | 0.01 / n/a | 0.05 | ∞ |"));
     EXPECT_LT(all.find("| bricks | 75° | pom | 16 |"), all.find("| bricks | 75° | pom | 32 |"));
 }
 
@@ -322,6 +322,19 @@ TEST(BenchReportMarkdown, TieOnRatioGoesToTheFasterMedian) {
     const std::string md = read_text(path);
     EXPECT_TRUE(contains(md, "| ≤ 0.5 texel | relief, 8 samples |"));
     EXPECT_TRUE(contains(md, "| ≤ 0.25 texel | not reached (best: relief, 8 samples, 0.3 texels) |"));
+}
+
+TEST(BenchReportMarkdown, ErrorExactlyAtTheTargetReachesIt) {
+    TempDir dir;
+    BenchRun run = synthetic_run();
+    run.rows = {row("s", 30, "pom", 8, 0.5, 2.0), row("s", 30, "relief", 8, 0.25, 2.2)};
+    const std::string path = dir.file("report.md");
+    ASSERT_TRUE(write_report_md(run, path).ok());
+    const std::string md = read_text(path);
+    EXPECT_TRUE(contains(md, "| ≤ 0.5 texel | pom, 8 samples |"));
+    EXPECT_TRUE(contains(md, "| ≤ 0.25 texel | relief, 8 samples |"));
+    EXPECT_TRUE(contains(md, "pom never reaches 0.25 texel at 30° on s (best: 0.5 texels)"));
+    EXPECT_EQ(count(md, "never reaches"), 1u);
 }
 
 // ------------------------------------------------------------------- SVG
@@ -354,11 +367,12 @@ TEST(BenchReportMarkdown, TieOnRatioGoesToTheFasterMedian) {
         const std::string tag = svg.substr(i + 1, end - i - 1);
         const bool closing = !tag.empty() && tag[0] == '/';
         const bool self_closing = !tag.empty() && tag.back() == '/';
-        const std::string name = tag.substr(closing ? 1 : 0, tag.find_first_of(" /\n", closing ? 1 : 0) - (closing ? 1 : 0));
+        const std::string name =
+            tag.substr(closing ? 1 : 0, tag.find_first_of(" /\n", closing ? 1 : 0) - (closing ? 1 : 0));
         if (closing) {
             if (open.empty() || open.back() != name)
-                return ::testing::AssertionFailure() << "</" << name << "> closes <" << (open.empty() ? "" : open.back())
-                                                     << "> at " << i;
+                return ::testing::AssertionFailure()
+                       << "</" << name << "> closes <" << (open.empty() ? "" : open.back()) << "> at " << i;
             open.pop_back();
             if (open.empty() && svg.find('<', end) != std::string::npos)
                 return ::testing::AssertionFailure() << "content after the root element";
@@ -406,8 +420,8 @@ TEST(BenchReportSvg, PanelsLegendFrontier) {
     EXPECT_EQ(count(svg, "45-60°"), 0u);
 
     // A legend entry per technique, none twice.
-    const std::vector<std::string> techniques = {"flat",  "normal", "offset_limited", "steep",
-                                                 "pom",   "relief", "maxmip",         "displaced_mesh"};
+    const std::vector<std::string> techniques = {"flat", "normal", "offset_limited", "steep",
+                                                 "pom",  "relief", "maxmip",         "displaced_mesh"};
     std::vector<std::string> entries;
     const std::string entry = "<g class=\"legend-entry\">";
     for (size_t at = svg.find(entry); at != std::string::npos; at = svg.find(entry, at + 1))
@@ -426,7 +440,8 @@ TEST(BenchReportSvg, PanelsLegendFrontier) {
     const std::vector<std::string> frontier = frontier_points(svg);
     EXPECT_EQ(frontier.size(), 11u);
     auto on_frontier = [&](const std::string& prefix) {
-        return std::any_of(frontier.begin(), frontier.end(), [&](const std::string& f) { return f.rfind(prefix, 0) == 0; });
+        return std::any_of(frontier.begin(), frontier.end(),
+                           [&](const std::string& f) { return f.rfind(prefix, 0) == 0; });
     };
     for (const char* p : {"normal — bricks at 75°", "offset_limited — bricks at 75°", "steep, 8 samples — pit",
                           "pom, 8 samples — bricks at 75°", "relief, 8 samples — bricks", "pom, 16 samples — bricks",
@@ -450,13 +465,14 @@ TEST(BenchReportSvg, PanelsLegendFrontier) {
 TEST(BenchReportSvg, AnglesGoToTheirClass) {
     TempDir dir;
     BenchRun run = synthetic_run();
-    run.rows = {row("a", 15, "pom", 8, 0.5, 2.0), row("a", 40, "pom", 8, 0.5, 2.0), row("a", 60, "pom", 8, 0.5, 2.0),
-                row("a", 80, "pom", 8, 0.5, 2.0), row("a", 89, "pom", 16, 0.3, 3.0)};
+    run.rows = {row("a", 15, "pom", 8, 0.5, 2.0), row("a", 35, "pom", 8, 0.5, 2.0), row("a", 40, "pom", 8, 0.5, 2.0),
+                row("a", 60, "pom", 8, 0.5, 2.0), row("a", 80, "pom", 8, 0.5, 2.0), row("a", 89, "pom", 16, 0.3, 3.0)};
     const std::string path = dir.file("pareto.svg");
     ASSERT_TRUE(write_pareto_svg(run, path).ok());
     const std::string svg = read_text(path);
     EXPECT_TRUE(well_formed(svg));
     EXPECT_EQ(count(svg, "class=\"panel-title\""), 3u);
+    EXPECT_TRUE(contains(svg, ">view 15°, 35°</text>"));
     EXPECT_TRUE(contains(svg, ">view 40°, 60°</text>"));
     EXPECT_TRUE(contains(svg, ">view 80°, 89°</text>"));
     EXPECT_EQ(count(svg, "<g class=\"legend-entry\">"), 1u);
@@ -466,7 +482,8 @@ TEST(BenchReportSvg, AnglesGoToTheirClass) {
 TEST(BenchReportSvg, UnplottableRowsAreCountedNotDrawn) {
     TempDir dir;
     BenchRun run = synthetic_run();
-    run.rows = {row("a", 75, "pom", 8, 0.5, 2.0), row("a", 75, "pom", 16, kNaN, 2.5), row("a", 75, "relief", 8, 0.4, 0.0)};
+    run.rows = {row("a", 75, "pom", 8, 0.5, 2.0), row("a", 75, "pom", 16, kNaN, 2.5),
+                row("a", 75, "relief", 8, 0.4, 0.0)};
     const std::string path = dir.file("pareto.svg");
     ASSERT_TRUE(write_pareto_svg(run, path).ok());
     const std::string svg = read_text(path);

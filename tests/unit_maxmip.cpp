@@ -235,7 +235,7 @@ void compare_view(const HeightField& q, const MaxMipmap& m, glm::dvec2 uv_in, gl
     if (!(error <= kTolerance) || !(walk_error <= kTolerance) || !got.hit) {
         if (++a.disagreements <= 5) {
             std::ostringstream s;
-            s.precision(9);
+            s.precision(17);
             s << "  uv (" << uv.x << ", " << uv.y << ") view (" << view.x << ", " << view.y << ", " << view.z
               << ") polygon " << polygon_height << ": reference (" << truth.uv.x * size.x << ", "
               << truth.uv.y * size.y << ", h " << truth.height << "), maxmip (" << got.uv.x * size.x << ", "

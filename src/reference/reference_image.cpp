@@ -18,7 +18,6 @@ namespace {
 
 // One material's data as the GPU samples it.
 struct MaterialData {
-    const MaterialDesc* desc = nullptr;
     MaterialImages images;
     HeightField traced;        // 8-bit quantised: what the shader reads
     bool reads_height = false; // the GPU's surface output covers it
@@ -35,7 +34,7 @@ struct PlaneData {
     double half_size = 1.0;
     glm::dmat4 model{1.0};
     glm::dmat4 inverse_model{1.0};
-    double winding_sign = 1.0;  // sign of det(model3): mirroring flips which side GL culls
+    double winding_sign = 1.0;  // sign of det(model3): mirroring flips the bitangent
     glm::dvec3 t{1.0, 0.0, 0.0}, b{0.0, 1.0, 0.0}, n{0.0, 0.0, 1.0};
 };
 
@@ -138,9 +137,9 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
     for (const PlaneData& p : f.planes) {
         const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(origin, 1.0));
         const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(direction, 0.0));
-        // Back faces are culled: the front is the side from which the
-        // (possibly mirrored) triangles wind counter-clockwise.
-        if (!(p.winding_sign * d.z < 0.0)) continue;
+        // Back faces are culled: the front is the object's +z side, also
+        // under a mirroring model matrix (the renderer flips glFrontFace).
+        if (!(d.z < 0.0)) continue;
         const double s = -o.z / d.z;
         if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
         const glm::dvec3 q = o + s * d;
@@ -232,7 +231,6 @@ Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int h
             const MaterialDesc& desc = scene.materials[mi];
             Result<MaterialImages> images = build_material_images(desc, scene.base_dir);
             if (!images) return images.error();
-            m.desc = &desc;
             m.images = std::move(*images);
             m.traced = quantized_8bit(m.images.field);
             m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;

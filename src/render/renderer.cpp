@@ -106,6 +106,7 @@ public:
         blend_ = glIsEnabled(GL_BLEND);
         glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
         glGetIntegerv(GL_DEPTH_FUNC, &depth_func_);
+        glGetIntegerv(GL_FRONT_FACE, &front_face_);
         glGetFloatv(GL_COLOR_CLEAR_VALUE, clear_color_);
     }
     ~SavedState() {
@@ -124,6 +125,7 @@ public:
         enable(GL_BLEND, blend_);
         glDepthMask(depth_mask_);
         glDepthFunc(static_cast<GLenum>(depth_func_));
+        glFrontFace(static_cast<GLenum>(front_face_));
         glClearColor(clear_color_[0], clear_color_[1], clear_color_[2], clear_color_[3]);
         for (GLuint a = 0; a < 4; ++a) glDisableVertexAttribArray(a);
     }
@@ -133,7 +135,7 @@ public:
 private:
     static void enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
     GLint framebuffer_ = 0, viewport_[4] = {0, 0, 0, 0}, program_ = 0, array_buffer_ = 0, element_buffer_ = 0;
-    GLint active_texture_ = GL_TEXTURE0, textures_[3] = {0, 0, 0}, depth_func_ = GL_LESS;
+    GLint active_texture_ = GL_TEXTURE0, textures_[3] = {0, 0, 0}, depth_func_ = GL_LESS, front_face_ = GL_CCW;
     GLboolean depth_test_ = GL_FALSE, cull_face_ = GL_FALSE, blend_ = GL_FALSE, depth_mask_ = GL_TRUE;
     GLfloat clear_color_[4] = {0, 0, 0, 0};
 };
@@ -324,6 +326,9 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
         glUniformMatrix4fv(p.uniform("u_depth_projection"), 1, GL_FALSE, glm::value_ptr(projection));
         glUniformMatrix3fv(p.uniform("u_normal_matrix"), 1, GL_FALSE, glm::value_ptr(normal_matrix));
         glUniform1f(p.uniform("u_model_handedness"), handedness);
+        // A mirroring model matrix reverses the triangles' winding on screen:
+        // flip the front face so the object's outside stays the drawn side.
+        glFrontFace(handedness < 0.0f ? GL_CW : GL_CCW);
         glUniform3fv(p.uniform("u_camera_position"), 1, glm::value_ptr(cam.position));
 
         const glm::mat2 uv = uv_matrix(m.uv);

@@ -1,0 +1,67 @@
+// Accuracy against the exact CPU reference (src/reference/), measured on what
+// the shader computed (its debug outputs), on both ES versions.
+#include "gpu_fixture.h"
+
+#include "bench.h"
+#include "reference/reference_image.h"
+#include "render/surface_capture.h"
+
+namespace px::test {
+namespace {
+
+struct Measured {
+    reference::ErrorMetrics error;
+};
+
+// Mean hit-uv error in texels of `technique` at `samples` on a bench scene.
+reference::ErrorMetrics measure(const std::string& scene_name, double angle, Technique technique, int samples,
+                                const reference::ReferenceImage& truth) {
+    auto scene = profiling::bench_scene(scene_name, angle);
+    EXPECT_TRUE(scene.ok());
+    scene->materials[0].technique.technique = technique;
+    scene->materials[0].technique.min_samples = scene->materials[0].technique.max_samples = samples;
+    auto renderer = Renderer::create();
+    EXPECT_TRUE(renderer.ok());
+    Status loaded = (*renderer)->load(*scene);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto surfaces = capture_surfaces(**renderer, truth.surface.width, truth.surface.height);
+    EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+    auto error = reference::compare_surfaces(*surfaces, truth.surface, truth.texture_width, truth.texture_height);
+    EXPECT_TRUE(error.ok());
+    return *error;
+}
+
+// POM and relief converge to the reference as the linear search gets finer,
+// and reach it (0.1 texel mean) at the top sample count on a smooth field.
+TEST(Accuracy, PomAndReliefConvergeToTheReferenceOnASmoothField) {
+    const double angle = 75.0;
+    auto scene = profiling::bench_scene("sine", angle);
+    ASSERT_TRUE(scene.ok());
+    auto truth = reference::render_reference(*scene, 128, 128);
+    ASSERT_TRUE(truth.ok()) << truth.error().message;
+    for (Technique t : {Technique::pom, Technique::relief}) {
+        const double coarse = measure("sine", angle, t, 8, *truth).uv_error_mean;
+        const double middle = measure("sine", angle, t, 32, *truth).uv_error_mean;
+        const reference::ErrorMetrics fine = measure("sine", angle, t, 256, *truth);
+        EXPECT_GT(coarse, middle) << technique_name(t) << ": 32 samples are no better than 8";
+        EXPECT_GE(middle + 0.01, fine.uv_error_mean) << technique_name(t) << ": 256 samples are worse than 32";
+        EXPECT_LE(fine.uv_error_mean, 0.1) << technique_name(t) << " at 256 samples misses the reference";
+        EXPECT_GT(fine.pixels, 1000) << "the plane must cover the image";
+    }
+}
+
+// Normal mapping ignores the relief: its error is the parallax it leaves out,
+// far above what POM achieves on the same pixels.
+TEST(Accuracy, NormalMappingErrorIsTheMissingParallax) {
+    auto scene = profiling::bench_scene("sine", 60.0);
+    ASSERT_TRUE(scene.ok());
+    auto truth = reference::render_reference(*scene, 128, 128);
+    ASSERT_TRUE(truth.ok());
+    const double normal = measure("sine", 60.0, Technique::normal, 0, *truth).uv_error_mean;
+    const double pom = measure("sine", 60.0, Technique::pom, 64, *truth).uv_error_mean;
+    EXPECT_GT(normal, 10.0 * pom);
+    EXPECT_GT(normal, 2.0);  // the sine relief is 0.08 tiles deep: ~35 texels of parallax at 60 degrees
+}
+
+}  // namespace
+}  // namespace px::test
