@@ -4,7 +4,10 @@
 // Every writer builds its whole text in memory, writes it to path + ".tmp" and
 // renames that over path, so a failure never leaves a partial file behind.
 // Numbers are formatted with std::to_chars, which ignores the C locale.
+#include "bench_results.h"
+
 #include <algorithm>
+#include <map>
 #include <array>
 #include <cerrno>
 #include <charconv>
@@ -13,13 +16,12 @@
 #include <cstring>
 #include <exception>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
-#include "bench_results.h"
+#include <nlohmann/json.hpp>
 
 namespace px::profiling {
 namespace {
@@ -363,7 +365,7 @@ constexpr double kPanelGap = 62;   // between plots: the next panel's y tick lab
 constexpr double kLegendGap = 28;  // last plot to legend
 constexpr double kLegendW = 190;
 constexpr double kRightPad = 16;
-constexpr double kMinWidth = 980;
+constexpr double kMinWidth = 760;
 constexpr double kFont = 12;       // body text
 constexpr double kSmallFont = 10;  // point and guide labels
 constexpr const char* kFontFamily = "DejaVu Sans, Bitstream Vera Sans, Helvetica, Arial, sans-serif";
@@ -371,6 +373,18 @@ constexpr std::array<const char*, 4> kSceneDashes{{"", "7 3", "2 2.5", "9 3 2 3"
 
 // Rough width of `text` in a DejaVu-like sans-serif.
 double text_width(const std::string& text, double font) { return static_cast<double>(utf8_length(text)) * font * 0.61; }
+
+// `text`, cut with an ellipsis to fit `width` px.
+std::string fit(const std::string& text, double width, double font) {
+    if (text_width(text, font) <= width) return text;
+    std::string out;
+    for (const char c : text) {
+        const bool starts_code_point = (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+        if (starts_code_point && text_width(out + "…", font) > width - font * 0.61) break;
+        out += c;
+    }
+    return out + "…";
+}
 
 // Greedy word wrap to `width` px.
 std::vector<std::string> wrap(const std::string& text, double width, double font) {
@@ -505,18 +519,11 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
         case Marker::plus: {
             // A filled plus (12 corners), turned 45° for the cross.
             const double w = 0.38, l = 1.2;
-            const std::array<std::pair<double, double>, 12> plus{{{-w, -l},
-                                                                  {w, -l},
-                                                                  {w, -w},
-                                                                  {l, -w},
-                                                                  {l, w},
-                                                                  {w, w},
-                                                                  {w, l},
-                                                                  {-w, l},
-                                                                  {-w, w},
-                                                                  {-l, w},
-                                                                  {-l, -w},
-                                                                  {-w, -w}}};
+            // clang-format off
+            const std::array<std::pair<double, double>, 12> plus{{
+                {-w, -l}, {w, -l}, {w, -w}, {l, -w}, {l, w}, {w, w},
+                {w, l}, {-w, l}, {-w, w}, {-l, w}, {-l, -w}, {-w, -w}}};
+            // clang-format on
             const double a = marker == Marker::cross ? kPi / 4 : 0.0;
             std::vector<std::pair<double, double>> unit;
             for (const auto& [px, py] : plus)
@@ -529,8 +536,7 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
 
 struct PlotPoint {
     const BenchRow* row;
-    double x, y;  // ratio to normal; mean error clamped to kMinError
-    bool clamped;
+    double x, y;            // ratio to normal; mean error clamped to kMinError
     double sx = 0, sy = 0;  // on the page
     bool frontier = false;
 };
@@ -609,7 +615,7 @@ private:
             const bool clamped = row.uv_error_mean < kMinError;
             clamped_ += clamped ? 1 : 0;
             Panel& panel = by_class[angle_class(row.angle_deg)];
-            panel.points.push_back({&row, row.ratio_to_normal, clamped ? kMinError : row.uv_error_mean, clamped});
+            panel.points.push_back({&row, row.ratio_to_normal, clamped ? kMinError : row.uv_error_mean});
         }
         std::vector<double> xs, ys;
         for (Panel& panel : by_class) {
@@ -682,7 +688,7 @@ private:
             for (std::string& line : wrap(note, text_w, 11)) footnote_lines_.push_back(std::move(line));
         const double plot_bottom = top_ + (panels_.empty() ? 60 : kPlotH);
         footnote_y_ = plot_bottom + (panels_.empty() ? 20 : 58);
-        const double legend_bottom = top_ + legend().second;
+        const double legend_bottom = panels_.empty() ? 0.0 : top_ + legend().second;
         height_ = std::max(footnote_y_ + 15.0 * static_cast<double>(footnote_lines_.size()), legend_bottom) + 14;
     }
 
@@ -716,7 +722,7 @@ private:
         for (const double a : p.angles) angles += (angles.empty() ? "" : ", ") + angle_text(a);
         out_ += text_svg(x0 + kPlotW / 2, y0 - 9, "view " + angles, "middle", 11, "#555555", "");
 
-        // Grid at the labelled ticks, then minor ticks.
+        // Grid at the labelled ticks.
         const std::vector<Tick> xt = log_ticks(x_axis_), yt = log_ticks(y_axis_);
         for (const Tick& t : xt) {
             const double x = sx(t.value, x0);
@@ -883,7 +889,7 @@ private:
             body += "<g class=\"legend-entry\">";
             body += line_svg(x + 10, y - 4, x + 38, y - 4, t.colour, 1.4, "");
             body += marker_svg(t.marker, x + 24, y - 4, 4.6, t.colour, false);
-            label(t.name);
+            label(fit(t.name, kLegendW - 52, kFont));
             body += "</g>\n";
         }
         if (several_scenes()) {
@@ -893,7 +899,7 @@ private:
                 const char* dash = kSceneDashes[s % kSceneDashes.size()];
                 body += line_svg(x + 10, y - 4, x + 38, y - 4, "#555555", 1.4,
                                  *dash != '\0' ? std::string(" stroke-dasharray=\"") + dash + "\"" : std::string());
-                label(scenes_[s]);
+                label(fit(scenes_[s], kLegendW - 52, kFont));
             }
         }
         if (several_angles()) {
@@ -1027,6 +1033,32 @@ const BenchRow* most_accurate(const std::vector<const BenchRow*>& rows) {
 std::string ratio_text(double ratio) { return human_fixed(ratio, 2) + "×"; }
 std::string ms_text(double ms) { return human_sig(ms, 3); }
 
+// llvmpipe unrolls loops of up to 32 iterations completely, so the cost of a
+// marching technique does not rise smoothly with its sample count: the median
+// over scenes and angles of time(2n) / time(n) per doubling says where it bends.
+std::string unrolling_section(const BenchRun& run) {
+    std::map<std::string, std::map<int, std::vector<double>>> steps;  // technique -> n -> ratios
+    for (const BenchRow& a : run.rows) {
+        if (a.samples < 1) continue;
+        for (const BenchRow& b : run.rows)
+            if (b.technique == a.technique && b.scene == a.scene && b.angle_deg == a.angle_deg &&
+                b.samples == 2 * a.samples && a.frame_ms_median > 0.0)
+                steps[a.technique][a.samples].push_back(b.frame_ms_median / a.frame_ms_median);
+    }
+    if (steps.empty()) return "";
+    std::string out = "## Where loop unrolling bends the cost curves\n\n";
+    out += "llvmpipe unrolls loops of up to 32 iterations completely: up to 32 samples a search is straight-line "
+           "code, past it a real loop. Median over scenes and angles of the frame-time ratio per doubling of "
+           "the sample count:\n\n| technique | doubling | time ratio |\n| --- | --- | ---: |\n";
+    for (auto& [technique, by_n] : steps)
+        for (auto& [n, ratios] : by_n) {
+            std::sort(ratios.begin(), ratios.end());
+            out += "| " + md_text(technique) + " | " + std::to_string(n) + " → " + std::to_string(2 * n) + " | " +
+                   human_fixed(ratios[ratios.size() / 2], 2) + "× |\n";
+        }
+    return out + "\n";
+}
+
 std::string markdown_text(const BenchRun& run) {
     const std::vector<Technique> techniques = techniques_in(run);
     std::string out = "# ParallaxES benchmark: accuracy against cost\n\n";
@@ -1043,6 +1075,7 @@ std::string markdown_text(const BenchRun& run) {
         "against the exact reference; *ratio* is frame time relative to normal mapping (the median of "
         "interleaved per-round ratios); *ms* is the median frame time.\n\n";
 
+    out += unrolling_section(run);
     out += "## Cheapest setting per error target\n\n";
     out +=
         "For each scene and view angle (from the normal): the setting with the lowest ratio to normal mapping "
@@ -1072,6 +1105,7 @@ std::string markdown_text(const BenchRun& run) {
                 if (row->technique == t.name) rows.push_back(row);
             if (rows.empty()) continue;
             const BenchRow* best = most_accurate(rows);
+            // Only the loosest target missed: missing 1 texel implies missing 0.5 and 0.25.
             for (const double target : kTargets) {
                 if (cheapest_reaching(rows, target) != nullptr) continue;
                 misses.push_back(md_text(t.name) + " never reaches " + target_text(target) + " at " +
@@ -1079,6 +1113,7 @@ std::string markdown_text(const BenchRun& run) {
                                  (best != nullptr
                                       ? " (best: " + best_error_text(best->uv_error_mean, target) + " texels)"
                                       : std::string(" (no error measured)")));
+                break;
             }
         }
         if (misses.empty()) {

@@ -1,0 +1,185 @@
+// maxmip: maximum mip-maps / quadtree displacement mapping (Tevs, Ihrke &
+// Seidel 2008; Drobot 2010), exact against the bilinearly filtered surface.
+// GLSL ES 3.00 only (texelFetch with a level, integer bit operations).
+//
+// The pyramid bounds the FILTERED surface, not the texel samples (cone maps
+// and sample-based max maps are not conservative under bilinear filtering:
+// Bán, Valasek et al., EGSR 2024): level 0 texel (i, j) is the max of the four
+// texels around CELL (i, j), the square between texel centres (i+.5, j+.5)
+// and (i+1.5, j+1.5) where one bilinear patch lives; a patch is a convex
+// combination of its corners, so that max bounds it exactly. Level k is the
+// max over 2x2 of level k-1 (assets/max_mipmap.h builds it).
+//
+// The walk: start at the root; in the node (level L) holding the current
+// point, if the ray is above the node's max, advance to where it comes down
+// to that max (then look closer: L-1) or to where it leaves the node (then
+// the neighbour node, and one level up when the ray is above the new parent's
+// max, as Tevs et al. climb back to skip empty space in growing steps); if it
+// is at or under the max, look closer without moving. In one cell (level 0)
+// the ray is solved against the bilinear patch in closed form (a quadratic),
+// so no feature, however thin, is stepped over.
+//
+// reference/maxmip_trace.cpp mirrors this function step for step in float;
+// unit tests compare it with the exact reference tracer.
+#define PX_HAS_TRACE
+#include "chunks/surface_common.glsl"
+#include "chunks/march.glsl"
+
+// The max pyramid: all levels uploaded as mip levels 0..u_max_levels-1,
+// read with texelFetch only (GL_NEAREST_MIPMAP_NEAREST keeps it complete).
+// 8-bit maxima (R): mediump holds every 8-bit value exactly.
+uniform mediump sampler2D u_max_map;
+uniform mediump int u_max_levels;  // levels of u_max_map: log2(max(width, height)) + 1
+
+#define PX_NEVER 1e30  // node exit along an axis the ray does not move on
+
+// The max of `node` (integer, from the tile origin) at `level`; the index
+// wraps with a mask (sizes are powers of two, so this is GL_REPEAT).
+PX_HIGHP float px_node_max(int level, highp ivec2 node, highp ivec2 shift, highp ivec2 mask) {
+    return texelFetch(u_max_map, node & (mask >> shift), level).r;
+}
+
+// Cells only move forward along the ray: a rounded position must never send
+// the walk back into a cell it has left (it could revisit it forever).
+highp int px_forward_index(PX_HIGHP float position, highp int anchor, highp int current, PX_HIGHP float direction) {
+    highp int i = anchor + int(floor(position));
+    if (direction > 0.0) return max(i, current);
+    if (direction < 0.0) return min(i, current);
+    return current;
+}
+
+// The cell holding the ray's point p (relative to the anchor cell), moving
+// only forward from `cell` and staying inside the node [lo, hi).
+highp ivec2 px_cell_at(PX_HIGHP vec2 p, highp ivec2 anchor, highp ivec2 cell, PX_HIGHP vec2 dir, highp ivec2 lo,
+                       highp ivec2 hi) {
+    highp ivec2 c = ivec2(px_forward_index(p.x, anchor.x, cell.x, dir.x), px_forward_index(p.y, anchor.y, cell.y, dir.y));
+    return clamp(c, lo, hi - 1);
+}
+
+// First s in [0, 1] where the ray segment from (p0, z0) to (p1, z1) in one
+// cell (local coordinates) is on or under the bilinear patch with corners
+// h = (h00, h10, h01, h11). Ray minus surface is f0 + f1 s + f2 s^2 (the
+// patch's twist term makes it quadratic); roots in cancellation-free form.
+bool px_solve_patch(PX_HIGHP vec2 p0, PX_HIGHP vec2 p1, PX_HIGHP float z0, PX_HIGHP float z1, PX_HIGHP vec4 h,
+                    out PX_HIGHP float s) {
+    PX_HIGHP float a = h.y - h.x;
+    PX_HIGHP float b = h.z - h.x;
+    PX_HIGHP float k = h.x - h.y - h.z + h.w;
+    PX_HIGHP vec2 d = p1 - p0;
+    PX_HIGHP float f0 = z0 - (h.x + a * p0.x + b * p0.y + k * p0.x * p0.y);
+    s = 0.0;
+    if (f0 <= 0.0) return true;  // entered on or under the surface
+    PX_HIGHP float f1 = (z1 - z0) - (a * d.x + b * d.y + k * (p0.x * d.y + p0.y * d.x));
+    PX_HIGHP float f2 = -k * d.x * d.y;
+    PX_HIGHP float disc = f1 * f1 - 4.0 * f2 * f0;
+    s = 2.0;
+    if (disc >= 0.0) {
+        PX_HIGHP float root = sqrt(disc);
+        if (f1 < 0.0) {
+            s = 2.0 * f0 / (root - f1);  // the smaller positive root (any f2)
+        } else if (f2 < 0.0) {
+            s = (f1 + root) / (-2.0 * f2);  // the only positive root
+        }
+    }
+    // A sign change over the span guarantees a root: rounding must not lose it.
+    PX_HIGHP float f_end = z1 - (h.x + a * p1.x + b * p1.y + k * p1.x * p1.y);
+    if (f_end <= 0.0) s = min(s, 1.0);
+    return s <= 1.0;
+}
+
+PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
+    PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
+    // The frame: cell space (texel space - 0.5: cell (i, j) is [i, i+1]^2),
+    // integer cells counted from the tile where the ray enters the top (a
+    // whole number of tiles, so every level's nodes stay aligned), float
+    // positions relative to the entry cell (`anchor`), so rounding grows with
+    // the distance walked, not with the uv. t is the height descended:
+    // height = 1 - t, position = o + t * dir.
+    PX_HIGHP vec2 uv_top = uv + (1.0 - u_polygon_height) * parallax;
+    PX_HIGHP vec2 tile = floor(uv_top);
+    PX_HIGHP vec2 local = (uv_top - tile) * u_texture_size - 0.5;
+    PX_HIGHP vec2 anchor_f = floor(local);
+    highp ivec2 anchor = ivec2(anchor_f);
+    PX_HIGHP vec2 o = local - anchor_f;
+    PX_HIGHP vec2 dir = -parallax * u_texture_size;
+    highp ivec2 mask = ivec2(u_texture_size) - 1;
+    highp ivec2 size_log2 = ivec2(log2(u_texture_size) + 0.5);
+    int top = u_max_levels - 1;
+
+    int level = top;  // Tevs et al.: start at the root, the whole tile
+    highp ivec2 cell = anchor;
+    PX_HIGHP float t = 0.0;
+    // Appendix A form: a constant bound (the iteration budget) with an early break.
+    for (int i = 0; i < PX_MAX_SAMPLES; i++) {
+        // The node of `level` holding `cell`: 2^shift cells a side (a side
+        // stops growing at the texture's size, as the mip chain's does).
+        highp ivec2 shift = min(ivec2(level), size_log2);
+        highp ivec2 node = cell >> shift;
+        highp ivec2 lo = node << shift;
+        highp ivec2 hi = (node + 1) << shift;
+        // Where the ray leaves the node's square.
+        PX_HIGHP vec2 lo_rel = vec2(lo - anchor);
+        PX_HIGHP vec2 hi_rel = vec2(hi - anchor);
+        PX_HIGHP float tx = dir.x > 0.0 ? (hi_rel.x - o.x) / dir.x : (dir.x < 0.0 ? (lo_rel.x - o.x) / dir.x : PX_NEVER);
+        PX_HIGHP float ty = dir.y > 0.0 ? (hi_rel.y - o.y) / dir.y : (dir.y < 0.0 ? (lo_rel.y - o.y) / dir.y : PX_NEVER);
+        PX_HIGHP float t_out = min(tx, ty);
+        if (level == 0) {
+            // One cell: the ray against the bilinear patch, exactly (Drobot
+            // 2010 ends with a search; solving cannot miss a thin feature).
+            // The relief's bottom (t = 1) ends every ray: heights are >= 0.
+            PX_HIGHP float t_stop = min(t_out, 1.0);
+            PX_HIGHP vec2 p0 = clamp(o + t * dir - lo_rel, 0.0, 1.0);
+            PX_HIGHP vec2 p1 = clamp(o + t_stop * dir - lo_rel, 0.0, 1.0);
+            highp ivec2 c0 = cell & mask;
+            highp ivec2 c1 = (cell + 1) & mask;
+            PX_HIGHP vec4 corners = vec4(texelFetch(PX_HEIGHT_SAMPLER, c0, 0).PX_HEIGHT_CHANNEL,
+                                         texelFetch(PX_HEIGHT_SAMPLER, ivec2(c1.x, c0.y), 0).PX_HEIGHT_CHANNEL,
+                                         texelFetch(PX_HEIGHT_SAMPLER, ivec2(c0.x, c1.y), 0).PX_HEIGHT_CHANNEL,
+                                         texelFetch(PX_HEIGHT_SAMPLER, c1, 0).PX_HEIGHT_CHANNEL);
+            PX_HIGHP float s;
+            if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, corners, s)) {
+                t = t + s * (t_stop - t);
+                break;
+            }
+            if (t_out >= 1.0) {  // reached the bottom (only by rounding)
+                t = 1.0;
+                break;
+            }
+        } else {
+            PX_HIGHP float t_plane = 1.0 - px_node_max(level, node, shift, mask);  // ray down to the node's max
+            if (t >= t_plane) {  // at or under the max here: look closer, without moving
+                level--;
+                continue;
+            }
+            if (t_plane < t_out) {  // comes down to the max inside the node: go there, look closer
+                t = t_plane;
+                cell = px_cell_at(o + t * dir, anchor, cell, dir, lo, hi);
+                level--;
+                continue;
+            }
+        }
+        // Above the node's max all the way across: into the neighbour node
+        // through the exit side (both sides at a corner).
+        t = max(t, t_out);
+        highp ivec2 next = px_cell_at(o + t * dir, anchor, cell, dir, lo, hi);
+        if (tx <= ty) next.x = dir.x > 0.0 ? hi.x : lo.x - 1;
+        if (ty <= tx) next.y = dir.y > 0.0 ? hi.y : lo.y - 1;
+        // Tevs et al.: into another parent, go up to it, but only when the
+        // ray is above its max here (else it would come straight back down).
+        if (level < top) {
+            highp ivec2 up = min(ivec2(level + 1), size_log2);
+            highp ivec2 parent = next >> up;
+            if (any(notEqual(cell >> up, parent)) && t < 1.0 - px_node_max(level + 1, parent, up, mask)) level++;
+        }
+        cell = next;
+    }
+    // On a hit, t is where the ray meets the surface; if the budget ran out,
+    // the last point known to be above it. uv on the view ray, from highp t
+    // (hit.height is mediump: too coarse to place the uv on grazing rays).
+    PX_HIGHP float height = 1.0 - t;
+    PxHit hit;
+    hit.uv = uv + (height - u_polygon_height) * parallax;
+    hit.height = height;
+    return hit;
+}
+#include "chunks/surface_main.glsl"
