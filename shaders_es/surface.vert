@@ -40,7 +40,11 @@ void main() {
     mediump vec3 b = (a_tangent.w * u_model_handedness) * cross(n, t);
 
     highp vec3 to_eye = u_camera_position - world_position.xyz;
+#ifdef PX_EXACT_VIEW
+    highp vec3 view_ts = vec3(dot(to_eye, t), dot(to_eye, b), dot(to_eye, n));
+#else
     mediump vec3 view_ts = normalize(vec3(dot(to_eye, t), dot(to_eye, b), dot(to_eye, n)));
+#endif
     view_ts.xy = u_uv_frame * view_ts.xy;
 #ifdef PX_READS_HEIGHT
     view_ts.xy *= u_height_scale;  // folded here: one multiply per vertex, not per fragment

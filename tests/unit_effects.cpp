@@ -166,7 +166,7 @@ TEST(ShaderSource, ChunksAreIncludedOnce) {
 // qualifier (Mesa defaults sampler2D to lowp and returns fp16 texels).
 TEST(ShaderSource, EveryDeclarationHasAPrecisionQualifier) {
     const std::regex declaration(R"(^\s*(uniform|PX_VARYING|PX_ATTRIBUTE)\s+(\w+)\s+(\w+))");
-    const std::regex qualified(R"(^\s*(uniform|PX_VARYING|PX_ATTRIBUTE)\s+(lowp|mediump|highp|PX_HIGHP)\s)");
+    const std::regex qualified(R"(^\s*(uniform|PX_VARYING|PX_ATTRIBUTE)\s+(lowp|mediump|highp|PX_HIGHP|PX_VIEW_PRECISION)\s)");
     int declarations = 0;
     for (const EmbeddedShader& file : embedded_shaders()) {
         std::istringstream in(file.text);

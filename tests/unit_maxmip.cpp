@@ -23,12 +23,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // The iteration budget (PX_MAX_SAMPLES for maxmip.frag) stated for 256-texel
-// fields viewed at up to 89 degrees with the relief up to 0.1 tile deep.
-// Each iteration descends a level, crosses into the next node or solves one
-// cell, so a ray needs at most about 3 iterations per cell boundary it
-// crosses (plus the levels): empty space costs far less (Tevs et al. 2008),
-// but beside a thin tall feature the nodes shrink to single cells and a ray
-// sliding along it pays per cell (MaxmipTrace.WorstCaseIsBoundedByTheCellsCrossed).
+// fields viewed at up to 89 degrees with the relief up to 0.1 tile deep
+// (random rays over the test fields need at most 831; see the printed table).
+// Each iteration descends a level, or crosses into the next node (solving a
+// cell first at level 0) and ascends at most one level, so a ray entering C
+// cells needs at most top + 2 C + 1 iterations, checked on every ray. Empty
+// space costs far less (Tevs et al. 2008), but beside a thin tall feature the
+// nodes shrink to single cells and a ray sliding along it pays per cell
+// (MaxmipTrace.WorstCaseIsBoundedByTheCellsCrossed).
 constexpr int kBudget = 1024;
 constexpr double kScales[] = {0.05, 0.1};
 constexpr double kHeightScale = 0.1;  // for the other tests
@@ -168,6 +170,12 @@ TEST(MaxMipmap, LevelZeroStoresTheQuantisedCornerMax) {
     EXPECT_EQ(m.max_byte(1, 1, 0), 179);
     EXPECT_EQ(m.max_byte(2, 0, 0), 179);
     EXPECT_FLOAT_EQ(m.max_height(2, 5, -3), 179.0f / 255.0f);
+    // Node indices wrap (GL_REPEAT), negative ones too.
+    EXPECT_EQ(m.max_byte(0, -1, 0), m.max_byte(0, 3, 0));
+    EXPECT_EQ(m.max_byte(0, -3, -1), m.max_byte(0, 1, 1));
+    EXPECT_EQ(m.max_byte(0, 6, 5), m.max_byte(0, 2, 1));
+    EXPECT_EQ(m.max_byte(1, -1, 7), 179);
+    EXPECT_EQ(m.max_byte(1, -2, 0), 51);
 }
 
 TEST(MaxMipmap, NonPowerOfTwoSizesAreErrorsNamingTheSize) {
@@ -450,8 +458,9 @@ TEST(MaxmipTrace, WorstCaseIsBoundedByTheCellsCrossed) {
     for (const double scale : kScales) {
         for (const double angle : {85.0, 89.0}) {
             for (int k = 0; k < 40; ++k) {
-                // Texel x 33.6 (cell 33, the line's right-hand neighbour) heading along -v,
-                // almost parallel to the line.
+                // Texel x 33.6: cell 33, beside the line's cells 31 and 32 (the
+                // cells with texel 32 as a corner), seen from -v so the ray runs
+                // along +v, parallel to the line to within 2e-4 rad.
                 const glm::dvec2 uv(33.6 / 256.0, 0.5 + k / 97.0);
                 const double az = -0.5 * kPi + (k % 5 - 2) * 1e-4;
                 compare_view(q, m, uv, view_direction(angle, az), 1.0, scale, kLargeBudget, a);

@@ -2,6 +2,18 @@
 // PX_VARYING is `varying` (GLSL ES 1.00) or out/in (GLSL ES 3.00), from the
 // preamble the loader injects.
 PX_VARYING PX_HIGHP vec2 v_uv;             // material uv; PX_HIGHP for large tiled uvs
-PX_VARYING mediump vec3 v_view_ts;      // unit view vector in texture space; xy * height scale when PX_READS_HEIGHT
+// The view vector in texture space, xy * height scale when PX_READS_HEIGHT.
+// By default normalised per vertex and mediump (PowerVR whitepaper: saves a
+// normalise per fragment). PX_EXACT_VIEW: highp and not normalised, so that
+// interpolation is exact (the vector is affine across a flat triangle); the
+// fragment stage normalises. Measured: per-vertex normalisation costs POM
+// about 1 texel of hit error on a two-triangle plane at 30 degrees, and
+// grazing views need highp (docs/accuracy.md).
+#ifdef PX_EXACT_VIEW
+#define PX_VIEW_PRECISION PX_HIGHP
+#else
+#define PX_VIEW_PRECISION mediump
+#endif
+PX_VARYING PX_VIEW_PRECISION vec3 v_view_ts;
 PX_VARYING PX_HIGHP vec3 v_view_position;  // view space, for perspective-correct depth
 PX_VARYING mediump vec3 v_light_ts[PX_MAX_LIGHTS];  // toward each light, texture space, unnormalised

@@ -27,7 +27,7 @@ mediump float px_sample_count(mediump float cos_view) {
 
 // The ray enters the relief at its top (height 1). A view nearly parallel
 // to the surface is clamped so the offset stays finite.
-PX_HIGHP vec2 px_parallax_vector(mediump vec3 view_ts) {
+PX_HIGHP vec2 px_parallax_vector(PX_VIEW_PRECISION vec3 view_ts) {
     return view_ts.xy / max(view_ts.z, 1.0 / 64.0);
 }
 

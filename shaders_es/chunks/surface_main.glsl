@@ -1,5 +1,5 @@
 // main() shared by every technique. A technique entry defines
-//   PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS)
+//   PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS)
 // when it defines PX_HAS_TRACE, and includes this file last.
 #include "chunks/lighting.glsl"
 #ifdef PX_SHADOW
@@ -75,12 +75,18 @@ void main() {
     PX_HIGHP vec2 uv_dx = dFdx(uv);
     PX_HIGHP vec2 uv_dy = dFdy(uv);
 #endif
-    mediump vec3 view_ts = v_view_ts;
+    PX_VIEW_PRECISION vec3 view_ts = v_view_ts;
 #ifdef PX_READS_HEIGHT
-    mediump vec3 view_dir = normalize(vec3(view_ts.xy * u_inv_height_scale, view_ts.z));
+    PX_VIEW_PRECISION vec3 view_unscaled = vec3(view_ts.xy * u_inv_height_scale, view_ts.z);
 #else
-    mediump vec3 view_dir = normalize(view_ts);
+    PX_VIEW_PRECISION vec3 view_unscaled = view_ts;
 #endif
+#ifdef PX_EXACT_VIEW
+    // Interpolated unnormalised: normalise here, keeping xy scaled and z the
+    // cosine of the view angle, as the per-vertex path delivers it.
+    view_ts /= length(view_unscaled);
+#endif
+    mediump vec3 view_dir = normalize(view_unscaled);
 
     PxHit surface;  // the polygon itself: what normal mapping shades
     surface.uv = uv;

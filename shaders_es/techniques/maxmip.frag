@@ -21,22 +21,34 @@
 //
 // reference/maxmip_trace.cpp mirrors this function step for step in float;
 // unit tests compare it with the exact reference tracer.
+#if PX_ES < 3 || !defined(PX_READS_HEIGHT)
+#error "maxmip needs GLSL ES 3.00 (texelFetch with a level) and PX_READS_HEIGHT"
+#endif
 #define PX_HAS_TRACE
 #include "chunks/surface_common.glsl"
-#include "chunks/march.glsl"
 
 // The max pyramid: all levels uploaded as mip levels 0..u_max_levels-1,
 // read with texelFetch only (GL_NEAREST_MIPMAP_NEAREST keeps it complete).
-// 8-bit maxima (R): mediump holds every 8-bit value exactly.
+// 8-bit maxima (R): mediump tells every 8-bit value apart (px_exact_8bit
+// makes each one exactly byte / 255 again).
 uniform mediump sampler2D u_max_map;
 uniform mediump int u_max_levels;  // levels of u_max_map: log2(max(width, height)) + 1
 
 #define PX_NEVER 1e30  // node exit along an axis the ray does not move on
 
+// An 8-bit texel as exactly byte / 255 in highp. mediump samplers keep 8-bit
+// values apart, but may return them rounded to fp16 (Mesa llvmpipe does: up
+// to 2.4e-4 off), and on a grazing ray a height that far off moves the hit
+// by texels. Rounding to the nearest 1/255 restores the exact value (the
+// same for the pyramid and the corners, so the bound stays conservative).
+PX_HIGHP float px_exact_8bit(PX_HIGHP float texel) {
+    return floor(texel * 255.0 + 0.5) / 255.0;
+}
+
 // The max of `node` (integer, from the tile origin) at `level`; the index
 // wraps with a mask (sizes are powers of two, so this is GL_REPEAT).
 PX_HIGHP float px_node_max(int level, highp ivec2 node, highp ivec2 shift, highp ivec2 mask) {
-    return texelFetch(u_max_map, node & (mask >> shift), level).r;
+    return px_exact_8bit(texelFetch(u_max_map, node & (mask >> shift), level).r);
 }
 
 // Cells only move forward along the ray: a rounded position must never send
@@ -87,8 +99,12 @@ bool px_solve_patch(PX_HIGHP vec2 p0, PX_HIGHP vec2 p1, PX_HIGHP float z0, PX_HI
     return s <= 1.0;
 }
 
-PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
-    PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
+PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
+    // px_parallax_vector (march.glsl), but divided in highp: from mediump
+    // operands the division runs at mediump (fp16 on Mesa llvmpipe), whose
+    // ~1e-3 relative error moves a grazing ray's hit by texels.
+    PX_HIGHP vec3 view = view_ts;
+    PX_HIGHP vec2 parallax = view.xy / max(view.z, 1.0 / 64.0);
     // The frame: cell space (texel space - 0.5: cell (i, j) is [i, i+1]^2),
     // integer cells counted from the tile where the ray enters the top (a
     // whole number of tiles, so every level's nodes stay aligned), float
@@ -132,10 +148,10 @@ PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
             PX_HIGHP vec2 p1 = clamp(o + t_stop * dir - lo_rel, 0.0, 1.0);
             highp ivec2 c0 = cell & mask;
             highp ivec2 c1 = (cell + 1) & mask;
-            PX_HIGHP vec4 corners = vec4(texelFetch(PX_HEIGHT_SAMPLER, c0, 0).PX_HEIGHT_CHANNEL,
-                                         texelFetch(PX_HEIGHT_SAMPLER, ivec2(c1.x, c0.y), 0).PX_HEIGHT_CHANNEL,
-                                         texelFetch(PX_HEIGHT_SAMPLER, ivec2(c0.x, c1.y), 0).PX_HEIGHT_CHANNEL,
-                                         texelFetch(PX_HEIGHT_SAMPLER, c1, 0).PX_HEIGHT_CHANNEL);
+            PX_HIGHP vec4 corners = vec4(px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, c0, 0).PX_HEIGHT_CHANNEL),
+                                         px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c1.x, c0.y), 0).PX_HEIGHT_CHANNEL),
+                                         px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c0.x, c1.y), 0).PX_HEIGHT_CHANNEL),
+                                         px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, c1, 0).PX_HEIGHT_CHANNEL));
             PX_HIGHP float s;
             if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, corners, s)) {
                 t = t + s * (t_stop - t);

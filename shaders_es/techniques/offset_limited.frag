@@ -4,7 +4,7 @@
 #define PX_HAS_TRACE
 #include "chunks/surface_common.glsl"
 
-PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
+PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
     mediump float h = px_trace_height(uv);
     PxHit hit;
     hit.uv = uv + (h - u_polygon_height) * view_ts.xy;

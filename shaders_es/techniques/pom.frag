@@ -5,7 +5,7 @@
 #include "chunks/surface_common.glsl"
 #include "chunks/march.glsl"
 
-PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
+PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
     PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
     PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
     // Ray minus surface: positive above the surface, <= 0 on or under it.

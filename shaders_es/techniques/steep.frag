@@ -4,7 +4,7 @@
 #include "chunks/surface_common.glsl"
 #include "chunks/march.glsl"
 
-PxHit px_trace(PX_HIGHP vec2 uv, mediump vec3 view_ts PX_TRACE_GRADIENTS) {
+PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
     PxMarch m = px_linear_search(uv, px_parallax_vector(view_ts), view_ts.z PX_TRACE_GRADIENT_ARGS);
     PxHit hit;
     hit.uv = m.uv_below;

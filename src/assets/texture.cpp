@@ -58,6 +58,31 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
     return t;
 }
 
+Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, const std::string& what) {
+    if (caps.es_major < 3) return make_error(what + ": the max pyramid needs OpenGL ES 3.0 (texelFetch with a level)");
+    if (pyramid.levels.empty()) return make_error(what + ": empty max pyramid");
+    Texture t;
+    t.handle = make_texture();
+    t.width = pyramid.width;
+    t.height = pyramid.height;
+    t.mipmapped = true;
+    glBindTexture(GL_TEXTURE_2D, t.handle.get());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (int level = 0; level < pyramid.level_count(); ++level) {
+        const Image& image = pyramid.levels[static_cast<size_t>(level)];
+        if (image.channels != 1) return make_error(what + ": max pyramid levels must have one channel");
+        glTexImage2D(GL_TEXTURE_2D, level, GL_R8, image.width, image.height, 0, GL_RED, GL_UNSIGNED_BYTE,
+                     image.pixels.data());
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, pyramid.level_count() - 1);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    Status s = check_gl("uploading " + what);
+    if (!s) return s.error();
+    return t;
+}
+
 void bind_texture(const Texture& texture) { glBindTexture(GL_TEXTURE_2D, texture.handle.get()); }
 
 }  // namespace px

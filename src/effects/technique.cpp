@@ -11,6 +11,7 @@ constexpr std::uint32_t kMarchOptions = kOptHeight | kOptSamples | kOptShadow | 
 // The loop bound must be a constant in GLSL ES 1.00 (Appendix A), so each
 // max_samples is a shader variant; 256 keeps the worst case bounded.
 constexpr int kMaxMarchSamples = 256;
+constexpr int kMaxExactSteps = 4096;
 
 const std::array<TechniqueInfo, kTechniqueCount> kTable = {{
     {Technique::flat, "flat", "PX_TECH_FLAT", "flat.frag", "albedo only, lit by the geometric normal",
@@ -32,6 +33,11 @@ const std::array<TechniqueInfo, kTechniqueCount> kTable = {{
     {Technique::relief, "relief", "PX_TECH_RELIEF", "relief.frag",
      "relief mapping: linear march, then binary refinement", "Policarpo et al. 2005",
      kMarchOptions | kOptRefine, 2, kMaxMarchSamples},
+    {Technique::maxmip, "maxmip", "PX_TECH_MAXMIP", "maxmip.frag",
+     "maximum mip-maps: skips empty space down a max pyramid of the filtered surface, then solves the "
+     "bilinear patch exactly",
+     "Tevs, Ihrke & Seidel 2008; Drobot 2010", kOptHeight | kOptSteps | kOptShadow | kOptDepth | kOptLod, 3,
+     kMaxExactSteps},
 }};
 
 }  // namespace
@@ -84,6 +90,9 @@ Status validate_options(const TechniqueOptions& o) {
             return make_error("max_samples " + std::to_string(o.max_samples) + " exceeds the limit of " +
                               std::to_string(info.max_samples_limit) + " for " + info.name);
     }
+    if ((info.options & kOptSteps) && (o.max_steps < 1 || o.max_steps > info.max_samples_limit))
+        return make_error("max_steps must be within 1.." + std::to_string(info.max_samples_limit) + " (got " +
+                          std::to_string(o.max_steps) + ")");
     if (o.refine_steps < 0 || o.refine_steps > 16)
         return make_error("refine_steps must be within 0..16 (got " + std::to_string(o.refine_steps) + ")");
     if (o.shadow_samples < 1 || o.shadow_samples > 128)

@@ -20,8 +20,9 @@ enum class Technique : std::uint8_t {
     steep,           // McGuire & McGuire 2005: linear march, first sample below the surface
     pom,             // Tatarchuk 2005: linear march + intersection with the last linear segment
     relief,          // Policarpo et al. 2005: linear march + binary refinement
+    maxmip,          // Tevs et al. 2008; Drobot 2010: maximum mip-map descent, exact patch solve
 };
-inline constexpr int kTechniqueCount = 7;
+inline constexpr int kTechniqueCount = 8;
 
 enum class ShadowMode : std::uint8_t {
     none,
@@ -38,9 +39,17 @@ struct TechniqueOptions {
     int min_samples = 8;
     int max_samples = 32;
     int refine_steps = 5;     // relief: binary search steps after the linear search
+    // maxmip: the iteration budget of the pyramid walk (a constant loop
+    // bound). Grazing rays beside 1-texel features need the most: 831 on a
+    // 256-texel field 0.1 deep at 89 degrees (tests/unit_maxmip.cpp).
+    int max_steps = 1024;
     ShadowMode shadow = ShadowMode::none;
     int shadow_samples = 16;  // samples along the shadow ray
     bool depth_write = false; // perspective-correct depth through gl_FragDepth
+    // The view vector interpolated unnormalised in highp and normalised per
+    // fragment, instead of normalised per vertex in mediump (the PowerVR
+    // whitepaper's saving). Exact on flat triangles; maxmip always uses it.
+    bool exact_view = false;
     // Mip-level LOD (Tatarchuk 2005): at mip levels past lod_threshold render
     // normal mapping; blend over the lod_band levels before it.
     bool lod = false;
@@ -56,6 +65,7 @@ enum OptionFlag : std::uint32_t {
     kOptShadow = 1u << 3,   // self-shadowing
     kOptDepth = 1u << 4,    // depth_write
     kOptLod = 1u << 5,      // mip-level LOD blend to normal mapping
+    kOptSteps = 1u << 6,    // max_steps (an exact walk's iteration budget)
 };
 
 struct TechniqueInfo {
@@ -67,7 +77,7 @@ struct TechniqueInfo {
     const char* citation;  // the paper the shader follows
     std::uint32_t options; // OptionFlag bits
     int min_es_major;      // lowest OpenGL ES major version that runs it
-    int max_samples_limit; // largest max_samples accepted (constant loop bound)
+    int max_samples_limit; // largest max_samples (or max_steps) accepted: a constant loop bound
 };
 
 const std::array<TechniqueInfo, kTechniqueCount>& technique_table();

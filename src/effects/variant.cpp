@@ -1,5 +1,6 @@
 #include "effects/variant.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "scene/scene.h"
@@ -13,7 +14,8 @@ bool has_option(Technique t, OptionFlag flag) { return (technique_info(t).option
 // Zero every field the technique does not use, so equal programs get equal keys.
 VariantKey canonical(VariantKey k) {
     if (!has_option(k.technique, kOptHeight)) k.packed_height = false;
-    if (!has_option(k.technique, kOptSamples)) k.max_samples = 0;
+    if (!has_option(k.technique, kOptHeight)) k.exact_view = false;
+    if (!has_option(k.technique, kOptSamples) && !has_option(k.technique, kOptSteps)) k.max_samples = 0;
     if (!has_option(k.technique, kOptRefine)) k.refine_steps = 0;
     if (!has_option(k.technique, kOptShadow)) k.shadow = ShadowMode::none;
     if (k.shadow == ShadowMode::none) k.shadow_samples = 0;
@@ -37,6 +39,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.refine_steps) << 28;    // 8 bits
     b |= static_cast<std::uint64_t>(k.shadow_samples) << 36;  // 8 bits
     b |= static_cast<std::uint64_t>(k.debug_output & 0x7) << 44;  // 3 bits
+    b |= static_cast<std::uint64_t>(k.exact_view) << 47;
     return b;
 }
 
@@ -48,7 +51,9 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     d.push_back({"PX_TECHNIQUE_NAME_" + std::string(info.name), ""});
     if (info.options & kOptHeight) d.push_back({"PX_READS_HEIGHT", ""});
     if (k.packed_height) d.push_back({"PX_PACKED_HEIGHT", ""});
-    if (info.options & kOptSamples) d.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
+    if (k.exact_view) d.push_back({"PX_EXACT_VIEW", ""});
+    // The loop bound: samples of a linear search, or steps of an exact walk.
+    if (info.options & (kOptSamples | kOptSteps)) d.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
     if (info.options & kOptRefine) d.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
     if (k.shadow != ShadowMode::none) {
         d.push_back({"PX_SHADOW", k.shadow == ShadowMode::hard ? "1" : "2"});
@@ -73,11 +78,12 @@ std::string VariantKey::describe() const {
     const VariantKey k = canonical(*this);
     std::ostringstream s;
     s << technique_name(k.technique) << " es" << int(k.es_major);
-    if (k.max_samples) s << " samples<=" << k.max_samples;
+    if (k.max_samples) s << (has_option(k.technique, kOptSteps) ? " steps<=" : " samples<=") << k.max_samples;
     if (has_option(k.technique, kOptRefine)) s << " refine=" << int(k.refine_steps);
     if (k.shadow != ShadowMode::none) s << " shadow=" << shadow_mode_name(k.shadow) << "x" << int(k.shadow_samples);
     if (k.depth_write) s << " depth";
     if (k.lod) s << " lod";
+    if (k.exact_view) s << " exact-view";
     if (has_option(k.technique, kOptHeight)) s << (k.packed_height ? " packed" : " separate-height");
     if (k.debug_output) s << " debug" << int(k.debug_output);
     return s.str();
@@ -91,10 +97,15 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
     k.es_major = static_cast<std::uint8_t>(caps.es_major);
 
     const TechniqueInfo& asked = technique_info(o.technique);
-    if (asked.min_es_major > caps.es_major)
-        return make_error(std::string("technique '") + asked.name + "' needs OpenGL ES " +
-                          std::to_string(asked.min_es_major) + ".0; this context is " + caps.version);
+    if (asked.min_es_major > caps.es_major) {
+        // The most accurate technique this context runs, at its finest search.
+        k.technique = Technique::relief;
+        plan.notes.push_back(std::string(asked.name) + " -> relief with 64 samples: " + asked.name +
+                             " needs OpenGL ES " + std::to_string(asked.min_es_major) + ".0 and this context is " +
+                             caps.version);
+    }
     if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
+        plan.notes.clear();
         plan.notes.push_back(std::string(asked.name) +
                              " -> normal: height_scale is 0, so there is no relief to trace and normal "
                              "mapping draws the same image");
@@ -104,7 +115,11 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
     const TechniqueInfo& info = technique_info(t);
 
     k.packed_height = material.pack_height_in_normal_alpha;
-    if (info.options & kOptSamples) k.max_samples = static_cast<std::uint16_t>(o.max_samples);
+    // maxmip is exact only if its ray is: it always takes the exact view vector.
+    k.exact_view = o.exact_view || t == Technique::maxmip;
+    if (info.options & kOptSamples)
+        k.max_samples = static_cast<std::uint16_t>(t == o.technique ? o.max_samples : std::max(o.max_samples, 64));
+    if (info.options & kOptSteps) k.max_samples = static_cast<std::uint16_t>(o.max_steps);
     if (info.options & kOptRefine) k.refine_steps = static_cast<std::uint8_t>(o.refine_steps);
 
     if (o.shadow != ShadowMode::none) {
@@ -152,10 +167,11 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
         out.push_back(c);
     };
     for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > es_major) continue;
         VariantKey base;
         base.technique = info.id;
         base.es_major = static_cast<std::uint8_t>(es_major);
-        base.max_samples = static_cast<std::uint16_t>(defaults.max_samples);
+        base.max_samples = static_cast<std::uint16_t>((info.options & kOptSteps) ? defaults.max_steps : defaults.max_samples);
         base.refine_steps = static_cast<std::uint8_t>(defaults.refine_steps);
         base.shadow_samples = static_cast<std::uint8_t>(defaults.shadow_samples);
         for (int packed = 0; packed < 2; ++packed)
@@ -167,6 +183,9 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                         k.shadow = shadow;
                         k.depth_write = depth != 0;
                         k.lod = lod != 0;
+                        k.exact_view = info.id == Technique::maxmip;
+                        add(k);
+                        k.exact_view = true;
                         add(k);
                     }
         // Debug outputs, with every option the technique has switched on.
@@ -179,7 +198,7 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             if (es_major >= 3 || debug >= 2) add(k);
         }
         // Loop bounds at their extremes.
-        if (info.options & kOptSamples) {
+        if (info.options & (kOptSamples | kOptSteps)) {
             for (int samples : {1, info.max_samples_limit}) {
                 VariantKey k = base;
                 k.max_samples = static_cast<std::uint16_t>(samples);

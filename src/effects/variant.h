@@ -25,6 +25,7 @@ struct VariantKey {
     bool depth_write = false;
     bool lod = false;
     bool packed_height = true;    // height in the normal map's alpha
+    bool exact_view = false;      // PX_EXACT_VIEW: highp unnormalised view vector
     std::uint8_t es_major = 3;    // 2: GLSL ES 1.00, 3: GLSL ES 3.00
     std::uint16_t max_samples = 0;   // linear-search loop bound (march techniques)
     std::uint8_t refine_steps = 0;   // relief

@@ -27,7 +27,8 @@ int log2_pow2(int n) {
 }
 
 float corner_height(const HeightField& field, int x, int y) {
-    // The 8-bit texel the GPU samples, read back as byte / 255.
+    // The 8-bit texel the GPU samples as exactly byte / 255 (the shader's
+    // px_exact_8bit undoes a mediump sampler's fp16 rounding).
     const double h = std::clamp(static_cast<double>(field.texels[static_cast<size_t>(y) * field.width + x]), 0.0, 1.0);
     return static_cast<float>(std::lround(h * 255.0)) / 255.0f;
 }
@@ -194,8 +195,9 @@ Walk walk(const MaxMipmap& pyramid, const HeightField& field, const Frame& ray, 
     return w;
 }
 
-// The view ray's frame as maxmip.frag builds it, in float (highp). view_ts.xy
-// carries the height scale there; here it is applied first, in double.
+// The view ray's frame as maxmip.frag builds it, in float (highp, the
+// parallax division included). view_ts.xy carries the height scale there;
+// here it is applied first, then rounded to float.
 struct ViewSetup {
     glm::vec2 uv0;
     glm::vec2 parallax;
@@ -210,7 +212,7 @@ ViewSetup view_setup(const MaxMipmap& pyramid, glm::dvec2 uv, glm::dvec3 view_ts
     v.uv0 = to_float(uv);
     const glm::vec3 view(to_float(view_ts.x * height_scale), to_float(view_ts.y * height_scale), to_float(view_ts.z));
     v.polygon_height = to_float(polygon_height);
-    v.parallax = glm::vec2(view.x, view.y) / std::max(view.z, 1.0f / 64.0f);  // px_parallax_vector
+    v.parallax = glm::vec2(view.x, view.y) / std::max(view.z, 1.0f / 64.0f);  // px_parallax_vector's clamp
     const glm::vec2 uv_top = v.uv0 + (1.0f - v.polygon_height) * v.parallax;  // the ray enters the top here
     v.tile = glm::floor(uv_top);
     const glm::vec2 size(static_cast<float>(pyramid.width), static_cast<float>(pyramid.height));
@@ -236,10 +238,16 @@ MaxmipHit finish(const Walk& w, const Frame& f, glm::dvec2 tile_origin, glm::dve
     return out;
 }
 
+// The pyramid must be built from this field (same size), and both non-empty.
+bool usable(const MaxMipmap& pyramid, const HeightField& field) {
+    return pyramid.level_count() > 0 && field.width == pyramid.width && field.height == pyramid.height &&
+           field.texels.size() >= static_cast<size_t>(field.width) * field.height;
+}
+
 }  // namespace
 
 MaxmipHit maxmip_first_hit(const MaxMipmap& pyramid, const HeightField& field, const Ray& ray, int budget) {
-    if (!(ray.direction.z < 0.0) || pyramid.level_count() == 0) return MaxmipHit{};
+    if (!(ray.direction.z < 0.0) || !usable(pyramid, field)) return MaxmipHit{};
     // Move a start above the relief down to its top.
     const double t_top = std::max(0.0, (ray.origin.z - 1.0) / -ray.direction.z);
     const glm::dvec3 start = ray.origin + t_top * ray.direction;
@@ -260,7 +268,7 @@ MaxmipHit maxmip_first_hit(const MaxMipmap& pyramid, const HeightField& field, c
 
 MaxmipHit maxmip_trace_view(const MaxMipmap& pyramid, const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts,
                             double height_scale, double polygon_height, int budget) {
-    if (pyramid.level_count() == 0) return MaxmipHit{};
+    if (!usable(pyramid, field)) return MaxmipHit{};
     const ViewSetup v = view_setup(pyramid, uv, view_ts, height_scale, polygon_height);
     const Walk w = walk(pyramid, field, v.frame, budget);
     const glm::dvec2 size(pyramid.width, pyramid.height);

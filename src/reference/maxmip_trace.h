@@ -19,7 +19,7 @@
 namespace px::reference {
 
 struct MaxmipHit {
-    bool hit = false;            // false only for a ray that does not descend
+    bool hit = false;            // false: the ray does not descend, the sizes differ, or the budget ran out
     double t = 0.0;              // ray parameter (units of the input direction)
     glm::dvec3 position{0.0};    // texel space: origin + t * direction
     glm::dvec2 uv{0.0};          // unbounded uv of the hit
@@ -29,10 +29,11 @@ struct MaxmipHit {
 };
 
 // The first point where a descending ray is on or under the bilinear surface
-// of `field` quantised to 8 bits (`pyramid` must be built from it). The ray
-// should start at or above the relief's top (z >= 1; it is moved to z = 1
-// first), like reference::view_ray; it ends at z = 0, where it always hits.
-// `budget`: the most loop iterations, the shader's PX_MAX_SAMPLES.
+// of `field` quantised to 8 bits (`pyramid` must be built from it). A ray
+// starting above the relief's top is first moved down to z = 1 (where
+// reference::view_ray starts); it ends at z = 0, where it always hits.
+// `budget`: the most loop iterations, the shader's PX_MAX_SAMPLES. No hit
+// (hit = false, iterations 0) if the pyramid's size is not the field's.
 MaxmipHit maxmip_first_hit(const MaxMipmap& pyramid, const HeightField& field, const Ray& ray, int budget);
 
 // The view ray in the shader's conventions (reference::trace_view): the hit

@@ -30,6 +30,8 @@ struct GpuMaterial {
     // base-level-only copy of the packed normal map (or of the height map).
     // Empty when the traced reads come from `normal` (packed, ES 3.0).
     Texture height;
+    Texture max_map;    // maxmip: the max pyramid
+    int max_levels = 0;
     VariantPlan plan;
     HeightField field;  // 8-bit quantised, as uploaded: for displaced meshes
 };
@@ -97,7 +99,7 @@ public:
         glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer_);
         glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &element_buffer_);
         glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture_);
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; i < 4; ++i) {
             glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
             glGetIntegerv(GL_TEXTURE_BINDING_2D, &textures_[i]);
         }
@@ -115,7 +117,7 @@ public:
         glUseProgram(static_cast<GLuint>(program_));
         glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLuint>(element_buffer_));
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; i < 4; ++i) {
             glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
             glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(textures_[i]));
         }
@@ -135,7 +137,7 @@ public:
 private:
     static void enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
     GLint framebuffer_ = 0, viewport_[4] = {0, 0, 0, 0}, program_ = 0, array_buffer_ = 0, element_buffer_ = 0;
-    GLint active_texture_ = GL_TEXTURE0, textures_[3] = {0, 0, 0}, depth_func_ = GL_LESS, front_face_ = GL_CCW;
+    GLint active_texture_ = GL_TEXTURE0, textures_[4] = {0, 0, 0, 0}, depth_func_ = GL_LESS, front_face_ = GL_CCW;
     GLboolean depth_test_ = GL_FALSE, cull_face_ = GL_FALSE, blend_ = GL_FALSE, depth_mask_ = GL_TRUE;
     GLfloat clear_color_[4] = {0, 0, 0, 0};
 };
@@ -177,6 +179,7 @@ void Renderer::abandon() {
         m.albedo.handle.abandon();
         m.normal.handle.abandon();
         m.height.handle.abandon();
+        m.max_map.handle.abandon();
     }
     scene_->programs.abandon();
     scene_.reset();
@@ -216,6 +219,14 @@ Status Renderer::load(const SceneDesc& scene) {
             Result<Texture> height = upload_texture(*trace_image, caps_, what + " traced height", !base_level_trace);
             if (!height) return height.error();
             g.height = std::move(*height);
+        }
+        if (g.plan.key.technique == Technique::maxmip) {
+            Result<MaxMipmap> pyramid = build_max_mipmap(g.field);
+            if (!pyramid) return with_context(what, pyramid.error());
+            Result<Texture> max_map = upload_max_mipmap(*pyramid, caps_, what + " max pyramid");
+            if (!max_map) return max_map.error();
+            g.max_map = std::move(*max_map);
+            g.max_levels = pyramid->level_count();
         }
         // Build the colour program now, so a shader error surfaces at load.
         Result<const Program*> program = gpu->programs.get(g.plan.key);
@@ -354,8 +365,10 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
         glUniform3fv(p.uniform("u_ambient"), 1, glm::value_ptr(scene.ambient));
         glUniform2f(p.uniform("u_texture_size"), static_cast<float>(material.normal.width),
                     static_cast<float>(material.normal.height));
-        glUniform2f(p.uniform("u_sample_range"), static_cast<float>(std::min(m.technique.min_samples, m.technique.max_samples)),
-                    static_cast<float>(m.technique.max_samples));
+        // The planner's loop bound is the top of the dynamic range (it may
+        // differ from the material's, e.g. on a fallback technique).
+        const float top = static_cast<float>(key.max_samples > 0 ? key.max_samples : m.technique.max_samples);
+        glUniform2f(p.uniform("u_sample_range"), std::min(static_cast<float>(m.technique.min_samples), top), top);
         glUniform2f(p.uniform("u_lod_range"), m.technique.lod_threshold, m.technique.lod_band);
         glUniform1f(p.uniform("u_specular"), 0.25f);
         glUniform1f(p.uniform("u_shininess"), 32.0f);
@@ -370,6 +383,12 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
             glActiveTexture(GL_TEXTURE2);
             bind_texture(material.height);
             glUniform1i(p.uniform("u_height_map"), 2);
+        }
+        if (material.max_map.handle) {
+            glActiveTexture(GL_TEXTURE3);
+            bind_texture(material.max_map);
+            glUniform1i(p.uniform("u_max_map"), 3);
+            glUniform1i(p.uniform("u_max_levels"), material.max_levels);
         }
 
         glBindBuffer(GL_ARRAY_BUFFER, mesh.vertices.get());

@@ -454,11 +454,13 @@ void read_light(Reader& r, const json& j, const std::string& path, LightDesc& li
 
 void read_options(Reader& r, const json* j, const std::string& path, TechniqueOptions& t) {
     Fields f(r, j, path,
-             {"min_samples", "max_samples", "refine_steps", "shadow", "shadow_samples", "depth_write", "lod",
+             {"min_samples", "max_samples", "refine_steps", "max_steps", "shadow", "shadow_samples", "depth_write", "exact_view", "lod",
               "lod_threshold", "lod_band"});
     f.read("min_samples", t.min_samples);
     f.read("max_samples", t.max_samples);
     f.read("refine_steps", t.refine_steps);
+    f.read("max_steps", t.max_steps);
+    f.read("exact_view", t.exact_view);
     f.read_named("shadow", parse_shadow_mode, t.shadow);
     f.read("shadow_samples", t.shadow_samples);
     f.read("depth_write", t.depth_write);
