@@ -17,7 +17,8 @@ namespace px::profiling {
 
 // Bench scenes: one plane, one material, seen from `angle_deg` off its normal.
 std::vector<std::string> bench_scene_names();
-Result<SceneDesc> bench_scene(const std::string& name, double angle_deg);
+// `segments`: quads per side of the plane (see bench.cpp for why 64).
+Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int segments = 64);
 // The shadow mode a bench scene measures (and its reference uses).
 ShadowMode bench_scene_shadow(const std::string& name);
 
@@ -35,6 +36,8 @@ struct BenchOptions {
     int frames = 7;          // timed rounds per setting (each: normal mapping, then the setting)
     std::string command;     // recorded in the results
     int threads = 0;         // recorded: llvmpipe's thread count
+    int segments = 64;       // quads per side of each bench plane
+    bool exact_view = false; // every technique with the exact (highp, per-fragment) view vector
 };
 
 // Called after each setting: done, total, and what was just measured.

@@ -46,4 +46,18 @@ expect_error "unsupported --es" "--es" render default --es 4 -o "$work/out.png"
 MESA_GLES_VERSION_OVERRIDE=3.1 expect_error "contradicting MESA_GLES_VERSION_OVERRIDE" \
     "MESA_GLES_VERSION_OVERRIDE=3.1 contradicts" render default --es 2 --size 16x16 -o "$work/out.png"
 
+expect_error "unknown bench scene" "unknown bench scene 'nope'" bench --scenes nope --out "$work/bench"
+expect_error "bench samples past the loop bound" "300 is outside 1..256 for pom" bench --techniques pom --samples 300 --out "$work/bench"
+expect_error "unknown bench technique" "unknown technique 'bump'" bench --techniques bump --out "$work/bench"
+
+# A tiny sweep writes its four files, with one row per setting.
+if "$parallax" bench --scenes sine --angles 30 --techniques normal,pom,displaced_mesh --samples 8 --size 32x32 \
+        --frames 1 --out "$work/bench" >/dev/null 2>&1 &&
+    [ -s "$work/bench/pareto.svg" ] && [ -s "$work/bench/report.md" ] && [ -s "$work/bench/results.json" ] &&
+    [ "$(wc -l <"$work/bench/results.csv")" = 4 ]; then
+    echo "ok: a tiny bench writes results.csv (3 rows), results.json, pareto.svg, report.md"
+else
+    echo "FAIL: a tiny bench did not write its four files"; failures=$((failures + 1))
+fi
+
 [ "$failures" = 0 ] && echo "all CLI error cases behave" || { echo "$failures CLI error case(s) failed"; exit 1; }
