@@ -4,7 +4,7 @@
 
 #include "assets/image.h"
 #include "core/result.h"
-#include "gl/handles.h"
+#include "gl/framebuffer.h"
 #include "render/target.h"
 
 namespace px::platform {
@@ -15,16 +15,14 @@ public:
     // (named by its status).
     static Result<OffscreenTarget> create(int width, int height);
 
-    RenderTarget target() const { return RenderTarget{framebuffer_.get(), width_, height_}; }
+    RenderTarget target() const { return RenderTarget{buffers_.framebuffer.get(), width_, height_}; }
     int width() const { return width_; }
     int height() const { return height_; }
     // RGBA8, row 0 = bottom row (as GL reads it, and as Image stores it).
     Result<Image> read_pixels() const;
 
 private:
-    TextureHandle color_;
-    RenderbufferHandle depth_;
-    FramebufferHandle framebuffer_;
+    ColorDepthFramebuffer buffers_;
     int width_ = 0;
     int height_ = 0;
 };

@@ -4,44 +4,12 @@
 #include <vector>
 
 #include "gl/errors.h"
+#include "gl/framebuffer.h"
 #include "gl/handles.h"
 
 namespace px {
 
 namespace {
-
-struct CaptureTarget {
-    TextureHandle color;
-    RenderbufferHandle depth;
-    FramebufferHandle framebuffer;
-};
-
-Result<CaptureTarget> make_target(int width, int height, bool float_color, const Caps& caps) {
-    CaptureTarget t;
-    t.color = make_texture();
-    glBindTexture(GL_TEXTURE_2D, t.color.get());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    if (float_color)
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
-    else
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    t.depth = make_renderbuffer();
-    glBindRenderbuffer(GL_RENDERBUFFER, t.depth.get());
-    const bool depth24 = caps.es_major >= 3 || caps.has("GL_OES_depth24");
-    glRenderbufferStorage(GL_RENDERBUFFER, depth24 ? GL_DEPTH_COMPONENT24_OES : GL_DEPTH_COMPONENT16, width, height);
-    glBindRenderbuffer(GL_RENDERBUFFER, 0);
-    t.framebuffer = make_framebuffer();
-    glBindFramebuffer(GL_FRAMEBUFFER, t.framebuffer.get());
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.color.get(), 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth.get());
-    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-        return make_error(std::string("debug-output framebuffer (") + (float_color ? "RGBA32F" : "RGBA8") +
-                          ") is incomplete: " + framebuffer_status_name(status));
-    return t;
-}
 
 double unpack24(const std::uint8_t* p) { return (p[0] * 65536.0 + p[1] * 256.0 + p[2]) / 16777215.0; }
 double unpack16(const std::uint8_t* p) { return (p[0] * 256.0 + p[1]) / 65535.0; }
@@ -59,8 +27,9 @@ Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, 
         ~Rebind() { glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(id)); }
     } rebind{host_framebuffer};
 
-    Result<CaptureTarget> target = make_target(width, height, float_color, caps);
-    if (!target) return target.error();
+    Result<ColorDepthFramebuffer> target =
+        make_color_depth_framebuffer(width, height, float_color ? ColorFormat::rgba32f : ColorFormat::rgba8, caps);
+    if (!target) return with_context("debug-output target", target.error());
     const RenderTarget render_target{target->framebuffer.get(), width, height};
     reference::SurfaceImage out;
     out.width = width;
