@@ -33,6 +33,17 @@ void add_probe_plane(SceneDesc& scene, float z) {
     scene.objects.push_back(probe);
 }
 
+// A square pit (half-width 0.25 tiles) `depth` tiles deep in a flat top.
+PlaneScene pit_scene(Technique technique, float depth) {
+    PlaneScene p;
+    p.field.kind = FieldKind::pit;
+    p.field.size = 128;
+    p.field.radius = 0.25f;
+    p.height_scale = depth;
+    p.technique = technique;
+    return p;
+}
+
 PlaneScene bricks_scene() {
     PlaneScene p;
     p.field.kind = FieldKind::bricks;
@@ -190,12 +201,7 @@ TEST(Lod, ThresholdSwitchesBetweenFullEffectAndNormalMapping) {
 // reversed offset would swap the two.
 TEST(Depth, ViewRayTravelsAwayFromTheViewer) {
     for (Technique t : kMarchTechniques) {
-        PlaneScene p;
-        p.field.kind = FieldKind::pit;
-        p.field.size = 128;
-        p.field.radius = 0.25f;
-        p.height_scale = 0.1f;
-        p.technique = t;
+        PlaneScene p = pit_scene(t, 0.1f);
         p.options.depth_write = true;
         p.options.min_samples = p.options.max_samples = 64;
         p.view_angle_deg = 60.0f;
@@ -273,12 +279,7 @@ TEST(HostIntegration, AbandonThenReload) {
 TEST(Depth, WrittenDepthFollowsTheHeightField) {
     for (Technique t : kMarchTechniques) {
         for (bool depth_write : {true, false}) {
-            PlaneScene p;
-            p.field.kind = FieldKind::pit;
-            p.field.size = 128;
-            p.field.radius = 0.25f;
-            p.height_scale = 0.2f;  // the pit is 0.2 tiles = 0.4 world units deep
-            p.technique = t;
+            PlaneScene p = pit_scene(t, 0.2f);  // the pit is 0.2 tiles = 0.4 world units deep
             p.options.depth_write = depth_write;
             p.view_angle_deg = 20.0f;
             p.textured_albedo = false;
@@ -307,12 +308,7 @@ TEST(Depth, WrittenDepthFollowsTheHeightField) {
 // the light is dark with self-shadowing (hard and soft) and lit without.
 TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
     for (Technique t : kMarchTechniques) {
-        PlaneScene p;
-        p.field.kind = FieldKind::pit;
-        p.field.size = 128;
-        p.field.radius = 0.25f;
-        p.height_scale = 0.1f;
-        p.technique = t;
+        PlaneScene p = pit_scene(t, 0.1f);
         p.view_angle_deg = 0.0f;
         p.light_elevation_deg = 25.0f;  // shadow 0.1 / tan(25) = 0.21 tiles long
         p.textured_albedo = false;
