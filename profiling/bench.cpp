@@ -33,6 +33,7 @@ const std::vector<SceneSpec>& scene_specs() {
         {"text", FieldKind::text, 512, 0.05f, ShadowMode::none},
         {"hemispheres", FieldKind::hemispheres, 256, 0.1f, ShadowMode::none},
         {"bricks_shadowed", FieldKind::bricks, 256, 0.06f, ShadowMode::hard},
+        {"bricks_soft", FieldKind::bricks, 256, 0.06f, ShadowMode::soft},
     };
     return specs;
 }

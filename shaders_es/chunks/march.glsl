@@ -28,7 +28,11 @@ mediump float px_sample_count(mediump float cos_view) {
 // The ray enters the relief at its top (height 1). A view nearly parallel
 // to the surface is clamped so the offset stays finite.
 PX_HIGHP vec2 px_parallax_vector(PX_VIEW_PRECISION vec3 view_ts) {
-    return view_ts.xy / max(view_ts.z, 1.0 / 64.0);
+    // The division in highp: from mediump operands llvmpipe divides in fp16,
+    // which moved grazing hits by up to 0.6 texel (measured against the
+    // reference); one highp division per pixel costs nothing next to the march.
+    PX_HIGHP vec3 view = view_ts;
+    return view.xy / max(view.z, 1.0 / 64.0);
 }
 
 PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump float cos_view PX_TRACE_GRADIENTS) {
