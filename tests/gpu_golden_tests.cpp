@@ -35,6 +35,31 @@ Tolerance tolerance_for(const std::string& scene) {
     return t;
 }
 
+// Whether this CPU has F16C (llvmpipe lowers mediump to fp16 only with it).
+bool cpu_has_f16c() {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    for (std::string line; std::getline(cpuinfo, line);)
+        if (line.rfind("flags", 0) == 0) return line.find(" f16c") != std::string::npos;
+    return false;
+}
+
+// The goldens hold for the rasterizer configuration that made them; on
+// another one the comparison says nothing about the renderer.
+std::string configuration_mismatch() {
+    std::ifstream file(kGoldenDir + "/tolerances.json");
+    const nlohmann::json j = nlohmann::json::parse(file, nullptr, false);
+    if (j.is_discarded() || !j.contains("_generated_on")) return "";
+    const std::string renderer = query_caps().renderer;
+    const std::string golden_renderer = j["_generated_on"].value("renderer", "");
+    const bool golden_f16c = j["_generated_on"].value("f16c", true);
+    if (renderer != golden_renderer)
+        return "goldens were made on '" + golden_renderer + "', this renderer is '" + renderer + "'";
+    if (cpu_has_f16c() != golden_f16c)
+        return std::string("goldens were made on a CPU ") + (golden_f16c ? "with" : "without") +
+               " F16C (mediump as fp16), this one " + (golden_f16c ? "lacks it" : "has it");
+    return "";
+}
+
 class Golden : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Golden, BuiltinSceneMatchesItsGolden) {
@@ -50,6 +75,8 @@ TEST_P(Golden, BuiltinSceneMatchesItsGolden) {
         ASSERT_TRUE(s.ok()) << s.error().message;
         GTEST_SKIP() << "wrote " << golden_path;
     }
+    if (const std::string mismatch = configuration_mismatch(); !mismatch.empty())
+        GTEST_SKIP() << mismatch << "; re-render with PX_UPDATE_GOLDEN=1 on this configuration";
     if (!std::filesystem::exists(golden_path))
         FAIL() << "MISSING GOLDEN (not a mismatch): " << golden_path
                << "; render it with PX_UPDATE_GOLDEN=1 and review it before committing";
