@@ -45,12 +45,6 @@ struct LightData {
     double angular_radius = 0.0;  // radians
 };
 
-// Same matrix as the renderer's uv_matrix(), in double.
-glm::dmat2 uv_matrix(const UvTransform& uv) {
-    const double a = glm::radians(static_cast<double>(uv.rotation_deg));
-    const glm::dmat2 rotation(std::cos(a), std::sin(a), -std::sin(a), std::cos(a));
-    return rotation * glm::dmat2(uv.scale.x, 0.0, 0.0, uv.scale.y);
-}
 
 // GL_LINEAR with GL_REPEAT at the base level, as HeightField::sample_bilinear
 // does; channels past the image's last repeat it (grey images), alpha 1 when absent.
@@ -234,12 +228,12 @@ Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int h
             m.images = std::move(*images);
             m.traced = quantized_8bit(m.images.field);
             m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
-            m.uv_matrix = uv_matrix(desc.uv);
+            m.uv_matrix = desc.uv.matrix<double>();
             m.uv_offset = glm::dvec2(desc.uv.offset);
             const double det = std::fabs(glm::determinant(m.uv_matrix));
             m.uv_frame = det > 0.0 ? m.uv_matrix / std::sqrt(det) : glm::dmat2(1.0);
             m.height_scale = desc.height_scale;
-            m.polygon_height = desc.height_scale > 0.0f ? -static_cast<double>(desc.bias()) / desc.height_scale : 1.0;
+            m.polygon_height = desc.polygon_height();
             built[mi] = true;
         }
         if (m.reads_height && out.texture_width == 0) {

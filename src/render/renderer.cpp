@@ -82,11 +82,6 @@ Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::strin
     return g;
 }
 
-glm::mat2 uv_matrix(const UvTransform& uv) {
-    const float a = glm::radians(uv.rotation_deg);
-    const glm::mat2 rotation(std::cos(a), std::sin(a), -std::sin(a), std::cos(a));
-    return rotation * glm::mat2(uv.scale.x, 0.0f, 0.0f, uv.scale.y);
-}
 
 // Restores the host's GL state on scope exit (the renderer draws into
 // contexts it does not own).
@@ -244,10 +239,10 @@ Status Renderer::load(const SceneDesc& scene) {
                 return make_error(what + ": only planes can be displaced (mesh.displaced)");
             const GpuMaterial& material = gpu->materials[material_index];
             const MaterialDesc& m = *material.desc;
-            const float tiles = std::sqrt(std::fabs(glm::determinant(uv_matrix(m.uv))));
+            const float tiles = std::sqrt(std::fabs(glm::determinant(m.uv.matrix<float>())));
             const float scale = m.height_scale;
             Result<Mesh> displaced = make_displaced_plane(o.mesh.size, material.field, scale,
-                                                          scale > 0.0f ? -m.bias() / scale : 1.0f, o.mesh.size / tiles);
+                                                          static_cast<float>(m.polygon_height()), o.mesh.size / tiles);
             if (!displaced) return with_context(what, displaced.error());
             mesh = std::move(*displaced);
         } else {
@@ -342,7 +337,7 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
         glFrontFace(handedness < 0.0f ? GL_CW : GL_CCW);
         glUniform3fv(p.uniform("u_camera_position"), 1, glm::value_ptr(cam.position));
 
-        const glm::mat2 uv = uv_matrix(m.uv);
+        const glm::mat2 uv = m.uv.matrix<float>();
         const float uv_det = std::fabs(glm::determinant(uv));
         const float uv_area_scale = std::sqrt(uv_det);
         const glm::mat2 uv_frame = uv / uv_area_scale;
@@ -357,7 +352,7 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
         const float scale = m.height_scale;
         glUniform1f(p.uniform("u_height_scale"), scale);
         glUniform1f(p.uniform("u_inv_height_scale"), scale > 0.0f ? 1.0f / scale : 0.0f);
-        glUniform1f(p.uniform("u_polygon_height"), scale > 0.0f ? -m.bias() / scale : 1.0f);
+        glUniform1f(p.uniform("u_polygon_height"), static_cast<float>(m.polygon_height()));
         glUniform4fv(p.uniform("u_light_vector"), kMaxLights, light_vectors);
         glUniform3fv(p.uniform("u_light_color"), kMaxLights, light_colors);
         glUniform1fv(p.uniform("u_light_angular_radius"), kMaxLights, light_radii);

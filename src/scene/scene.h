@@ -2,6 +2,7 @@
 // for. Plain data: no GL here.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -51,6 +52,15 @@ struct UvTransform {
     glm::vec2 scale{1.0f};
     glm::vec2 offset{0.0f};
     float rotation_deg = 0.0f;
+
+    // The linear part of uv' = R(rotation) * S(scale) * uv + offset, in float
+    // (what the renderer uploads) or double (the reference).
+    template <typename T>
+    glm::mat<2, 2, T> matrix() const {
+        const T a = glm::radians(static_cast<T>(rotation_deg));
+        const glm::mat<2, 2, T> rotation(std::cos(a), std::sin(a), -std::sin(a), std::cos(a));
+        return rotation * glm::mat<2, 2, T>(static_cast<T>(scale.x), T(0), T(0), static_cast<T>(scale.y));
+    }
 };
 
 struct MaterialDesc {
@@ -70,6 +80,11 @@ struct MaterialDesc {
     TechniqueOptions technique;  // technique and its options
 
     float bias() const { return height_bias.value_or(-height_scale); }
+    // Where the polygon sits within the relief, in units of its depth
+    // (-bias / scale: 1 = on the relief's top); 1 when there is no relief.
+    double polygon_height() const {
+        return height_scale > 0.0f ? -static_cast<double>(bias()) / height_scale : 1.0;
+    }
 };
 
 struct TransformDesc {
