@@ -1,4 +1,4 @@
-#include "headless_context.h"
+#include "platform/headless_context.h"
 
 #include <dlfcn.h>
 
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <string>
 
-#include "gl/gl.h"
+#include <GLES2/gl2.h>
 
 namespace px::platform {
 
@@ -90,7 +90,7 @@ struct HeadlessContext::Egl {
 
 static void* g_get_proc_address = nullptr;
 
-GetProcAddress HeadlessContext::proc_loader() {
+HeadlessContext::ProcLoader HeadlessContext::proc_loader() {
     return [](const char* name) -> void* {
         if (!g_get_proc_address) return nullptr;
         return reinterpret_cast<void*>(reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(g_get_proc_address)(name));

@@ -1,13 +1,15 @@
 // A headless OpenGL ES context on EGL, for the command-line tool, tests and
-// benchmarks. The only code in the project that includes EGL. Apps that own
-// their context never use this: they hand the renderer their framebuffer.
+// benchmarks. The only code in the project that includes EGL, and apart from
+// the library's layers: it sees only core/result.h, and libEGL is opened with
+// dlopen, never linked, so a missing or broken EGL gets a message, not a
+// loader error. Apps that own their context never use this: they hand the
+// renderer their framebuffer.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include "core/result.h"
-#include "gl/errors.h"
 
 namespace px::platform {
 
@@ -31,8 +33,10 @@ public:
     int es_major() const { return es_major_; }
     // "surfaceless (EGL_MESA_platform_surfaceless), EGL 1.5"
     const std::string& display_description() const { return display_description_; }
-    // eglGetProcAddress, for extension entry points.
-    static GetProcAddress proc_loader();
+    // eglGetProcAddress, for extension entry points: the type of the
+    // renderer's RendererOptions::get_proc_address.
+    using ProcLoader = void* (*)(const char* name);
+    static ProcLoader proc_loader();
 
 private:
     HeadlessContext() = default;

@@ -1,4 +1,4 @@
-#include "bench.h"
+#include "profiling/bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -227,11 +227,11 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 if (!renderer) return with_context(setting.technique, renderer.error());
 
                 // What the shader computed, against the reference.
-                Result<reference::SurfaceImage> surfaces = capture_surfaces(**renderer, target.width, target.height);
+                Result<SurfaceImage> surfaces = capture_surfaces(**renderer, target.width, target.height);
                 if (!surfaces) return surfaces.error();
                 if (setting.technique == kDisplacedMesh) {
                     // Normal mapping reports the polygon's height; the mesh's is the field's at its uv.
-                    for (reference::SurfaceSample& s : surfaces->samples)
+                    for (SurfaceSample& s : surfaces->samples)
                         if (s.covered) s.height = field.sample_bilinear(s.uv.x, s.uv.y);
                 }
                 Result<reference::ErrorMetrics> error = reference::compare_surfaces(

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "assets/image.h"
-#include "bench_results.h"
+#include "profiling/bench_results.h"
 #include "core/result.h"
 #include "render/target.h"
 #include "scene/scene.h"

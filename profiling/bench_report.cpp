@@ -4,7 +4,7 @@
 // Every writer builds its whole text in memory, writes it to path + ".tmp" and
 // renames that over path, so a failure never leaves a partial file behind.
 // Numbers are formatted with std::to_chars, which ignores the C locale.
-#include "bench_results.h"
+#include "profiling/bench_results.h"
 
 #include <algorithm>
 #include <map>

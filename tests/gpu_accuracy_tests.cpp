@@ -2,7 +2,7 @@
 // the shader computed (its debug outputs), on both ES versions.
 #include "gpu_fixture.h"
 
-#include "bench.h"
+#include "profiling/bench.h"
 #include "reference/reference_image.h"
 #include "render/surface_capture.h"
 

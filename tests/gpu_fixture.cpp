@@ -63,7 +63,7 @@ Rendered render(const SceneDesc& scene, int size) {
     auto renderer = Renderer::create({platform::HeadlessContext::proc_loader()});
     EXPECT_TRUE(renderer.ok()) << renderer.error().message;
     if (!renderer) return out;
-    auto target = platform::OffscreenTarget::create(size, size);
+    auto target = OffscreenTarget::create(size, size);
     EXPECT_TRUE(target.ok()) << target.error().message;
     if (!target) return out;
     Status loaded = (*renderer)->load(scene);

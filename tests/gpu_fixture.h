@@ -12,8 +12,8 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "headless_context.h"
-#include "offscreen_target.h"
+#include "platform/headless_context.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 namespace px::test {

@@ -245,7 +245,7 @@ TEST(DebugOutput, CapturesHitUvHeightAndVisibility) {
         // World point (0.4, 0.2) is polygon uv (0.7, 0.6); from the camera at
         // (0, 0, 3) the view vector there is (-0.4, -0.2, 3) / |.|.
         const glm::vec2 px = project(scene, glm::vec3(0.4f, 0.2f, 0.0f), 128);
-        const reference::SurfaceSample& s = surfaces->at(int(px.x), int(px.y));
+        const SurfaceSample& s = surfaces->at(int(px.x), int(px.y));
         ASSERT_TRUE(s.covered);
         const glm::dvec2 expected = level == 1.0f ? glm::dvec2(0.7, 0.6)
                                                   : glm::dvec2(0.7, 0.6) - 0.1 * glm::dvec2(-0.4, -0.2) / 3.0;
@@ -268,7 +268,7 @@ TEST(HostIntegration, AbandonThenReload) {
     EXPECT_EQ((*renderer)->program_count(), 0u);
     EXPECT_FALSE((*renderer)->draw(RenderTarget{0, 8, 8}).ok()) << "drawing with nothing loaded must be an error";
     ASSERT_TRUE((*renderer)->load(scene).ok());
-    auto target = platform::OffscreenTarget::create(32, 32);
+    auto target = OffscreenTarget::create(32, 32);
     ASSERT_TRUE(target.ok());
     ASSERT_TRUE((*renderer)->draw(target->target()).ok());
 }
@@ -333,9 +333,9 @@ TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
 // The renderer draws into a framebuffer the host app owns (not 0, not made by
 // platform/) and puts back the state it changed.
 TEST(HostIntegration, DrawsIntoTheHostFramebufferAndRestoresState) {
-    auto host_target = platform::OffscreenTarget::create(64, 64);  // stands in for the app's FBO
+    auto host_target = OffscreenTarget::create(64, 64);  // stands in for the app's FBO
     ASSERT_TRUE(host_target.ok()) << host_target.error().message;
-    auto other = platform::OffscreenTarget::create(32, 32);
+    auto other = OffscreenTarget::create(32, 32);
     ASSERT_TRUE(other.ok());
     // Host state before the draw: another framebuffer bound, its own viewport.
     glBindFramebuffer(GL_FRAMEBUFFER, other->target().framebuffer);

@@ -19,7 +19,7 @@
 
 #include <unistd.h>  // getpid: a per-process temp directory
 
-#include "bench_results.h"
+#include "profiling/bench_results.h"
 
 namespace px::profiling {
 namespace {

@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "effects/variant.h"
-#include "gl/program.h"
-#include "gl/shader_source.h"
+#include "planner/planner.h"
+#include "shaders/shader_source.h"
 #include "scene/scene.h"
 
 namespace px {

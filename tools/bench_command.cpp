@@ -10,10 +10,10 @@
 #include <thread>
 #include <vector>
 
-#include "bench.h"
+#include "profiling/bench.h"
 #include "commands.h"
-#include "headless_context.h"
-#include "offscreen_target.h"
+#include "platform/headless_context.h"
+#include "render/offscreen_target.h"
 
 namespace px::tools {
 
@@ -87,7 +87,7 @@ int run(BenchArgs a) {
     context_options.es_major = 3;  // float debug targets; maxmip needs ES 3.0
     auto context = platform::HeadlessContext::create(context_options);
     if (!context) return fail(context.error().message);
-    auto target = platform::OffscreenTarget::create(width, height);
+    auto target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
     auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
                                        show_progress);

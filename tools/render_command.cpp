@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "commands.h"
-#include "headless_context.h"
-#include "offscreen_target.h"
+#include "platform/headless_context.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 
 namespace px::tools {
@@ -75,7 +75,7 @@ int run_render(const RenderArgs& a) {
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
-    Result<platform::OffscreenTarget> target = platform::OffscreenTarget::create(width, height);
+    Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
 
     Status loaded = (*renderer)->load(*scene);

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
-#include "scene/scene.h"
+#include "core/limits.h"
 
 namespace px {
 
@@ -11,8 +11,10 @@ namespace {
 
 bool has_option(Technique t, OptionFlag flag) { return (technique_info(t).options & flag) != 0; }
 
-// Zero every field the technique does not use, so equal programs get equal keys.
-VariantKey canonical(VariantKey k) {
+}  // namespace
+
+VariantKey VariantKey::canonical() const {
+    VariantKey k = *this;
     if (!has_option(k.technique, kOptHeight)) k.packed_height = false;
     if (!has_option(k.technique, kOptHeight)) k.exact_view = false;
     if (!has_option(k.technique, kOptSamples) && !has_option(k.technique, kOptSteps)) k.max_samples = 0;
@@ -24,10 +26,8 @@ VariantKey canonical(VariantKey k) {
     return k;
 }
 
-}  // namespace
-
 std::uint64_t VariantKey::bits() const {
-    const VariantKey k = canonical(*this);
+    const VariantKey k = canonical();
     std::uint64_t b = 0;
     b |= static_cast<std::uint64_t>(k.technique);             // 3 bits
     b |= static_cast<std::uint64_t>(k.shadow) << 3;           // 2 bits
@@ -44,7 +44,7 @@ std::uint64_t VariantKey::bits() const {
 }
 
 std::vector<ShaderDefine> VariantKey::defines() const {
-    const VariantKey k = canonical(*this);
+    const VariantKey k = canonical();
     const TechniqueInfo& info = technique_info(k.technique);
     std::vector<ShaderDefine> d;
     d.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
@@ -66,7 +66,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
 }
 
 std::vector<std::string> VariantKey::extensions(ShaderStage stage) const {
-    const VariantKey k = canonical(*this);
+    const VariantKey k = canonical();
     std::vector<std::string> e;
     if (k.es_major >= 3 || stage != ShaderStage::fragment) return e;
     if (k.depth_write) e.push_back("GL_EXT_frag_depth");
@@ -75,7 +75,7 @@ std::vector<std::string> VariantKey::extensions(ShaderStage stage) const {
 }
 
 std::string VariantKey::describe() const {
-    const VariantKey k = canonical(*this);
+    const VariantKey k = canonical();
     std::ostringstream s;
     s << technique_name(k.technique) << " es" << int(k.es_major);
     if (k.max_samples) s << (has_option(k.technique, kOptSteps) ? " steps<=" : " samples<=") << k.max_samples;
@@ -89,79 +89,11 @@ std::string VariantKey::describe() const {
     return s.str();
 }
 
-Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps) {
-    const TechniqueOptions& o = material.technique;
-    VariantPlan plan;
-    VariantKey& k = plan.key;
-    k.technique = o.technique;
-    k.es_major = static_cast<std::uint8_t>(caps.es_major);
-
-    const TechniqueInfo& asked = technique_info(o.technique);
-    if (asked.min_es_major > caps.es_major) {
-        // The most accurate technique this context runs, at its finest search.
-        k.technique = Technique::relief;
-        plan.notes.push_back(std::string(asked.name) + " -> relief with 64 samples: " + asked.name +
-                             " needs OpenGL ES " + std::to_string(asked.min_es_major) + ".0 and this context is " +
-                             caps.version);
-    }
-    if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
-        plan.notes.clear();
-        plan.notes.push_back(std::string(asked.name) +
-                             " -> normal: height_scale is 0, so there is no relief to trace and normal "
-                             "mapping draws the same image");
-        k.technique = Technique::normal;
-    }
-    const Technique t = k.technique;
-    const TechniqueInfo& info = technique_info(t);
-
-    k.packed_height = material.pack_height_in_normal_alpha;
-    // maxmip is exact only if its ray is: it always takes the exact view vector.
-    k.exact_view = o.exact_view || t == Technique::maxmip;
-    if (info.options & kOptSamples)
-        k.max_samples = static_cast<std::uint16_t>(t == o.technique ? o.max_samples : std::max(o.max_samples, 64));
-    if (info.options & kOptSteps) k.max_samples = static_cast<std::uint16_t>(o.max_steps);
-    if (info.options & kOptRefine) k.refine_steps = static_cast<std::uint8_t>(o.refine_steps);
-
-    if (o.shadow != ShadowMode::none) {
-        if (info.options & kOptShadow) {
-            k.shadow = o.shadow;
-            k.shadow_samples = static_cast<std::uint8_t>(o.shadow_samples);
-        } else if (t == o.technique) {
-            plan.notes.push_back(std::string("shadow=") + shadow_mode_name(o.shadow) + " ignored: " + info.name +
-                                 " casts no shadow ray (steep, pom and relief do)");
-        }
-    }
-    if (o.depth_write) {
-        if (!(info.options & kOptDepth)) {
-            if (t == o.technique)
-                plan.notes.push_back(std::string("depth_write ignored: ") + info.name +
-                                     " finds no hit depth (steep, pom and relief do)");
-        } else if (!caps.frag_depth()) {
-            plan.notes.push_back("depth_write dropped: this OpenGL ES 2.0 context lacks GL_EXT_frag_depth");
-        } else {
-            k.depth_write = true;
-        }
-    }
-    if (o.lod) {
-        if (!(info.options & kOptLod)) {
-            if (t == o.technique)
-                plan.notes.push_back(std::string("lod ignored: ") + info.name + " has no parallax to fade out");
-        } else if (!caps.derivatives()) {
-            plan.notes.push_back(
-                "lod dropped: this OpenGL ES 2.0 context lacks GL_OES_standard_derivatives (the mip level needs them)");
-        } else {
-            k.lod = true;
-        }
-    }
-    plan.key = canonical(k);
-    return plan;
-}
-
 std::vector<VariantKey> enumerate_variants(int es_major) {
     const TechniqueOptions defaults;
     std::vector<VariantKey> out;
     auto add = [&out](const VariantKey& k) {
-        const VariantKey c = canonical(k);
+        const VariantKey c = k.canonical();
         for (const VariantKey& e : out)
             if (e == c) return;
         out.push_back(c);

@@ -8,16 +8,15 @@
 
 #include "core/result.h"
 #include "effects/technique.h"
-#include "gl/caps.h"
-#include "gl/shader_source.h"
 
 namespace px {
 
-struct MaterialDesc;
+enum class ShaderStage { vertex, fragment };
 
-// Up to this many lights per draw (a constant loop bound in GLSL ES 1.00;
-// 4 lights + 4 other varyings fit the 8 varying vectors ES 2.0 guarantees).
-inline constexpr int kMaxLights = 4;
+struct ShaderDefine {
+    std::string name;
+    std::string value;  // empty: "#define NAME"
+};
 
 struct VariantKey {
     Technique technique = Technique::normal;
@@ -34,6 +33,9 @@ struct VariantKey {
     // the same packed into RGBA8 over three passes (shaders_es/chunks/debug_output.glsl).
     std::uint8_t debug_output = 0;
 
+    // The same variant with every field the technique does not use zeroed,
+    // so that equal programs have equal keys.
+    VariantKey canonical() const;
     // A unique 64-bit value per variant: the program cache's key.
     std::uint64_t bits() const;
     bool operator==(const VariantKey& o) const { return bits() == o.bits(); }
@@ -42,20 +44,6 @@ struct VariantKey {
     std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
     std::string describe() const;  // "pom es3 samples=32 shadow=soft depth packed"
 };
-
-// The planner's answer for one material: the variant, and why it differs
-// from what the material asked for (one note per change).
-struct VariantPlan {
-    VariantKey key;
-    std::vector<std::string> notes;
-};
-
-// Picks the variant for a material on a context with these capabilities:
-// options the technique does not have are dropped, options the context cannot
-// run are dropped with the reason (e.g. depth write on ES 2.0 without
-// GL_EXT_frag_depth), a relief with zero depth falls back to normal mapping.
-// Errors: the technique needs a newer ES version than the context has.
-Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps);
 
 // Every variant the program can build for an ES version on a context that
 // has every optional extension: each technique with each of its options on

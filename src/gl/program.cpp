@@ -103,18 +103,6 @@ Result<std::unique_ptr<Program>> build_program(const AssembledSource& vertex, co
     return std::make_unique<Program>(std::move(program), description);
 }
 
-Result<VariantSources> assemble_variant(const VariantKey& key) {
-    const std::vector<ShaderDefine> defines = key.defines();
-    Result<AssembledSource> vs =
-        assemble_shader("surface.vert", ShaderStage::vertex, key.es_major, key.extensions(ShaderStage::vertex), defines);
-    if (!vs) return vs.error();
-    const std::string entry = std::string("techniques/") + technique_info(key.technique).source;
-    Result<AssembledSource> fs =
-        assemble_shader(entry, ShaderStage::fragment, key.es_major, key.extensions(ShaderStage::fragment), defines);
-    if (!fs) return fs.error();
-    return VariantSources{std::move(*vs), std::move(*fs)};
-}
-
 Result<const Program*> ProgramCache::get(const VariantKey& key) {
     auto it = programs_.find(key.bits());
     if (it != programs_.end()) return static_cast<const Program*>(it->second.get());

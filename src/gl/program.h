@@ -10,6 +10,7 @@
 
 #include "core/result.h"
 #include "effects/variant.h"
+#include "shaders/shader_source.h"
 #include "gl/handles.h"
 
 namespace px {
@@ -36,12 +37,6 @@ private:
 Result<std::unique_ptr<Program>> build_program(const AssembledSource& vertex, const AssembledSource& fragment,
                                                const std::string& description);
 
-// The shader sources of a variant: surface.vert and the technique's entry.
-struct VariantSources {
-    AssembledSource vertex;
-    AssembledSource fragment;
-};
-Result<VariantSources> assemble_variant(const VariantKey& key);
 
 class ProgramCache {
 public:

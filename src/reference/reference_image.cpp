@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "effects/variant.h"
+#include "core/limits.h"
 #include "reference/tracer.h"
 #include "scene/material_images.h"
 

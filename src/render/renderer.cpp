@@ -7,7 +7,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "assets/texture.h"
+#include "core/limits.h"
+#include "gl/texture.h"
 #include "scene/material_images.h"
 
 namespace px {

@@ -10,6 +10,7 @@
 #include "core/result.h"
 #include "effects/variant.h"
 #include "gl/caps.h"
+#include "planner/planner.h"
 #include "gl/errors.h"
 #include "gl/program.h"
 #include "render/target.h"

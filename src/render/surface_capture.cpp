@@ -16,7 +16,7 @@ double unpack16(const std::uint8_t* p) { return (p[0] * 256.0 + p[1]) / 65535.0;
 
 }  // namespace
 
-Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height) {
+Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height) {
     if (width < 1 || height < 1) return make_error("capture_surfaces: empty size");
     const Caps& caps = renderer.caps();
     const bool float_color = caps.es_major >= 3 && caps.has("GL_EXT_color_buffer_float");
@@ -31,7 +31,7 @@ Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, 
         make_color_depth_framebuffer(width, height, float_color ? ColorFormat::rgba32f : ColorFormat::rgba8, caps);
     if (!target) return with_context("debug-output target", target.error());
     const RenderTarget render_target{target->framebuffer.get(), width, height};
-    reference::SurfaceImage out;
+    SurfaceImage out;
     out.width = width;
     out.height = height;
     out.samples.resize(static_cast<size_t>(width) * height);
@@ -46,7 +46,7 @@ Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, 
         Status read = check_gl("reading the debug outputs (RGBA32F)");
         if (!read) return read.error();
         for (size_t i = 0; i < count; ++i) {
-            reference::SurfaceSample& s = out.samples[i];
+            SurfaceSample& s = out.samples[i];
             s.covered = pixels[4 * i + 3] >= 0.0f;  // cleared to -1
             s.uv = {pixels[4 * i + 0], pixels[4 * i + 1]};
             s.height = pixels[4 * i + 2];
@@ -64,7 +64,7 @@ Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, 
         Status read = check_gl("reading the debug outputs (RGBA8 pass " + std::to_string(pass - 1) + " of 3)");
         if (!read) return read.error();
         for (size_t i = 0; i < count; ++i) {
-            reference::SurfaceSample& s = out.samples[i];
+            SurfaceSample& s = out.samples[i];
             const std::uint8_t* p = &pixels[4 * i];
             switch (pass) {
                 case 2:

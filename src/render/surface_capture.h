@@ -7,13 +7,13 @@
 #pragma once
 
 #include "core/result.h"
-#include "reference/metrics.h"
+#include "core/surface_image.h"
 #include "render/renderer.h"
 
 namespace px {
 
 // Needs a current context and a loaded scene; creates and deletes its own
 // framebuffer and restores the host's binding.
-Result<reference::SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height);
+Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height);
 
 }  // namespace px

@@ -1,4 +1,4 @@
-#include "gl/shader_source.h"
+#include "shaders/shader_source.h"
 
 #include <map>
 #include <set>
@@ -106,6 +106,18 @@ Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderSta
     a.text += "// ---- " + entry_path + "\n";
     a.text += *body;
     return a;
+}
+
+Result<VariantSources> assemble_variant(const VariantKey& key) {
+    const std::vector<ShaderDefine> defines = key.defines();
+    Result<AssembledSource> vs =
+        assemble_shader("surface.vert", ShaderStage::vertex, key.es_major, key.extensions(ShaderStage::vertex), defines);
+    if (!vs) return vs.error();
+    const std::string entry = std::string("techniques/") + technique_info(key.technique).source;
+    Result<AssembledSource> fs =
+        assemble_shader(entry, ShaderStage::fragment, key.es_major, key.extensions(ShaderStage::fragment), defines);
+    if (!fs) return fs.error();
+    return VariantSources{std::move(*vs), std::move(*fs)};
 }
 
 }  // namespace px

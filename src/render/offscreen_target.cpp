@@ -1,11 +1,11 @@
-#include "offscreen_target.h"
+#include "render/offscreen_target.h"
 
 #include <string>
 
 #include "gl/caps.h"
 #include "gl/errors.h"
 
-namespace px::platform {
+namespace px {
 
 Result<OffscreenTarget> OffscreenTarget::create(int width, int height) {
     GLint max_size = 0;
@@ -38,4 +38,4 @@ Result<Image> OffscreenTarget::read_pixels() const {
     return image;
 }
 
-}  // namespace px::platform
+}  // namespace px

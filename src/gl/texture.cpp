@@ -1,4 +1,4 @@
-#include "assets/texture.h"
+#include "gl/texture.h"
 
 #include <string>
 

@@ -1,5 +1,7 @@
 // Shader text: the files of shaders_es/ (embedded at build time), #include
-// resolution, and assembling a full source for one variant.
+// resolution, and assembling a full source for one variant. Plain text work,
+// no GL: gl/program compiles what this assembles, and the variant listing,
+// the validation tests and the cost profiles read it without a context.
 #pragma once
 
 #include <string>
@@ -7,6 +9,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "effects/variant.h"
 
 namespace px {
 
@@ -15,13 +18,6 @@ struct EmbeddedShader {
     const char* text;
 };
 const std::vector<EmbeddedShader>& embedded_shaders();
-
-enum class ShaderStage { vertex, fragment };
-
-struct ShaderDefine {
-    std::string name;
-    std::string value;  // empty: "#define NAME"
-};
 
 // Expands `#include "path"` lines (each file at most once per source; a
 // missing file is an error naming the includer and its line).
@@ -39,5 +35,12 @@ struct AssembledSource {
 Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderStage stage, int es_major,
                                         const std::vector<std::string>& extensions,
                                         const std::vector<ShaderDefine>& defines);
+
+// The shader sources of a variant: surface.vert and the technique's entry.
+struct VariantSources {
+    AssembledSource vertex;
+    AssembledSource fragment;
+};
+Result<VariantSources> assemble_variant(const VariantKey& key);
 
 }  // namespace px

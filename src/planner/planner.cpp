@@ -1,0 +1,75 @@
+#include "planner/planner.h"
+
+#include <algorithm>
+
+namespace px {
+
+Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps) {
+    const TechniqueOptions& o = material.technique;
+    VariantPlan plan;
+    VariantKey& k = plan.key;
+    k.technique = o.technique;
+    k.es_major = static_cast<std::uint8_t>(caps.es_major);
+
+    const TechniqueInfo& asked = technique_info(o.technique);
+    if (asked.min_es_major > caps.es_major) {
+        // The most accurate technique this context runs, at its finest search.
+        k.technique = Technique::relief;
+        plan.notes.push_back(std::string(asked.name) + " -> relief with 64 samples: " + asked.name +
+                             " needs OpenGL ES " + std::to_string(asked.min_es_major) + ".0 and this context is " +
+                             caps.version);
+    }
+    if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
+        plan.notes.clear();
+        plan.notes.push_back(std::string(asked.name) +
+                             " -> normal: height_scale is 0, so there is no relief to trace and normal "
+                             "mapping draws the same image");
+        k.technique = Technique::normal;
+    }
+    const Technique t = k.technique;
+    const TechniqueInfo& info = technique_info(t);
+
+    k.packed_height = material.pack_height_in_normal_alpha;
+    // maxmip is exact only if its ray is: it always takes the exact view vector.
+    k.exact_view = o.exact_view || t == Technique::maxmip;
+    if (info.options & kOptSamples)
+        k.max_samples = static_cast<std::uint16_t>(t == o.technique ? o.max_samples : std::max(o.max_samples, 64));
+    if (info.options & kOptSteps) k.max_samples = static_cast<std::uint16_t>(o.max_steps);
+    if (info.options & kOptRefine) k.refine_steps = static_cast<std::uint8_t>(o.refine_steps);
+
+    if (o.shadow != ShadowMode::none) {
+        if (info.options & kOptShadow) {
+            k.shadow = o.shadow;
+            k.shadow_samples = static_cast<std::uint8_t>(o.shadow_samples);
+        } else if (t == o.technique) {
+            plan.notes.push_back(std::string("shadow=") + shadow_mode_name(o.shadow) + " ignored: " + info.name +
+                                 " casts no shadow ray (steep, pom and relief do)");
+        }
+    }
+    if (o.depth_write) {
+        if (!(info.options & kOptDepth)) {
+            if (t == o.technique)
+                plan.notes.push_back(std::string("depth_write ignored: ") + info.name +
+                                     " finds no hit depth (steep, pom and relief do)");
+        } else if (!caps.frag_depth()) {
+            plan.notes.push_back("depth_write dropped: this OpenGL ES 2.0 context lacks GL_EXT_frag_depth");
+        } else {
+            k.depth_write = true;
+        }
+    }
+    if (o.lod) {
+        if (!(info.options & kOptLod)) {
+            if (t == o.technique)
+                plan.notes.push_back(std::string("lod ignored: ") + info.name + " has no parallax to fade out");
+        } else if (!caps.derivatives()) {
+            plan.notes.push_back(
+                "lod dropped: this OpenGL ES 2.0 context lacks GL_OES_standard_derivatives (the mip level needs them)");
+        } else {
+            k.lod = true;
+        }
+    }
+    plan.key = k.canonical();
+    return plan;
+}
+
+}  // namespace px
