@@ -386,20 +386,102 @@ TEST(Errors, MissingTextureFileNamesTheFileAndMaterial) {
 // A shader that fails to compile reports the stage, the driver's log, the
 // offending line and the variant's defines.
 TEST(Errors, ShaderCompileFailureCarriesLogLineAndDefines) {
-    AssembledSource vs;
-    vs.text = test_es_major() >= 3 ? "#version 300 es\nvoid main() { gl_Position = vec4(0.0); }\n"
-                                   : "#version 100\nvoid main() { gl_Position = vec4(0.0); }\n";
-    AssembledSource fs;
-    fs.text = (test_es_major() >= 3 ? std::string("#version 300 es\n") : std::string("#version 100\n")) +
-              "precision mediump float;\nvoid main() {\n  undeclared_name = 1.0;\n}\n";
-    fs.defines_summary = "PX_TEST_DEFINE=7";
-    auto program = build_program(vs, fs, "broken test variant");
+    VariantSources sources;
+    sources.vertex.text = test_es_major() >= 3 ? "#version 300 es\nvoid main() { gl_Position = vec4(0.0); }\n"
+                                               : "#version 100\nvoid main() { gl_Position = vec4(0.0); }\n";
+    sources.fragment.text = (test_es_major() >= 3 ? std::string("#version 300 es\n") : std::string("#version 100\n")) +
+                            "precision mediump float;\nvoid main() {\n  undeclared_name = 1.0;\n}\n";
+    sources.fragment.defines_summary = "PX_TEST_DEFINE=7";
+    VariantKey key;
+    key.technique = Technique::normal;
+    key.es_major = static_cast<std::uint8_t>(test_es_major());
+    auto program = build_program(sources, key);
     ASSERT_FALSE(program.ok());
     const std::string& m = program.error().message;
-    EXPECT_NE(m.find("fragment shader of variant 'broken test variant'"), std::string::npos) << m;
+    EXPECT_NE(m.find("fragment shader of variant '" + key.describe() + "'"), std::string::npos) << m;
     EXPECT_NE(m.find("PX_TEST_DEFINE=7"), std::string::npos) << m;
     EXPECT_NE(m.find("undeclared_name"), std::string::npos) << m;
     EXPECT_NE(m.find("4 |"), std::string::npos) << "the offending source line is quoted: " << m;
+}
+
+// The real sources of a variant with one line of the fragment stage edited.
+VariantSources edited_sources(const VariantKey& key, const std::string& from, const std::string& to) {
+    Result<VariantSources> sources = assemble_variant(key);
+    EXPECT_TRUE(sources.ok()) << (sources.ok() ? "" : sources.error().message);
+    VariantSources s = std::move(*sources);
+    const size_t at = s.fragment.text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.fragment.text.replace(at, from.size(), to);
+    return s;
+}
+
+VariantKey pom_key() {
+    VariantKey key;
+    key.technique = Technique::pom;
+    key.es_major = static_cast<std::uint8_t>(test_es_major());
+    key.max_samples = 16;
+    return key;
+}
+
+// The typed interface: a uniform the variant needs and the program lacks (a
+// misspelt declaration) is an error when the program is built, naming the
+// uniform and the variant's defines, not a silent -1 at draw time.
+TEST(ShaderInterface, MissingNeededUniformFailsTheBuild) {
+    const VariantKey key = pom_key();
+    // Unedited, the variant builds: the control.
+    Result<VariantSources> good = assemble_variant(key);
+    ASSERT_TRUE(good.ok());
+    ASSERT_TRUE(build_program(*good, key).ok());
+
+    VariantSources s = edited_sources(key, "uniform mediump float u_specular;", "uniform mediump float u_specularity;");
+    // Its uses too, so that the program compiles and links without it.
+    for (size_t at; (at = s.fragment.text.find("u_specular ")) != std::string::npos;)
+        s.fragment.text.replace(at, 11, "u_specularity ");
+    auto program = build_program(s, key);
+    ASSERT_FALSE(program.ok());
+    const std::string& m = program.error().message;
+    EXPECT_NE(m.find("needs uniform 'u_specular'"), std::string::npos) << m;
+    EXPECT_NE(m.find("PX_TECHNIQUE_NAME_pom"), std::string::npos) << "names the defines: " << m;
+}
+
+// The other way round: an active uniform that the interface does not list
+// would never be set, and one declared with another type than the
+// interface's would be set wrongly; both fail the build.
+TEST(ShaderInterface, UnlistedOrMistypedUniformFailsTheBuild) {
+    const VariantKey key = pom_key();
+    VariantSources unlisted = edited_sources(key, "uniform mediump float u_specular;",
+                                             "uniform mediump float u_specular;\nuniform mediump float u_gloss;");
+    const size_t use = unlisted.fragment.text.find("u_specular *");
+    ASSERT_NE(use, std::string::npos);
+    unlisted.fragment.text.replace(use, 12, "u_specular * u_gloss *");
+    auto a = build_program(unlisted, key);
+    ASSERT_FALSE(a.ok());
+    EXPECT_NE(a.error().message.find("uniform 'u_gloss'"), std::string::npos) << a.error().message;
+
+    VariantSources mistyped =
+        edited_sources(key, "uniform mediump float u_shininess;", "uniform mediump int u_shininess;");
+    const size_t exponent = mistyped.fragment.text.find(", u_shininess)");
+    ASSERT_NE(exponent, std::string::npos);
+    mistyped.fragment.text.replace(exponent, 14, ", float(u_shininess))");
+    auto b = build_program(mistyped, key);
+    ASSERT_FALSE(b.ok());
+    EXPECT_NE(b.error().message.find("uniform 'u_shininess' is declared with another type"), std::string::npos)
+        << b.error().message;
+}
+
+// Every variant the program can build (the shader-validation set) builds on
+// this context with its interface complete: the table's "needed" rules match
+// what the shaders really use.
+TEST(ShaderInterface, EveryVariantBuildsWithItsInterface) {
+    int built = 0;
+    for (const VariantKey& key : enumerate_variants(test_es_major())) {
+        Result<VariantSources> sources = assemble_variant(key);
+        ASSERT_TRUE(sources.ok()) << key.describe();
+        auto program = build_program(*sources, key);
+        EXPECT_TRUE(program.ok()) << (program.ok() ? "" : program.error().message);
+        ++built;
+    }
+    EXPECT_GT(built, 100);
 }
 
 }  // namespace

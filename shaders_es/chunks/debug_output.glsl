@@ -4,10 +4,24 @@
 //   PX_DEBUG_OUTPUT 2, 3, 4: RGBA8 passes (GLSL ES 1.00, or no float target):
 //     fract(u) in 24 bits | fract(v) in 24 bits | height and visibility in
 //     16 bits each. Alpha 1 marks a drawn pixel (the target is cleared to 0).
-// All highp: the packing needs 24 exact integer bits.
+// The packing needs exact integers: 24 bits in highp. A fragment stage
+// without highp (GLSL ES 1.00 makes it optional; PX_NO_FRAGMENT_HIGHP
+// emulates one) holds integers exactly only up to 2048 (mediump's 2^-10
+// relative precision), so there every value is packed in 11 bits and alpha
+// 128/255 tells the reader (src/render/surface_capture.cpp) which packing
+// it got, rather than a silently wrong decode.
+#if PX_ES >= 3 || (defined(GL_FRAGMENT_PRECISION_HIGH) && !defined(PX_NO_FRAGMENT_HIGHP))
+#define PX_DEBUG_LEVELS_24 16777215.0
+#define PX_DEBUG_LEVELS_16 65535.0
+#define PX_DEBUG_DRAWN 1.0
+#else
+#define PX_DEBUG_LEVELS_24 2047.0
+#define PX_DEBUG_LEVELS_16 2047.0
+#define PX_DEBUG_DRAWN (128.0 / 255.0)
+#endif
 
 PX_HIGHP vec3 px_pack24(PX_HIGHP float x) {
-    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * 16777215.0 + 0.5);
+    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * PX_DEBUG_LEVELS_24 + 0.5);
     PX_HIGHP float r = floor(e / 65536.0);
     e -= r * 65536.0;
     PX_HIGHP float g = floor(e / 256.0);
@@ -16,7 +30,7 @@ PX_HIGHP vec3 px_pack24(PX_HIGHP float x) {
 }
 
 PX_HIGHP vec2 px_pack16(PX_HIGHP float x) {
-    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * 65535.0 + 0.5);
+    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * PX_DEBUG_LEVELS_16 + 0.5);
     PX_HIGHP float high = floor(e / 256.0);
     return vec2(high, e - high * 256.0) / 255.0;
 }
@@ -25,9 +39,9 @@ PX_HIGHP vec4 px_debug_output(PX_HIGHP vec2 hit_uv, PX_HIGHP float hit_height, P
 #if PX_DEBUG_OUTPUT == 1
     return vec4(hit_uv, hit_height, visibility);
 #elif PX_DEBUG_OUTPUT == 2
-    return vec4(px_pack24(fract(hit_uv.x)), 1.0);
+    return vec4(px_pack24(fract(hit_uv.x)), PX_DEBUG_DRAWN);
 #elif PX_DEBUG_OUTPUT == 3
-    return vec4(px_pack24(fract(hit_uv.y)), 1.0);
+    return vec4(px_pack24(fract(hit_uv.y)), PX_DEBUG_DRAWN);
 #else
     return vec4(px_pack16(hit_height), px_pack16(visibility));
 #endif

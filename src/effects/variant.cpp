@@ -23,6 +23,7 @@ VariantKey VariantKey::canonical() const {
     if (k.shadow == ShadowMode::none) k.shadow_samples = 0;
     if (!has_option(k.technique, kOptDepth)) k.depth_write = false;
     if (!has_option(k.technique, kOptLod)) k.lod = false;
+    if (k.es_major >= 3) k.no_fragment_highp = false;  // ES 3.0 guarantees fragment highp
     return k;
 }
 
@@ -40,6 +41,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.shadow_samples) << 36;  // 8 bits
     b |= static_cast<std::uint64_t>(k.debug_output & 0x7) << 44;  // 3 bits
     b |= static_cast<std::uint64_t>(k.exact_view) << 47;
+    b |= static_cast<std::uint64_t>(k.no_fragment_highp) << 48;
     return b;
 }
 
@@ -62,6 +64,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.depth_write) d.push_back({"PX_DEPTH_WRITE", ""});
     if (k.lod) d.push_back({"PX_LOD", ""});
     if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
+    if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
     return d;
 }
 
@@ -86,6 +89,7 @@ std::string VariantKey::describe() const {
     if (k.exact_view) s << " exact-view";
     if (has_option(k.technique, kOptHeight)) s << (k.packed_height ? " packed" : " separate-height");
     if (k.debug_output) s << " debug" << int(k.debug_output);
+    if (k.no_fragment_highp) s << " no-fragment-highp";
     return s.str();
 }
 
@@ -128,6 +132,9 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             k.lod = true;
             k.debug_output = static_cast<std::uint8_t>(debug);
             if (es_major >= 3 || debug >= 2) add(k);
+            // GLSL ES 1.00 without fragment highp: the 11-bit packing.
+            k.no_fragment_highp = true;
+            if (es_major < 3 && debug >= 2) add(k);
         }
         // Loop bounds at their extremes.
         if (info.options & (kOptSamples | kOptSteps)) {

@@ -26,6 +26,9 @@ struct VariantKey {
     bool packed_height = true;    // height in the normal map's alpha
     bool exact_view = false;      // PX_EXACT_VIEW: highp unnormalised view vector
     std::uint8_t es_major = 3;    // 2: GLSL ES 1.00, 3: GLSL ES 3.00
+    // GLSL ES 1.00 only: the fragment stage has no highp (PX_NO_FRAGMENT_HIGHP),
+    // as on Mali-400-class GPUs; PX_HIGHP declarations there are mediump.
+    bool no_fragment_highp = false;
     std::uint16_t max_samples = 0;   // linear-search loop bound (march techniques)
     std::uint8_t refine_steps = 0;   // relief
     std::uint8_t shadow_samples = 0; // shadow-ray loop bound

@@ -1,6 +1,7 @@
 #include "gl/framebuffer.h"
 
 #include "gl/errors.h"
+#include "gl/state.h"
 
 namespace px {
 
@@ -10,9 +11,11 @@ Result<ColorDepthFramebuffer> make_color_depth_framebuffer(int width, int height
     if (format == ColorFormat::rgba32f && !(caps.es_major >= 3 && caps.has("GL_EXT_color_buffer_float")))
         return make_error(std::string("an ") + format_name +
                           " target needs OpenGL ES 3.0 with GL_EXT_color_buffer_float");
+    SavedGlState saved(caps);
     ColorDepthFramebuffer t;
     t.color = make_texture();
     glBindTexture(GL_TEXTURE_2D, t.color.get());
+    set_unpack_defaults(caps);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     if (format == ColorFormat::rgba32f)
@@ -30,7 +33,6 @@ Result<ColorDepthFramebuffer> make_color_depth_framebuffer(int width, int height
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.color.get(), 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth.get());
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (status != GL_FRAMEBUFFER_COMPLETE)
         return make_error(std::string(format_name) + " framebuffer is incomplete: " + framebuffer_status_name(status));
     Status s = check_gl(std::string("creating an ") + format_name + " framebuffer");

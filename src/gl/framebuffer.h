@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/result.h"
-#include "gl/caps.h"
+#include "core/caps.h"
 #include "gl/handles.h"
 
 namespace px {
@@ -22,7 +22,7 @@ struct ColorDepthFramebuffer {
 };
 
 // 24-bit depth where the context has it (ES 3.0, or GL_OES_depth24), else 16.
-// Errors name the format and the incomplete status. Leaves framebuffer 0 bound.
+// Errors name the format and the incomplete status. Leaves every binding as it was.
 Result<ColorDepthFramebuffer> make_color_depth_framebuffer(int width, int height, ColorFormat format,
                                                            const Caps& caps);
 

@@ -45,6 +45,7 @@ inline void framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 inline void renderbuffer(GLuint id) { glDeleteRenderbuffers(1, &id); }
 inline void shader(GLuint id) { glDeleteShader(id); }
 inline void program(GLuint id) { glDeleteProgram(id); }
+inline void vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }  // OpenGL ES 3.0
 }  // namespace gl_delete
 
 using BufferHandle = GlHandle<gl_delete::buffer>;
@@ -53,10 +54,12 @@ using FramebufferHandle = GlHandle<gl_delete::framebuffer>;
 using RenderbufferHandle = GlHandle<gl_delete::renderbuffer>;
 using ShaderHandle = GlHandle<gl_delete::shader>;
 using ProgramHandle = GlHandle<gl_delete::program>;
+using VertexArrayHandle = GlHandle<gl_delete::vertex_array>;
 
 inline BufferHandle make_buffer() { GLuint id = 0; glGenBuffers(1, &id); return BufferHandle(id); }
 inline TextureHandle make_texture() { GLuint id = 0; glGenTextures(1, &id); return TextureHandle(id); }
 inline FramebufferHandle make_framebuffer() { GLuint id = 0; glGenFramebuffers(1, &id); return FramebufferHandle(id); }
+inline VertexArrayHandle make_vertex_array() { GLuint id = 0; glGenVertexArrays(1, &id); return VertexArrayHandle(id); }
 inline RenderbufferHandle make_renderbuffer() { GLuint id = 0; glGenRenderbuffers(1, &id); return RenderbufferHandle(id); }
 
 }  // namespace px

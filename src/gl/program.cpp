@@ -4,22 +4,11 @@
 #include <sstream>
 #include <vector>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "gl/errors.h"
 
 namespace px {
-
-Program::Program(ProgramHandle handle, std::string description)
-    : handle_(std::move(handle)), description_(std::move(description)) {}
-
-GLint Program::uniform(const char* name) const {
-    auto it = uniforms_.find(name);
-    if (it != uniforms_.end()) return it->second;
-    const GLint location = glGetUniformLocation(handle_.get(), name);
-    uniforms_.emplace(name, location);
-    return location;
-}
-
-GLint Program::attribute(const char* name) const { return glGetAttribLocation(handle_.get(), name); }
 
 namespace {
 
@@ -78,37 +67,159 @@ Result<ShaderHandle> compile(GLenum stage, const AssembledSource& source, const 
 
 }  // namespace
 
-Result<std::unique_ptr<Program>> build_program(const AssembledSource& vertex, const AssembledSource& fragment,
-                                               const std::string& description) {
-    Result<ShaderHandle> vs = compile(GL_VERTEX_SHADER, vertex, description);
+namespace {
+
+GLenum gl_type(shader::Type t) {
+    switch (t) {
+        case shader::Type::float1: return GL_FLOAT;
+        case shader::Type::vec2: return GL_FLOAT_VEC2;
+        case shader::Type::vec3: return GL_FLOAT_VEC3;
+        case shader::Type::vec4: return GL_FLOAT_VEC4;
+        case shader::Type::mat2: return GL_FLOAT_MAT2;
+        case shader::Type::mat3: return GL_FLOAT_MAT3;
+        case shader::Type::mat4: return GL_FLOAT_MAT4;
+        case shader::Type::int1: return GL_INT;
+        case shader::Type::sampler2d: return GL_SAMPLER_2D;
+    }
+    return GL_NONE;
+}
+
+// Checks the linked program against the interface table, both ways.
+Status check_interface(GLuint program, const std::string& what) {
+    GLint count = 0, longest = 0;
+    glGetProgramiv(program, GL_ACTIVE_UNIFORMS, &count);
+    glGetProgramiv(program, GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest);
+    std::vector<char> buffer(static_cast<size_t>(longest > 0 ? longest : 1) + 1, '\0');
+    for (GLint i = 0; i < count; ++i) {
+        GLsizei length = 0;
+        GLint size = 0;
+        GLenum type = GL_NONE;
+        glGetActiveUniform(program, static_cast<GLuint>(i), static_cast<GLsizei>(buffer.size()), &length, &size,
+                           &type, buffer.data());
+        std::string name(buffer.data(), static_cast<size_t>(length));
+        // Arrays are reported as "u_name[0]".
+        const size_t bracket = name.find('[');
+        if (bracket != std::string::npos) name.resize(bracket);
+        const shader::UniformInfo* found = nullptr;
+        for (const shader::UniformInfo& u : shader::uniforms())
+            if (name == u.name) found = &u;
+        if (!found)
+            return make_error(what + ": the shader has uniform '" + name +
+                              "', which src/shaders/interface.h does not list, so the renderer never sets it");
+        if (gl_type(found->type) != type || size > found->array_size)
+            return make_error(what + ": uniform '" + name + "' is declared with another type or array size than "
+                              "src/shaders/interface.h gives (" + shader::type_name(found->type) +
+                              (found->array_size > 1 ? "[" + std::to_string(found->array_size) + "]" : "") + ")");
+    }
+    return {};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, const VariantKey& key) {
+    const std::string description = key.describe();
+    const std::string what = "variant '" + description + "'\n  defines: " + sources.fragment.defines_summary + "\n ";
+    Result<ShaderHandle> vs = compile(GL_VERTEX_SHADER, sources.vertex, description);
     if (!vs) return vs.error();
-    Result<ShaderHandle> fs = compile(GL_FRAGMENT_SHADER, fragment, description);
+    Result<ShaderHandle> fs = compile(GL_FRAGMENT_SHADER, sources.fragment, description);
     if (!fs) return fs.error();
     ProgramHandle program(glCreateProgram());
     glAttachShader(program.get(), vs->get());
     glAttachShader(program.get(), fs->get());
-    // Fixed attribute slots so one vertex layout serves every variant.
-    glBindAttribLocation(program.get(), 0, "a_position");
-    glBindAttribLocation(program.get(), 1, "a_normal");
-    glBindAttribLocation(program.get(), 2, "a_tangent");
-    glBindAttribLocation(program.get(), 3, "a_uv");
+    // Fixed attribute slots from the interface table, so one vertex layout
+    // serves every variant.
+    for (const shader::AttributeInfo& a : shader::attributes())
+        glBindAttribLocation(program.get(), static_cast<GLuint>(a.slot), a.name);
     glLinkProgram(program.get());
     GLint ok = GL_FALSE;
     glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
     if (ok != GL_TRUE)
-        return make_error("variant '" + description + "' failed to link\n  defines: " + fragment.defines_summary +
-                          "\n  driver log:\n" + program_log(program.get()));
+        return make_error("variant '" + description + "' failed to link\n  defines: " +
+                          sources.fragment.defines_summary + "\n  driver log:\n" + program_log(program.get()));
+
+    std::unique_ptr<Program> p(new Program());
+    p->description_ = description;
+    p->key_ = key;
+    for (const shader::UniformInfo& u : shader::uniforms()) {
+        const GLint location = glGetUniformLocation(program.get(), u.name);
+        if (location < 0 && shader::needed(u.id, key))
+            return make_error(what + " needs uniform '" + std::string(u.name) +
+                              "' (src/shaders/interface.h), and the linked program has no active uniform of that "
+                              "name: a misspelt or unused declaration in shaders_es/");
+        p->uniforms_[static_cast<std::size_t>(u.id)] = location;
+    }
+    for (const shader::AttributeInfo& a : shader::attributes()) {
+        const GLint location = glGetAttribLocation(program.get(), a.name);
+        if (location < 0 && shader::needed(a.id, key))
+            return make_error(what + " needs attribute '" + std::string(a.name) +
+                              "' (src/shaders/interface.h), and the linked program has no active attribute of that "
+                              "name");
+        if (location >= 0 && location != a.slot)
+            return make_error(what + " attribute '" + std::string(a.name) + "' linked at slot " +
+                              std::to_string(location) + ", not at its bound slot " + std::to_string(a.slot));
+        p->attributes_[static_cast<std::size_t>(a.id)] = location;
+    }
+    Status interface = check_interface(program.get(), "variant '" + description + "'");
+    if (!interface) return interface.error();
+
+    // Sampler units are per program state: set them once, here.
+    GLint previous = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &previous);
+    glUseProgram(program.get());
+    for (const shader::SamplerInfo& s : shader::samplers()) {
+        const GLint location = p->uniforms_[static_cast<std::size_t>(s.uniform)];
+        if (location >= 0) glUniform1i(location, s.unit);
+    }
+    glUseProgram(static_cast<GLuint>(previous));
     Status s = check_gl("building variant '" + description + "'");
     if (!s) return s.error();
-    return std::make_unique<Program>(std::move(program), description);
+    p->handle_ = std::move(program);
+    return p;
 }
+
+#define PX_LOCATION(slot) const GLint l = location(slot.id); if (l < 0) return
+void Program::set(shader::UniformSlot<shader::Type::float1> s, float v) const { PX_LOCATION(s); glUniform1f(l, v); }
+void Program::set(shader::UniformSlot<shader::Type::float1> s, const float* v, int count) const {
+    PX_LOCATION(s);
+    glUniform1fv(l, count, v);
+}
+void Program::set(shader::UniformSlot<shader::Type::vec2> s, const glm::vec2& v) const {
+    PX_LOCATION(s);
+    glUniform2f(l, v.x, v.y);
+}
+void Program::set(shader::UniformSlot<shader::Type::vec3> s, const glm::vec3& v) const {
+    PX_LOCATION(s);
+    glUniform3fv(l, 1, glm::value_ptr(v));
+}
+void Program::set(shader::UniformSlot<shader::Type::vec3> s, const glm::vec3* v, int count) const {
+    PX_LOCATION(s);
+    glUniform3fv(l, count, glm::value_ptr(v[0]));
+}
+void Program::set(shader::UniformSlot<shader::Type::vec4> s, const glm::vec4* v, int count) const {
+    PX_LOCATION(s);
+    glUniform4fv(l, count, glm::value_ptr(v[0]));
+}
+void Program::set(shader::UniformSlot<shader::Type::mat2> s, const glm::mat2& v) const {
+    PX_LOCATION(s);
+    glUniformMatrix2fv(l, 1, GL_FALSE, glm::value_ptr(v));
+}
+void Program::set(shader::UniformSlot<shader::Type::mat3> s, const glm::mat3& v) const {
+    PX_LOCATION(s);
+    glUniformMatrix3fv(l, 1, GL_FALSE, glm::value_ptr(v));
+}
+void Program::set(shader::UniformSlot<shader::Type::mat4> s, const glm::mat4& v) const {
+    PX_LOCATION(s);
+    glUniformMatrix4fv(l, 1, GL_FALSE, glm::value_ptr(v));
+}
+void Program::set(shader::UniformSlot<shader::Type::int1> s, int v) const { PX_LOCATION(s); glUniform1i(l, v); }
+#undef PX_LOCATION
 
 Result<const Program*> ProgramCache::get(const VariantKey& key) {
     auto it = programs_.find(key.bits());
     if (it != programs_.end()) return static_cast<const Program*>(it->second.get());
     Result<VariantSources> sources = assemble_variant(key);
     if (!sources) return sources.error();
-    Result<std::unique_ptr<Program>> program = build_program(sources->vertex, sources->fragment, key.describe());
+    Result<std::unique_ptr<Program>> program = build_program(*sources, key);
     if (!program) return program.error();
     const Program* raw = program->get();
     programs_.emplace(key.bits(), std::move(*program));

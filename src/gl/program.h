@@ -1,42 +1,69 @@
-// Building GL programs from assembled sources, and the per-context cache of
-// programs by variant key.
+// Building GL programs from assembled sources, each with its typed interface
+// (shaders/interface.h) resolved once at build time, and the per-context
+// cache of programs by variant key.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
-#include <unordered_map>
+
+#include <glm/glm.hpp>
 
 #include "core/result.h"
 #include "effects/variant.h"
-#include "shaders/shader_source.h"
 #include "gl/handles.h"
+#include "shaders/interface.h"
+#include "shaders/shader_source.h"
 
 namespace px {
 
 class Program {
 public:
-    Program(ProgramHandle handle, std::string description);
     GLuint id() const { return handle_.get(); }
     const std::string& description() const { return description_; }
-    // -1 when the program has no such active uniform (the compiler may drop
-    // unused ones); setting -1 is a no-op in GL.
-    GLint uniform(const char* name) const;
-    GLint attribute(const char* name) const;
+    const VariantKey& key() const { return key_; }
+
+    // The location resolved at build time; -1 only for a uniform that this
+    // variant does not need (shader::needed), which setting then skips.
+    GLint location(shader::Uniform u) const { return uniforms_[static_cast<std::size_t>(u)]; }
+    GLint location(shader::Attribute a) const { return attributes_[static_cast<std::size_t>(a)]; }
+
+    // Typed setters for the program in use (glUseProgram(id())): the slot's
+    // GLSL type picks the overload, so a value of the wrong shape does not
+    // compile. Arrays take `count` elements.
+    void set(shader::UniformSlot<shader::Type::float1> s, float v) const;
+    void set(shader::UniformSlot<shader::Type::float1> s, const float* v, int count) const;
+    void set(shader::UniformSlot<shader::Type::vec2> s, const glm::vec2& v) const;
+    void set(shader::UniformSlot<shader::Type::vec3> s, const glm::vec3& v) const;
+    void set(shader::UniformSlot<shader::Type::vec3> s, const glm::vec3* v, int count) const;
+    void set(shader::UniformSlot<shader::Type::vec4> s, const glm::vec4* v, int count) const;
+    void set(shader::UniformSlot<shader::Type::mat2> s, const glm::mat2& v) const;
+    void set(shader::UniformSlot<shader::Type::mat3> s, const glm::mat3& v) const;
+    void set(shader::UniformSlot<shader::Type::mat4> s, const glm::mat4& v) const;
+    void set(shader::UniformSlot<shader::Type::int1> s, int v) const;
+
     void abandon() { handle_.abandon(); }
 
 private:
+    friend Result<std::unique_ptr<Program>> build_program(const VariantSources&, const VariantKey&);
+    Program() = default;
     ProgramHandle handle_;
     std::string description_;
-    mutable std::unordered_map<std::string, GLint> uniforms_;
+    VariantKey key_;
+    std::array<GLint, shader::kUniformCount> uniforms_{};
+    std::array<GLint, shader::kAttributeCount> attributes_{};
 };
 
-// Compiles and links one vertex + fragment pair. On failure the error holds
-// the stage, the driver's log, the offending source lines and the defines.
-Result<std::unique_ptr<Program>> build_program(const AssembledSource& vertex, const AssembledSource& fragment,
-                                               const std::string& description);
-
+// Compiles and links one variant, binds the attribute slots and sampler units
+// of shaders/interface.h and resolves every uniform. Errors hold the stage,
+// the driver's log, the offending source lines and the variant's defines: a
+// failed compile or link; a uniform or attribute the variant needs
+// (shader::needed) and the program lacks; an active uniform the interface
+// does not list, or one whose GLSL type or array size differs from it.
+// Leaves the current program as it was.
+Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, const VariantKey& key);
 
 class ProgramCache {
 public:

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "gl/errors.h"
+#include "gl/state.h"
 
 namespace px {
 
@@ -44,7 +45,7 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
     t.height = image.height;
     t.mipmapped = mipmaps;
     glBindTexture(GL_TEXTURE_2D, t.handle.get());
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    set_unpack_defaults(caps);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                  source->pixels.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -67,7 +68,7 @@ Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, co
     t.height = pyramid.height;
     t.mipmapped = true;
     glBindTexture(GL_TEXTURE_2D, t.handle.get());
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    set_unpack_defaults(caps);
     for (int level = 0; level < pyramid.level_count(); ++level) {
         const Image& image = pyramid.levels[static_cast<size_t>(level)];
         if (image.channels != 1) return make_error(what + ": max pyramid levels must have one channel");

@@ -1,4 +1,6 @@
-// Uploading images as GL textures with full mip chains.
+// Uploading images as GL textures with full mip chains. These change the
+// texture binding of the active unit and the unpack state: call them inside
+// a SavedGlState (gl/state.h), as Renderer::load does.
 #pragma once
 
 #include "assets/image.h"

@@ -10,6 +10,7 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
     VariantKey& k = plan.key;
     k.technique = o.technique;
     k.es_major = static_cast<std::uint8_t>(caps.es_major);
+    k.no_fragment_highp = caps.es_major < 3 && !caps.fragment_highp;
 
     const TechniqueInfo& asked = technique_info(o.technique);
     if (asked.min_es_major > caps.es_major) {

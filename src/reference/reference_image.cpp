@@ -26,6 +26,8 @@ struct MaterialData {
     glm::dmat2 uv_frame{1.0};
     double height_scale = 0.0;
     double polygon_height = 1.0;
+    double specular = 0.0;   // MaterialDesc::specular
+    double shininess = 1.0;  // MaterialDesc::shininess
 };
 
 // One plane object, with its world tangent frame built as surface.vert does.
@@ -178,7 +180,7 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
         const glm::dvec3 half_sum = light_ts + view_ts;
         const double half_len = glm::length(half_sum);
         const double n_dot_h = half_len > 0.0 ? std::max(glm::dot(normal, half_sum / half_len), 0.0) : 0.0;
-        const double specular = n_dot_l > 0.0 ? 0.25 * std::pow(n_dot_h, 32.0) : 0.0;
+        const double specular = n_dot_l > 0.0 ? m.specular * std::pow(n_dot_h, m.shininess) : 0.0;
         color += visibility * l.color * (albedo * n_dot_l + glm::dvec3(specular));
     }
     for (int c = 0; c < 3; ++c) rgba[c] = to_byte(color[c]);
@@ -230,10 +232,11 @@ Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int h
             m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
             m.uv_matrix = desc.uv.matrix<double>();
             m.uv_offset = glm::dvec2(desc.uv.offset);
-            const double det = std::fabs(glm::determinant(m.uv_matrix));
-            m.uv_frame = det > 0.0 ? m.uv_matrix / std::sqrt(det) : glm::dmat2(1.0);
+            m.uv_frame = desc.uv.frame<double>();
             m.height_scale = desc.height_scale;
             m.polygon_height = desc.polygon_height();
+            m.specular = desc.specular;
+            m.shininess = desc.shininess;
             built[mi] = true;
         }
         if (m.reads_height && out.texture_width == 0) {

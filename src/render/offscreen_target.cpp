@@ -4,6 +4,7 @@
 
 #include "gl/caps.h"
 #include "gl/errors.h"
+#include "gl/state.h"
 
 namespace px {
 
@@ -13,13 +14,14 @@ Result<OffscreenTarget> OffscreenTarget::create(int width, int height) {
     if (width < 1 || height < 1 || width > max_size || height > max_size)
         return make_error("target size " + std::to_string(width) + "x" + std::to_string(height) +
                           " is outside 1.." + std::to_string(max_size) + " for this context");
-    Result<ColorDepthFramebuffer> framebuffer =
-        make_color_depth_framebuffer(width, height, ColorFormat::rgba8, query_caps());
+    const Caps caps = query_caps();
+    Result<ColorDepthFramebuffer> framebuffer = make_color_depth_framebuffer(width, height, ColorFormat::rgba8, caps);
     if (!framebuffer) return with_context("offscreen target", framebuffer.error());
     OffscreenTarget t;
     t.width_ = width;
     t.height_ = height;
     t.buffers_ = std::move(*framebuffer);
+    t.caps_ = caps;
     return t;
 }
 
@@ -29,10 +31,10 @@ Result<Image> OffscreenTarget::read_pixels() const {
     image.height = height_;
     image.channels = 4;
     image.pixels.resize(static_cast<size_t>(width_) * height_ * 4);
+    SavedGlState saved(caps_);
     glBindFramebuffer(GL_FRAMEBUFFER, buffers_.framebuffer.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    set_pack_defaults(caps_);
     glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     Status s = check_gl("reading the offscreen target back");
     if (!s) return s.error();
     return image;

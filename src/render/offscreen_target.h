@@ -6,6 +6,7 @@
 
 #include "assets/image.h"
 #include "core/result.h"
+#include "core/caps.h"
 #include "gl/framebuffer.h"
 #include "render/target.h"
 
@@ -26,6 +27,7 @@ public:
 
 private:
     ColorDepthFramebuffer buffers_;
+    Caps caps_;
     int width_ = 0;
     int height_ = 0;
 };

@@ -1,23 +1,28 @@
 #include "render/renderer.h"
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include "core/limits.h"
+#include "gl/state.h"
 #include "gl/texture.h"
 #include "scene/material_images.h"
+#include "shaders/interface.h"
 
 namespace px {
+
+namespace slot = shader::slot;
 
 namespace {
 
 struct GpuMesh {
     BufferHandle vertices;
     BufferHandle indices;
+    VertexArrayHandle vertex_array;  // ES 3.0: the library's own, so the host's VAO is never written
     GLsizei index_count = 0;
     GLenum index_type = GL_UNSIGNED_SHORT;
     float units_per_uv = 1.0f;
@@ -33,6 +38,9 @@ struct GpuMaterial {
     Texture height;
     Texture max_map;    // maxmip: the max pyramid
     int max_levels = 0;
+    // Texels of the texture the trace reads (u_texture_size): the height map
+    // where there is one, which need not be the normal map's size.
+    glm::vec2 traced_size{0.0f};
     VariantPlan plan;
     HeightField field;  // 8-bit quantised, as uploaded: for displaced meshes
 };
@@ -42,6 +50,27 @@ struct GpuObject {
     size_t mesh = 0;
     size_t material = 0;
 };
+
+// Where each attribute's data sits in a Vertex.
+std::size_t vertex_offset(shader::Attribute a) {
+    switch (a) {
+        case shader::Attribute::position: return offsetof(Vertex, position);
+        case shader::Attribute::normal: return offsetof(Vertex, normal);
+        case shader::Attribute::tangent: return offsetof(Vertex, tangent);
+        case shader::Attribute::uv: return offsetof(Vertex, uv);
+    }
+    return 0;
+}
+
+// Points every attribute of the interface table at the bound vertex buffer.
+void point_attributes() {
+    for (const shader::AttributeInfo& a : shader::attributes()) {
+        const GLuint slot_index = static_cast<GLuint>(a.slot);
+        glEnableVertexAttribArray(slot_index);
+        glVertexAttribPointer(slot_index, a.components, GL_FLOAT, GL_FALSE, sizeof(Vertex),
+                              reinterpret_cast<void*>(vertex_offset(a.id)));
+    }
+}
 
 Mesh build_mesh(const MeshDesc& d) {
     switch (d.kind) {
@@ -56,11 +85,15 @@ Mesh build_mesh(const MeshDesc& d) {
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what) {
     GpuMesh g;
     g.units_per_uv = mesh.units_per_uv;
+    if (caps.es_major >= 3) {
+        // Bound first: the element buffer binding below is state of the VAO.
+        g.vertex_array = make_vertex_array();
+        glBindVertexArray(g.vertex_array.get());
+    }
     g.vertices = make_buffer();
     glBindBuffer(GL_ARRAY_BUFFER, g.vertices.get());
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.vertices.size() * sizeof(Vertex)),
                  mesh.vertices.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
     g.indices = make_buffer();
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.indices.get());
     if (mesh.vertices.size() <= 0xFFFF) {  // 16-bit indices: every ES 2.0 context has them
@@ -76,67 +109,140 @@ Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::strin
                      GL_STATIC_DRAW);
         g.index_type = GL_UNSIGNED_INT;
     }
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    if (g.vertex_array) point_attributes();  // recorded in the VAO once
     g.index_count = static_cast<GLsizei>(mesh.indices.size());
     Status s = check_gl("uploading " + what);
     if (!s) return s.error();
     return g;
 }
 
-
-// Restores the host's GL state on scope exit (the renderer draws into
-// contexts it does not own).
-class SavedState {
-public:
-    SavedState() {
-        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &framebuffer_);
-        glGetIntegerv(GL_VIEWPORT, viewport_);
-        glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
-        glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer_);
-        glGetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &element_buffer_);
-        glGetIntegerv(GL_ACTIVE_TEXTURE, &active_texture_);
-        for (int i = 0; i < 4; ++i) {
-            glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
-            glGetIntegerv(GL_TEXTURE_BINDING_2D, &textures_[i]);
-        }
-        depth_test_ = glIsEnabled(GL_DEPTH_TEST);
-        cull_face_ = glIsEnabled(GL_CULL_FACE);
-        blend_ = glIsEnabled(GL_BLEND);
-        glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
-        glGetIntegerv(GL_DEPTH_FUNC, &depth_func_);
-        glGetIntegerv(GL_FRONT_FACE, &front_face_);
-        glGetFloatv(GL_COLOR_CLEAR_VALUE, clear_color_);
-    }
-    ~SavedState() {
-        glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(framebuffer_));
-        glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
-        glUseProgram(static_cast<GLuint>(program_));
-        glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLuint>(element_buffer_));
-        for (int i = 0; i < 4; ++i) {
-            glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
-            glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(textures_[i]));
-        }
-        glActiveTexture(static_cast<GLenum>(active_texture_));
-        enable(GL_DEPTH_TEST, depth_test_);
-        enable(GL_CULL_FACE, cull_face_);
-        enable(GL_BLEND, blend_);
-        glDepthMask(depth_mask_);
-        glDepthFunc(static_cast<GLenum>(depth_func_));
-        glFrontFace(static_cast<GLenum>(front_face_));
-        glClearColor(clear_color_[0], clear_color_[1], clear_color_[2], clear_color_[3]);
-        for (GLuint a = 0; a < 4; ++a) glDisableVertexAttribArray(a);
-    }
-    SavedState(const SavedState&) = delete;
-    SavedState& operator=(const SavedState&) = delete;
-
-private:
-    static void enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
-    GLint framebuffer_ = 0, viewport_[4] = {0, 0, 0, 0}, program_ = 0, array_buffer_ = 0, element_buffer_ = 0;
-    GLint active_texture_ = GL_TEXTURE0, textures_[4] = {0, 0, 0, 0}, depth_func_ = GL_LESS, front_face_ = GL_CCW;
-    GLboolean depth_test_ = GL_FALSE, cull_face_ = GL_FALSE, blend_ = GL_FALSE, depth_mask_ = GL_TRUE;
-    GLfloat clear_color_[4] = {0, 0, 0, 0};
+// What every draw of a frame shares.
+struct FrameValues {
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    glm::vec3 camera_position{0.0f};
+    glm::vec3 ambient{0.0f};
+    int light_count = 0;
+    std::array<glm::vec4, kMaxLights> light_vectors{};  // xyz toward the light (w 0) or its position (w 1)
+    std::array<glm::vec3, kMaxLights> light_colors{};   // colour times intensity
+    std::array<float, kMaxLights> light_radii{};        // angular radius, radians
 };
+
+FrameValues frame_values(const SceneDesc& scene, const RenderTarget& target) {
+    FrameValues f;
+    const CameraDesc& cam = scene.camera;
+    const float aspect = static_cast<float>(target.width) / static_cast<float>(target.height);
+    f.view = glm::lookAt(cam.position, cam.target, cam.up);
+    f.projection = glm::perspective(glm::radians(cam.fov_y_deg), aspect, cam.near_plane, cam.far_plane);
+    f.camera_position = cam.position;
+    f.ambient = scene.ambient;
+    f.light_count = static_cast<int>(std::min<size_t>(scene.lights.size(), kMaxLights));
+    for (size_t i = 0; i < static_cast<size_t>(f.light_count); ++i) {
+        const LightDesc& l = scene.lights[i];
+        const bool point = l.kind == LightKind::point;
+        f.light_vectors[i] = glm::vec4(point ? l.position : -glm::normalize(l.direction), point ? 1.0f : 0.0f);
+        f.light_colors[i] = l.color * l.intensity;
+        f.light_radii[i] = glm::radians(l.angular_radius_deg);
+    }
+    return f;
+}
+
+void set_frame_uniforms(const Program& p, const FrameValues& f) {
+    p.set(slot::view, f.view);
+    p.set(slot::projection, f.projection);
+    p.set(slot::depth_projection, f.projection);
+    p.set(slot::camera_position, f.camera_position);
+    p.set(slot::ambient, f.ambient);
+    p.set(slot::light_count, f.light_count);
+    p.set(slot::light_vector, f.light_vectors.data(), kMaxLights);
+    p.set(slot::light_color, f.light_colors.data(), kMaxLights);
+    p.set(slot::light_angular_radius, f.light_radii.data(), kMaxLights);
+}
+
+// The object's transform; returns whether it mirrors.
+bool set_object_uniforms(const Program& p, const ObjectDesc& object, const GpuMesh& mesh, const MaterialDesc& m) {
+    const glm::mat4 model = object.transform.matrix();
+    const glm::mat3 model3(model);
+    const bool mirrored = glm::determinant(model3) < 0.0f;
+    p.set(slot::model, model);
+    p.set(slot::normal_matrix, glm::inverseTranspose(model3));
+    p.set(slot::model_handedness, mirrored ? -1.0f : 1.0f);
+    // View-space units per texture tile: mesh units per uv, times the
+    // model's mean scale, over tiles per mesh uv.
+    const float model_scale = std::cbrt(std::fabs(glm::determinant(model3)));
+    p.set(slot::units_per_tile, mesh.units_per_uv * model_scale / m.uv.area_scale<float>());
+    return mirrored;
+}
+
+void bind_texture_unit(shader::Sampler sampler, const Texture& texture) {
+    glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + shader::info(sampler).unit));
+    bind_texture(texture);
+}
+
+void set_material_uniforms(const Program& p, const GpuMaterial& material, const VariantKey& key) {
+    const MaterialDesc& m = *material.desc;
+    p.set(slot::uv_matrix, m.uv.matrix<float>());
+    p.set(slot::uv_offset, m.uv.offset);
+    p.set(slot::uv_frame, m.uv.frame<float>());
+    const float scale = m.height_scale;
+    p.set(slot::height_scale, scale);
+    p.set(slot::inv_height_scale, scale > 0.0f ? 1.0f / scale : 0.0f);
+    p.set(slot::polygon_height, static_cast<float>(m.polygon_height()));
+    p.set(slot::texture_size, material.traced_size);
+    // The planner's loop bound is the top of the dynamic range (it may
+    // differ from the material's, e.g. on a fallback technique).
+    const float top = static_cast<float>(key.max_samples > 0 ? key.max_samples : m.technique.max_samples);
+    p.set(slot::sample_range, glm::vec2(std::min(static_cast<float>(m.technique.min_samples), top), top));
+    p.set(slot::lod_range, glm::vec2(m.technique.lod_threshold, m.technique.lod_band));
+    p.set(slot::specular, m.specular);
+    p.set(slot::shininess, m.shininess);
+    p.set(slot::max_levels, material.max_levels);
+
+    bind_texture_unit(shader::Sampler::albedo, material.albedo);
+    bind_texture_unit(shader::Sampler::normal, material.normal);
+    if (material.height.handle) bind_texture_unit(shader::Sampler::height, material.height);
+    if (material.max_map.handle) bind_texture_unit(shader::Sampler::max_map, material.max_map);
+}
+
+void draw_mesh(const GpuMesh& mesh) {
+    if (mesh.vertex_array) {
+        glBindVertexArray(mesh.vertex_array.get());
+    } else {
+        glBindBuffer(GL_ARRAY_BUFFER, mesh.vertices.get());
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indices.get());
+        point_attributes();
+    }
+    glDrawElements(GL_TRIANGLES, mesh.index_count, mesh.index_type, nullptr);
+}
+
+// The fixed-function state every draw assumes, whatever the host left set
+// (SavedGlState gives the host's back afterwards).
+void set_draw_state(const Caps& caps, const RenderTarget& target, const glm::vec4& clear_color) {
+    glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
+    glViewport(0, 0, target.width, target.height);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_SAMPLE_COVERAGE);
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    glDisable(GL_DITHER);  // the debug outputs are exact bit patterns
+    if (caps.es_major >= 3) {
+        glDisable(GL_RASTERIZER_DISCARD);
+        glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+        for (int i = 0; i < kLibraryTextureUnits; ++i) glBindSampler(static_cast<GLuint>(i), 0);
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glDepthRangef(0.0f, 1.0f);
+    glClearDepthf(1.0f);
+    glClearColor(clear_color.r, clear_color.g, clear_color.b, clear_color.a);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+}
 
 }  // namespace
 
@@ -157,6 +263,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     r->caps_ = query_caps();
     if (r->caps_.es_major < 2)
         return make_error("the current context is '" + r->caps_.version + "'; ParallaxES needs OpenGL ES 2.0 or later");
+    if (options.emulate_no_fragment_highp && r->caps_.es_major < 3) r->caps_.fragment_highp = false;
     install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
     return r;
 }
@@ -170,6 +277,7 @@ void Renderer::abandon() {
     for (GpuMesh& m : scene_->meshes) {
         m.vertices.abandon();
         m.indices.abandon();
+        m.vertex_array.abandon();
     }
     for (GpuMaterial& m : scene_->materials) {
         m.albedo.handle.abandon();
@@ -184,6 +292,8 @@ void Renderer::abandon() {
 Status Renderer::load(const SceneDesc& scene) {
     Status valid = validate_scene(scene);
     if (!valid) return valid;
+    SavedGlState saved(caps_);
+    set_unpack_defaults(caps_);
     auto gpu = std::make_unique<GpuScene>();
     gpu->desc = scene;
     const SceneDesc& desc = gpu->desc;
@@ -216,6 +326,8 @@ Status Renderer::load(const SceneDesc& scene) {
             if (!height) return height.error();
             g.height = std::move(*height);
         }
+        const Texture& traced_texture = g.height.handle ? g.height : g.normal;
+        g.traced_size = glm::vec2(static_cast<float>(traced_texture.width), static_cast<float>(traced_texture.height));
         if (g.plan.key.technique == Technique::maxmip) {
             Result<MaxMipmap> pyramid = build_max_mipmap(g.field);
             if (!pyramid) return with_context(what, pyramid.error());
@@ -231,16 +343,14 @@ Status Renderer::load(const SceneDesc& scene) {
     }
     for (const ObjectDesc& o : desc.objects) {
         const std::string what = "object '" + o.name + "'";
-        size_t material_index = 0;
-        for (size_t i = 0; i < desc.materials.size(); ++i)
-            if (desc.materials[i].name == o.material) material_index = i;
+        const size_t material_index = desc.material_index(o.material);  // validate_scene checked it exists
         Mesh mesh;
         if (o.mesh.displaced) {
             if (o.mesh.kind != MeshKind::plane)
                 return make_error(what + ": only planes can be displaced (mesh.displaced)");
             const GpuMaterial& material = gpu->materials[material_index];
             const MaterialDesc& m = *material.desc;
-            const float tiles = std::sqrt(std::fabs(glm::determinant(m.uv.matrix<float>())));
+            const float tiles = m.uv.area_scale<float>();
             const float scale = m.height_scale;
             Result<Mesh> displaced = make_displaced_plane(o.mesh.size, material.field, scale,
                                                           static_cast<float>(m.polygon_height()), o.mesh.size / tiles);
@@ -271,134 +381,35 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
     if (target.width < 1 || target.height < 1)
         return make_error("draw: target size " + std::to_string(target.width) + "x" + std::to_string(target.height) +
                           " is empty");
-    SavedState saved;
-    const SceneDesc& scene = scene_->desc;
+    SavedGlState saved(caps_);
     glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
         return make_error(std::string("draw: target framebuffer ") + std::to_string(target.framebuffer) +
                           " is incomplete: " + framebuffer_status_name(status));
-    glViewport(0, 0, target.width, target.height);
-    if (debug_output == 0)
-        glClearColor(scene.background.r, scene.background.g, scene.background.b, 1.0f);
-    else  // alpha marks drawn pixels: -1 (float target) or 0 (packed) where nothing is
-        glClearColor(0.0f, 0.0f, 0.0f, debug_output == 1 ? -1.0f : 0.0f);
-    glDepthMask(GL_TRUE);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    glDisable(GL_BLEND);
-
-    const CameraDesc& cam = scene.camera;
-    const float aspect = static_cast<float>(target.width) / static_cast<float>(target.height);
-    const glm::mat4 view = glm::lookAt(cam.position, cam.target, cam.up);
-    const glm::mat4 projection = glm::perspective(glm::radians(cam.fov_y_deg), aspect, cam.near_plane, cam.far_plane);
-
-    // Lights, shared by every draw.
-    const int light_count = static_cast<int>(std::min<size_t>(scene.lights.size(), kMaxLights));
-    float light_vectors[4 * kMaxLights] = {};
-    float light_colors[3 * kMaxLights] = {};
-    float light_radii[kMaxLights] = {};
-    for (int i = 0; i < light_count; ++i) {
-        const LightDesc& l = scene.lights[static_cast<size_t>(i)];
-        const glm::vec3 v = l.kind == LightKind::point ? l.position : -glm::normalize(l.direction);
-        light_vectors[4 * i + 0] = v.x;
-        light_vectors[4 * i + 1] = v.y;
-        light_vectors[4 * i + 2] = v.z;
-        light_vectors[4 * i + 3] = l.kind == LightKind::point ? 1.0f : 0.0f;
-        for (int c = 0; c < 3; ++c) light_colors[3 * i + c] = l.color[c] * l.intensity;
-        light_radii[i] = glm::radians(l.angular_radius_deg);
-    }
+    const SceneDesc& scene = scene_->desc;
+    // Debug outputs: alpha marks drawn pixels, -1 (float target) or 0 (packed) where nothing is.
+    const glm::vec4 clear = debug_output == 0 ? glm::vec4(scene.background, 1.0f)
+                                              : glm::vec4(0.0f, 0.0f, 0.0f, debug_output == 1 ? -1.0f : 0.0f);
+    set_draw_state(caps_, target, clear);
+    const FrameValues frame = frame_values(scene, target);
 
     for (const GpuObject& object : scene_->objects) {
         const GpuMaterial& material = scene_->materials[object.material];
-        const GpuMesh& mesh = scene_->meshes[object.mesh];
-        const MaterialDesc& m = *material.desc;
         VariantKey key = material.plan.key;
         key.debug_output = debug_output;
         Result<const Program*> program = scene_->programs.get(key);
-        if (!program) return with_context("material '" + m.name + "'", program.error());
+        if (!program) return with_context("material '" + material.desc->name + "'", program.error());
         const Program& p = **program;
         glUseProgram(p.id());
-
-        const glm::mat4 model = object.desc->transform.matrix();
-        const glm::mat3 model3(model);
-        const glm::mat3 normal_matrix = glm::inverseTranspose(model3);
-        const float handedness = glm::determinant(model3) < 0.0f ? -1.0f : 1.0f;
-        glUniformMatrix4fv(p.uniform("u_model"), 1, GL_FALSE, glm::value_ptr(model));
-        glUniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, glm::value_ptr(view));
-        glUniformMatrix4fv(p.uniform("u_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        glUniformMatrix4fv(p.uniform("u_depth_projection"), 1, GL_FALSE, glm::value_ptr(projection));
-        glUniformMatrix3fv(p.uniform("u_normal_matrix"), 1, GL_FALSE, glm::value_ptr(normal_matrix));
-        glUniform1f(p.uniform("u_model_handedness"), handedness);
+        set_frame_uniforms(p, frame);
+        const GpuMesh& mesh = scene_->meshes[object.mesh];
+        const bool mirrored = set_object_uniforms(p, *object.desc, mesh, *material.desc);
         // A mirroring model matrix reverses the triangles' winding on screen:
         // flip the front face so the object's outside stays the drawn side.
-        glFrontFace(handedness < 0.0f ? GL_CW : GL_CCW);
-        glUniform3fv(p.uniform("u_camera_position"), 1, glm::value_ptr(cam.position));
-
-        const glm::mat2 uv = m.uv.matrix<float>();
-        const float uv_det = std::fabs(glm::determinant(uv));
-        const float uv_area_scale = std::sqrt(uv_det);
-        const glm::mat2 uv_frame = uv / uv_area_scale;
-        glUniformMatrix2fv(p.uniform("u_uv_matrix"), 1, GL_FALSE, glm::value_ptr(uv));
-        glUniform2f(p.uniform("u_uv_offset"), m.uv.offset.x, m.uv.offset.y);
-        glUniformMatrix2fv(p.uniform("u_uv_frame"), 1, GL_FALSE, glm::value_ptr(uv_frame));
-        // View-space units per texture tile: mesh units per uv, times the
-        // model's mean scale, over tiles per mesh uv.
-        const float model_scale = std::cbrt(std::fabs(glm::determinant(model3)));
-        glUniform1f(p.uniform("u_units_per_tile"), mesh.units_per_uv * model_scale / uv_area_scale);
-
-        const float scale = m.height_scale;
-        glUniform1f(p.uniform("u_height_scale"), scale);
-        glUniform1f(p.uniform("u_inv_height_scale"), scale > 0.0f ? 1.0f / scale : 0.0f);
-        glUniform1f(p.uniform("u_polygon_height"), static_cast<float>(m.polygon_height()));
-        glUniform4fv(p.uniform("u_light_vector"), kMaxLights, light_vectors);
-        glUniform3fv(p.uniform("u_light_color"), kMaxLights, light_colors);
-        glUniform1fv(p.uniform("u_light_angular_radius"), kMaxLights, light_radii);
-        glUniform1i(p.uniform("u_light_count"), light_count);
-        glUniform3fv(p.uniform("u_ambient"), 1, glm::value_ptr(scene.ambient));
-        glUniform2f(p.uniform("u_texture_size"), static_cast<float>(material.normal.width),
-                    static_cast<float>(material.normal.height));
-        // The planner's loop bound is the top of the dynamic range (it may
-        // differ from the material's, e.g. on a fallback technique).
-        const float top = static_cast<float>(key.max_samples > 0 ? key.max_samples : m.technique.max_samples);
-        glUniform2f(p.uniform("u_sample_range"), std::min(static_cast<float>(m.technique.min_samples), top), top);
-        glUniform2f(p.uniform("u_lod_range"), m.technique.lod_threshold, m.technique.lod_band);
-        glUniform1f(p.uniform("u_specular"), 0.25f);
-        glUniform1f(p.uniform("u_shininess"), 32.0f);
-
-        glActiveTexture(GL_TEXTURE0);
-        bind_texture(material.albedo);
-        glUniform1i(p.uniform("u_albedo_map"), 0);
-        glActiveTexture(GL_TEXTURE1);
-        bind_texture(material.normal);
-        glUniform1i(p.uniform("u_normal_map"), 1);
-        if (material.height.handle) {
-            glActiveTexture(GL_TEXTURE2);
-            bind_texture(material.height);
-            glUniform1i(p.uniform("u_height_map"), 2);
-        }
-        if (material.max_map.handle) {
-            glActiveTexture(GL_TEXTURE3);
-            bind_texture(material.max_map);
-            glUniform1i(p.uniform("u_max_map"), 3);
-            glUniform1i(p.uniform("u_max_levels"), material.max_levels);
-        }
-
-        glBindBuffer(GL_ARRAY_BUFFER, mesh.vertices.get());
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indices.get());
-        const GLsizei stride = sizeof(Vertex);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(Vertex, position)));
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(Vertex, normal)));
-        glEnableVertexAttribArray(2);
-        glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(Vertex, tangent)));
-        glEnableVertexAttribArray(3);
-        glVertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offsetof(Vertex, uv)));
-        glDrawElements(GL_TRIANGLES, mesh.index_count, mesh.index_type, nullptr);
+        glFrontFace(mirrored ? GL_CW : GL_CCW);
+        set_material_uniforms(p, material, key);
+        draw_mesh(mesh);
         Status s = check_gl("drawing object '" + object.desc->name + "' with " + p.description());
         if (!s) return s;
     }

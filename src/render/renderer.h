@@ -21,6 +21,11 @@ namespace px {
 struct RendererOptions {
     // Entry points for extensions (KHR_debug); nullptr: no debug messages.
     GetProcAddress get_proc_address = nullptr;
+    // OpenGL ES 2.0 only: draw as a GPU without fragment highp would (every
+    // PX_HIGHP in the fragment stage is mediump, and the debug outputs use
+    // their 11-bit packing), whatever this context has. For testing the
+    // no-highp path on a context that has highp.
+    bool emulate_no_fragment_highp = false;
 };
 
 // What the renderer decided for one object: shown by `parallax render` and
@@ -46,9 +51,11 @@ public:
     // Uploads meshes and textures and builds the programs the scene needs.
     // Replaces any scene loaded before. Errors name the object or material.
     Status load(const SceneDesc& scene);
-    // Draws the loaded scene into `target`. GL state the renderer changes
-    // (framebuffer, viewport, program, depth and cull state, texture and
-    // buffer bindings) is restored afterwards for the host app.
+    // Draws the loaded scene into `target`. Every piece of GL state the
+    // renderer changes is restored afterwards for the host app (the list is
+    // in gl/state.h), and state the host left set that would change the
+    // image (scissor, stencil, blend, colour mask, sampler objects, ...) is
+    // set aside for the draw. `load` restores the host's state the same way.
     // `debug_output` (VariantKey::debug_output) draws what each shader
     // computed instead of colour; see render/surface_capture.h.
     Status draw(const RenderTarget& target, std::uint8_t debug_output = 0);

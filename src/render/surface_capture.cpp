@@ -6,13 +6,23 @@
 #include "gl/errors.h"
 #include "gl/framebuffer.h"
 #include "gl/handles.h"
+#include "gl/state.h"
 
 namespace px {
 
 namespace {
 
-double unpack24(const std::uint8_t* p) { return (p[0] * 65536.0 + p[1] * 256.0 + p[2]) / 16777215.0; }
-double unpack16(const std::uint8_t* p) { return (p[0] * 256.0 + p[1]) / 65535.0; }
+// Alpha of a drawn pixel in the packed passes: 255 for the highp packing
+// (24 and 16 bits), 128 for the 11-bit packing of a fragment stage without
+// highp (shaders_es/chunks/debug_output.glsl). 0: nothing drawn.
+constexpr std::uint8_t kDrawnHighp = 255;
+constexpr std::uint8_t kDrawnMediump = 128;
+
+double unpack(const std::uint8_t* p, int bytes, double levels) {
+    double e = 0.0;
+    for (int i = 0; i < bytes; ++i) e = e * 256.0 + p[i];
+    return e / levels;
+}
 
 }  // namespace
 
@@ -20,12 +30,7 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
     if (width < 1 || height < 1) return make_error("capture_surfaces: empty size");
     const Caps& caps = renderer.caps();
     const bool float_color = caps.es_major >= 3 && caps.has("GL_EXT_color_buffer_float");
-    GLint host_framebuffer = 0;
-    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &host_framebuffer);
-    struct Rebind {
-        GLint id;
-        ~Rebind() { glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(id)); }
-    } rebind{host_framebuffer};
+    SavedGlState saved(caps);
 
     Result<ColorDepthFramebuffer> target =
         make_color_depth_framebuffer(width, height, float_color ? ColorFormat::rgba32f : ColorFormat::rgba8, caps);
@@ -42,6 +47,7 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
         if (!drawn) return drawn.error();
         std::vector<float> pixels(count * 4);
         glBindFramebuffer(GL_FRAMEBUFFER, render_target.framebuffer);
+        set_pack_defaults(caps);
         glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, pixels.data());
         Status read = check_gl("reading the debug outputs (RGBA32F)");
         if (!read) return read.error();
@@ -55,26 +61,36 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
         return out;
     }
     std::vector<std::uint8_t> pixels(count * 4);
+    std::vector<std::uint8_t> drawn_mark(count, 0);  // pass 2's alpha: which packing each pixel has
     for (std::uint8_t pass = 2; pass <= 4; ++pass) {
         Status drawn = renderer.draw(render_target, pass);
         if (!drawn) return drawn.error();
         glBindFramebuffer(GL_FRAMEBUFFER, render_target.framebuffer);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        set_pack_defaults(caps);
         glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
         Status read = check_gl("reading the debug outputs (RGBA8 pass " + std::to_string(pass - 1) + " of 3)");
         if (!read) return read.error();
         for (size_t i = 0; i < count; ++i) {
             SurfaceSample& s = out.samples[i];
             const std::uint8_t* p = &pixels[4 * i];
+            if (pass == 2) {
+                if (p[3] != 0 && p[3] != kDrawnHighp && p[3] != kDrawnMediump)
+                    return make_error("debug outputs: pixel " + std::to_string(i % static_cast<size_t>(width)) + "," +
+                                      std::to_string(i / static_cast<size_t>(width)) + " has alpha " +
+                                      std::to_string(p[3]) + ", which marks no packing (0, 128 or 255)");
+                drawn_mark[i] = p[3];
+                s.covered = p[3] != 0;
+            }
+            // 24 and 16 bits, or 11 bits everywhere without fragment highp.
+            const bool highp = drawn_mark[i] == kDrawnHighp;
+            const double levels24 = highp ? 16777215.0 : 2047.0;
+            const double levels16 = highp ? 65535.0 : 2047.0;
             switch (pass) {
-                case 2:
-                    s.covered = p[3] == 255;
-                    s.uv.x = unpack24(p);
-                    break;
-                case 3: s.uv.y = unpack24(p); break;
+                case 2: s.uv.x = unpack(p, 3, levels24); break;
+                case 3: s.uv.y = unpack(p, 3, levels24); break;
                 default:
-                    s.height = unpack16(p);
-                    s.visibility = unpack16(p + 2);
+                    s.height = unpack(p, 2, levels16);
+                    s.visibility = unpack(p + 2, 2, levels16);
                     break;
             }
         }

@@ -723,10 +723,15 @@ glm::mat4 TransformDesc::matrix() const {
     return glm::scale(m, scale);
 }
 
+size_t SceneDesc::material_index(const std::string& material_name) const {
+    for (size_t i = 0; i < materials.size(); ++i)
+        if (materials[i].name == material_name) return i;
+    return materials.size();
+}
+
 const MaterialDesc* SceneDesc::find_material(const std::string& material_name) const {
-    for (const MaterialDesc& m : materials)
-        if (m.name == material_name) return &m;
-    return nullptr;
+    const size_t i = material_index(material_name);
+    return i < materials.size() ? &materials[i] : nullptr;
 }
 
 Status validate_scene(const SceneDesc& scene) {

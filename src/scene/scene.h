@@ -61,6 +61,19 @@ struct UvTransform {
         const glm::mat<2, 2, T> rotation(std::cos(a), std::sin(a), -std::sin(a), std::cos(a));
         return rotation * glm::mat<2, 2, T>(static_cast<T>(scale.x), T(0), T(0), static_cast<T>(scale.y));
     }
+    // Tiles per mesh uv unit, as a mean over directions: sqrt(|det|) of the
+    // linear part (the uniform part of the scale).
+    template <typename T>
+    T area_scale() const {
+        return std::sqrt(std::fabs(glm::determinant(matrix<T>())));
+    }
+    // The linear part over its area scale: carries mesh-tangent directions
+    // into the material's texture frame (rotation and mirroring only).
+    template <typename T>
+    glm::mat<2, 2, T> frame() const {
+        const T s = area_scale<T>();
+        return s > T(0) ? matrix<T>() / s : glm::mat<2, 2, T>(T(1));
+    }
 };
 
 struct MaterialDesc {
@@ -78,6 +91,10 @@ struct MaterialDesc {
     bool pack_height_in_normal_alpha = true;
     UvTransform uv;
     TechniqueOptions technique;  // technique and its options
+    // Lighting: Lambert diffuse plus Blinn-Phong specular, as the renderer's
+    // shaders_es/chunks/lighting.glsl and the reference both compute it.
+    float specular = 0.25f;   // specular intensity
+    float shininess = 32.0f;  // Blinn-Phong exponent
 
     float bias() const { return height_bias.value_or(-height_scale); }
     // Where the polygon sits within the relief, in units of its depth
@@ -124,6 +141,8 @@ struct SceneDesc {
     glm::vec3 background{0.02f, 0.02f, 0.03f};
 
     const MaterialDesc* find_material(const std::string& name) const;
+    // Index of the material of that name in `materials`, or materials.size().
+    size_t material_index(const std::string& name) const;
 };
 
 // Scenes built into the program.

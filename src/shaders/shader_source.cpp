@@ -67,7 +67,9 @@ std::string preamble(ShaderStage stage, int es_major) {
         p += "layout(location = 0) out highp vec4 px_frag_color;\n";
         p += "#define PX_FRAG_COLOR px_frag_color\n#define PX_FRAG_DEPTH gl_FragDepth\n";
     } else {
-        p += "#ifdef GL_FRAGMENT_PRECISION_HIGH\n#define PX_HIGHP highp\n#else\n#define PX_HIGHP mediump\n#endif\n";
+        // PX_NO_FRAGMENT_HIGHP: draw as a GPU without fragment highp would.
+        p += "#if defined(GL_FRAGMENT_PRECISION_HIGH) && !defined(PX_NO_FRAGMENT_HIGHP)\n#define PX_HIGHP highp\n"
+             "#else\n#define PX_HIGHP mediump\n#endif\n";
         p += "#define PX_VARYING varying\n";
         p += "#define PX_FRAG_COLOR gl_FragColor\n#define PX_FRAG_DEPTH gl_FragDepthEXT\n";
     }

@@ -1,0 +1,172 @@
+#include "shaders/interface.h"
+
+namespace px::shader {
+
+namespace {
+
+constexpr std::array<AttributeInfo, kAttributeCount> kAttributes = [] {
+    std::array<AttributeInfo, kAttributeCount> a{};
+    int slot = 0;
+#define PX_ROW(id, name, components) \
+    a[static_cast<std::size_t>(slot)] = AttributeInfo{Attribute::id, name, slot, components}; \
+    ++slot;
+    PX_SURFACE_ATTRIBUTES(PX_ROW)
+#undef PX_ROW
+    return a;
+}();
+
+constexpr std::array<UniformInfo, kUniformCount> kUniforms = {{
+#define PX_ROW(id, name, type, count) {Uniform::id, name, Type::type, count},
+    PX_SURFACE_UNIFORMS(PX_ROW)
+#undef PX_ROW
+}};
+
+// Units 0..3, in the order the shading reads them.
+constexpr std::array<SamplerInfo, kSamplerCount> kSamplers = {{
+    {Sampler::albedo, Uniform::albedo_map, 0},
+    {Sampler::normal, Uniform::normal_map, 1},
+    {Sampler::height, Uniform::height_map, 2},
+    {Sampler::max_map, Uniform::max_map, 3},
+}};
+
+template <typename Table, typename Id>
+constexpr bool rows_in_enum_order(const Table& table) {
+    for (std::size_t i = 0; i < table.size(); ++i)
+        if (static_cast<std::size_t>(table[i].id) != i) return false;
+    return true;
+}
+static_assert(rows_in_enum_order<decltype(kAttributes), Attribute>(kAttributes));
+static_assert(rows_in_enum_order<decltype(kUniforms), Uniform>(kUniforms));
+static_assert(rows_in_enum_order<decltype(kSamplers), Sampler>(kSamplers));
+
+bool has(const VariantKey& k, OptionFlag flag) { return (technique_info(k.technique).options & flag) != 0; }
+
+}  // namespace
+
+const std::array<AttributeInfo, kAttributeCount>& attributes() { return kAttributes; }
+const std::array<UniformInfo, kUniformCount>& uniforms() { return kUniforms; }
+const std::array<SamplerInfo, kSamplerCount>& samplers() { return kSamplers; }
+const AttributeInfo& info(Attribute a) { return kAttributes[static_cast<std::size_t>(a)]; }
+const UniformInfo& info(Uniform u) { return kUniforms[static_cast<std::size_t>(u)]; }
+const SamplerInfo& info(Sampler s) { return kSamplers[static_cast<std::size_t>(s)]; }
+
+const char* type_name(Type t) {
+    switch (t) {
+        case Type::float1: return "float";
+        case Type::vec2: return "vec2";
+        case Type::vec3: return "vec3";
+        case Type::vec4: return "vec4";
+        case Type::mat2: return "mat2";
+        case Type::mat3: return "mat3";
+        case Type::mat4: return "mat4";
+        case Type::int1: return "int";
+        case Type::sampler2d: return "sampler2D";
+    }
+    return "?";
+}
+
+namespace {
+
+// What a variant's output depends on, in the terms the rules below use.
+struct Uses {
+    bool shading;      // colour out (debug_output 0)
+    bool shows_uv;     // the hit uv is output: colour, or debug pass 1, 2 (u) or 3 (v)
+    bool shows_height; // the hit height and light 0's visibility: debug pass 1 or 4
+    bool traced;       // PX_READS_HEIGHT: a parallax offset or a trace
+    bool searches;     // a search along the view ray (march or maxmip): the hit height depends on the view
+    bool shadow;       // a shadow ray, read by the shading or by the shown visibility
+    bool view_in_trace;  // the view vector changes an output through the trace or the depth
+    bool frame;          // the texture-space frame (n, t, b) changes an output
+};
+
+Uses uses(const VariantKey& k) {
+    Uses u{};
+    u.shading = k.debug_output == 0;
+    u.shows_uv = u.shading || k.debug_output == 1 || k.debug_output == 2 || k.debug_output == 3;
+    u.shows_height = k.debug_output == 1 || k.debug_output == 4;
+    u.traced = has(k, kOptHeight);
+    u.searches = has(k, kOptSamples) || has(k, kOptSteps);
+    u.shadow = k.shadow != ShadowMode::none && (u.shading || u.shows_height);
+    // The hit uv always moves with the view; the hit height only where a
+    // search finds it (parallax and offset limiting read it at the unshifted
+    // uv); the visibility from the hit; the depth from the view's cosine.
+    u.view_in_trace = u.traced && (u.shows_uv || (u.shows_height && u.searches) || u.shadow || k.depth_write);
+    // The view vector (specular shading and the trace) and the light vectors
+    // (shading and the shadow ray) are both built from the frame.
+    u.frame = u.shading || u.view_in_trace || u.shadow;
+    return u;
+}
+
+}  // namespace
+
+bool needed(Uniform uniform, const VariantKey& key) {
+    const VariantKey k = key.canonical();
+    const Uses u = uses(k);
+    switch (uniform) {
+        // surface.vert: gl_Position.
+        case Uniform::model:
+        case Uniform::view:
+        case Uniform::projection: return true;
+        // surface.vert: v_uv, where the uv is shown or the height is read at it.
+        case Uniform::uv_matrix:
+        case Uniform::uv_offset: return u.shows_uv || u.traced;
+        // surface.vert: n, t, b and from them the view and light vectors.
+        case Uniform::normal_matrix:
+        case Uniform::model_handedness:
+        case Uniform::uv_frame: return u.frame;
+        case Uniform::camera_position: return u.shading || u.view_in_trace;
+        // surface.vert: the light vectors (shading, or light 0's shadow ray).
+        case Uniform::light_vector:
+        case Uniform::light_count: return u.shading || u.shadow;
+        // surface_main.glsl px_write_depth, in every pass (depth is output).
+        case Uniform::depth_projection:
+        case Uniform::units_per_tile: return k.depth_write;
+        // surface.vert folds it into the view vector; shadows.glsl and
+        // px_write_depth read it in the fragment stage.
+        case Uniform::height_scale: return u.traced && (u.shading || u.view_in_trace);
+        // surface_main.glsl: unscales the view vector for shading, and for the
+        // trace when the exact view vector is normalised per fragment.
+        case Uniform::inv_height_scale: return u.traced && (u.shading || (k.exact_view && u.view_in_trace));
+        // Every trace starts from the polygon; the debug outputs show it as
+        // the height of an untraced (or LOD-faded) surface.
+        case Uniform::polygon_height:
+            return u.traced ? (u.view_in_trace || (u.shows_height && k.lod)) : u.shows_height;
+        // surface_main.glsl px_shade.
+        case Uniform::light_color:
+        case Uniform::ambient:
+        case Uniform::specular:
+        case Uniform::shininess:
+        case Uniform::albedo_map: return u.shading;
+        // shadows.glsl: the penumbra of a soft shadow.
+        case Uniform::light_angular_radius: return u.shadow && k.shadow == ShadowMode::soft;
+        // px_mip_level (LOD) and maxmip's texel walk.
+        case Uniform::texture_size: return k.lod || has(k, kOptSteps);
+        // march.glsl: Tatarchuk's dynamic sample count.
+        case Uniform::sample_range: return has(k, kOptSamples);
+        case Uniform::lod_range: return k.lod;
+        case Uniform::max_levels:
+        case Uniform::max_map: return has(k, kOptSteps);
+        // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
+        // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
+        case Uniform::normal_map:
+            return (u.shading && k.technique != Technique::flat) || (u.traced && k.packed_height && k.es_major >= 3);
+        // The traced height's own texture: a separate height map, or on GLSL
+        // ES 1.00 a base-level copy of the packed one.
+        case Uniform::height_map: return u.traced && (!k.packed_height || k.es_major < 3);
+    }
+    return true;
+}
+
+bool needed(Attribute a, const VariantKey& key) {
+    const VariantKey k = key.canonical();
+    switch (a) {
+        case Attribute::position: return true;
+        case Attribute::uv: return needed(Uniform::uv_matrix, k);
+        // The texture-space frame (see uses()).
+        case Attribute::normal:
+        case Attribute::tangent: return uses(k).frame;
+    }
+    return true;
+}
+
+}  // namespace px::shader
