@@ -11,17 +11,10 @@
 // 128/255 tells the reader (src/render/surface_capture.cpp) which packing
 // it got, rather than a silently wrong decode.
 #if PX_ES >= 3 || (defined(GL_FRAGMENT_PRECISION_HIGH) && !defined(PX_NO_FRAGMENT_HIGHP))
-#define PX_DEBUG_LEVELS_24 16777215.0
-#define PX_DEBUG_LEVELS_16 65535.0
 #define PX_DEBUG_DRAWN 1.0
-#else
-#define PX_DEBUG_LEVELS_24 2047.0
-#define PX_DEBUG_LEVELS_16 2047.0
-#define PX_DEBUG_DRAWN (128.0 / 255.0)
-#endif
 
 PX_HIGHP vec3 px_pack24(PX_HIGHP float x) {
-    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * PX_DEBUG_LEVELS_24 + 0.5);
+    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * 16777215.0 + 0.5);
     PX_HIGHP float r = floor(e / 65536.0);
     e -= r * 65536.0;
     PX_HIGHP float g = floor(e / 256.0);
@@ -30,10 +23,23 @@ PX_HIGHP vec3 px_pack24(PX_HIGHP float x) {
 }
 
 PX_HIGHP vec2 px_pack16(PX_HIGHP float x) {
-    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * PX_DEBUG_LEVELS_16 + 0.5);
+    PX_HIGHP float e = floor(clamp(x, 0.0, 1.0) * 65535.0 + 0.5);
     PX_HIGHP float high = floor(e / 256.0);
     return vec2(high, e - high * 256.0) / 255.0;
 }
+#else
+// mediump: 11 bits in the same byte layout (the top byte 0), and no constant
+// past mediump's guaranteed range of 2^14 (65536 would overflow to inf).
+#define PX_DEBUG_DRAWN (128.0 / 255.0)
+
+mediump vec2 px_pack11(mediump float x) {
+    mediump float e = floor(clamp(x, 0.0, 1.0) * 2047.0 + 0.5);
+    mediump float high = floor(e / 256.0);
+    return vec2(high, e - high * 256.0) / 255.0;
+}
+mediump vec3 px_pack24(mediump float x) { return vec3(0.0, px_pack11(x)); }
+mediump vec2 px_pack16(mediump float x) { return px_pack11(x); }
+#endif
 
 PX_HIGHP vec4 px_debug_output(PX_HIGHP vec2 hit_uv, PX_HIGHP float hit_height, PX_HIGHP float visibility) {
 #if PX_DEBUG_OUTPUT == 1

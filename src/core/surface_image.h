@@ -20,6 +20,11 @@ struct SurfaceImage {
     int width = 0;
     int height = 0;
     std::vector<SurfaceSample> samples;  // row 0 = bottom, as GL reads
+    // How the GPU's debug outputs came back: 0 as floats (ES 3.0), 24 when
+    // packed in 24 bits per uv and 16 per height and visibility (ES 2.0),
+    // 11 when packed in 11 bits each (ES 2.0 without fragment highp). The
+    // reference leaves it 0.
+    int packing_bits = 0;
     const SurfaceSample& at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
 };
 

@@ -80,6 +80,12 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
                                       std::to_string(p[3]) + ", which marks no packing (0, 128 or 255)");
                 drawn_mark[i] = p[3];
                 s.covered = p[3] != 0;
+                if (p[3] != 0) {
+                    const int bits = p[3] == kDrawnHighp ? 24 : 11;
+                    if (out.packing_bits != 0 && out.packing_bits != bits)
+                        return make_error("debug outputs: pixels of both packings (24 and 11 bits) in one image");
+                    out.packing_bits = bits;
+                }
             }
             // 24 and 16 bits, or 11 bits everywhere without fragment highp.
             const bool highp = drawn_mark[i] == kDrawnHighp;
