@@ -6,6 +6,9 @@
 // Numbers are formatted with std::to_chars, which ignores the C locale.
 #include "profiling/bench_results.h"
 
+#include "core/files.h"
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <map>
 #include <array>
@@ -27,37 +30,8 @@ namespace px::profiling {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 
 // ------------------------------------------------------------------ output
-
-// errno after a failed call, or EIO where the call did not set it.
-int last_error() { return errno != 0 ? errno : EIO; }
-
-Status write_file_atomically(const std::string& path, const std::string& text) {
-    if (path.empty()) return make_error("bench report: empty output path");
-    const std::string tmp = path + ".tmp";
-    errno = 0;
-    std::FILE* file = std::fopen(tmp.c_str(), "wb");
-    if (file == nullptr) return make_error(path + ": cannot create " + tmp + ": " + std::strerror(last_error()));
-    int error = 0;
-    errno = 0;
-    if (std::fwrite(text.data(), 1, text.size(), file) != text.size()) error = last_error();
-    errno = 0;
-    if (std::fflush(file) != 0 && error == 0) error = last_error();
-    errno = 0;
-    if (std::fclose(file) != 0 && error == 0) error = last_error();
-    if (error != 0) {
-        std::remove(tmp.c_str());
-        return make_error(path + ": cannot write " + tmp + ": " + std::strerror(error));
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        error = last_error();
-        std::remove(tmp.c_str());
-        return make_error(path + ": cannot rename " + tmp + " over it: " + std::strerror(error));
-    }
-    return {};
-}
 
 // ----------------------------------------------------------------- numbers
 
@@ -486,7 +460,7 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
     auto regular = [&](int n, double rotation, double scale) {
         std::vector<std::pair<double, double>> unit;
         for (int i = 0; i < n; ++i) {
-            const double a = rotation + 2.0 * kPi * i / n;
+            const double a = rotation + 2.0 * kPi<double> * i / n;
             unit.emplace_back(scale * std::sin(a), -scale * std::cos(a));
         }
         return polygon(unit);
@@ -495,11 +469,11 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
         case Marker::circle:
             return "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(r) + "\"" + style;
         case Marker::square:
-            return regular(4, kPi / 4, 1.25);
+            return regular(4, kPi<double> / 4, 1.25);
         case Marker::triangle_up:
             return regular(3, 0, 1.3);
         case Marker::triangle_down:
-            return regular(3, kPi, 1.3);
+            return regular(3, kPi<double>, 1.3);
         case Marker::diamond:
             return regular(4, 0, 1.3);
         case Marker::pentagon:
@@ -509,7 +483,7 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
         case Marker::star: {
             std::vector<std::pair<double, double>> unit;
             for (int i = 0; i < 10; ++i) {
-                const double a = kPi * i / 5;
+                const double a = kPi<double> * i / 5;
                 const double s = i % 2 == 0 ? 1.45 : 0.6;
                 unit.emplace_back(s * std::sin(a), -s * std::cos(a));
             }
@@ -524,7 +498,7 @@ std::string marker_svg(Marker marker, double x, double y, double r, const std::s
                 {-w, -l}, {w, -l}, {w, -w}, {l, -w}, {l, w}, {w, w},
                 {w, l}, {-w, l}, {-w, w}, {-l, w}, {-l, -w}, {-w, -w}}};
             // clang-format on
-            const double a = marker == Marker::cross ? kPi / 4 : 0.0;
+            const double a = marker == Marker::cross ? kPi<double> / 4 : 0.0;
             std::vector<std::pair<double, double>> unit;
             for (const auto& [px, py] : plus)
                 unit.emplace_back(px * std::cos(a) - py * std::sin(a), px * std::sin(a) + py * std::cos(a));

@@ -781,3 +781,44 @@ TEST(TransformDesc, RotatesAboutXThenYThenZ) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// The lighting constants are material fields that the renderer and the
+// reference both read (docs/scene-format.md).
+TEST(SceneParse, LightingConstantsAreMaterialFields) {
+    Result<SceneDesc> s = parse_scene(
+        R"({"materials": [{"name": "m", "specular": 0.5, "shininess": 8}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    EXPECT_FLOAT_EQ(s->materials[0].specular, 0.5f);
+    EXPECT_FLOAT_EQ(s->materials[0].shininess, 8.0f);
+    const MaterialDesc defaults;
+    EXPECT_FLOAT_EQ(defaults.specular, 0.25f);
+    EXPECT_FLOAT_EQ(defaults.shininess, 32.0f);
+    Result<SceneDesc> typo = parse_scene(
+        R"({"materials": [{"name": "m", "shinines": 8}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(typo.ok());
+    EXPECT_NE(typo.error().message.find("did you mean 'shininess'"), std::string::npos) << typo.error().message;
+    Result<SceneDesc> range = parse_scene(
+        R"({"materials": [{"name": "m", "shininess": 0}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(range.ok());
+    EXPECT_NE(range.error().message.find("materials[0].shininess: must be within [1, 1024]"), std::string::npos)
+        << range.error().message;
+}
+
+// A texture source in no known form still gets a did-you-mean from the keys
+// that any of its forms reads.
+TEST(SceneErrors, SourceInNoFormSuggestsAKeyOfAnyForm) {
+    Result<SceneDesc> s = parse_scene(
+        R"({"materials": [{"name": "m", "height": {"procedurl": "sine"}}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("did you mean 'procedural'"), std::string::npos) << s.error().message;
+    Result<SceneDesc> known = parse_scene(
+        R"({"materials": [{"name": "m", "height": {"size": 64}}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(known.ok());
+    EXPECT_NE(known.error().message.find("needs one of"), std::string::npos) << known.error().message;
+}
+
+}  // namespace
+}  // namespace px

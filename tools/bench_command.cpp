@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "profiling/bench.h"
+#include "cli_common.h"
 #include "commands.h"
 #include "platform/headless_context.h"
 #include "render/offscreen_target.h"
@@ -32,11 +33,6 @@ struct BenchArgs {
     std::string out = "out/bench";
     std::string command;
 };
-
-int fail(const std::string& message) {
-    std::fprintf(stderr, "parallax: error: %s\n", message.c_str());
-    return 1;
-}
 
 // A progress bar on a terminal; a line per tenth of the work otherwise.
 void show_progress(int done, int total, const std::string& what) {
@@ -68,9 +64,8 @@ int run(BenchArgs a) {
     if (!a.angles.empty()) o.angles = a.angles;
     if (a.frames > 0) o.frames = a.frames;
     int width = 0, height = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(a.size.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x' || width < 1 || height < 1)
-        return fail("--size '" + a.size + "': expected WIDTHxHEIGHT, e.g. 256x256");
+    if (!parse_size(a.size, width, height))
+        return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 256x256");
     o.width = width;
     o.height = height;
     o.command = a.command;

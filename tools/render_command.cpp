@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_common.h"
 #include "commands.h"
 #include "platform/headless_context.h"
 #include "render/offscreen_target.h"
@@ -29,18 +30,6 @@ struct RenderArgs {
     bool list = false;
 };
 
-int fail(const std::string& message) {
-    std::fprintf(stderr, "parallax: error: %s\n", message.c_str());
-    return 1;
-}
-
-bool parse_size(const std::string& text, int& width, int& height) {
-    char x = 0;
-    char extra = 0;
-    return std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) == 3 && (x == 'x' || x == 'X') &&
-           width > 0 && height > 0;
-}
-
 void list_everything() {
     std::printf("techniques:\n");
     for (const TechniqueInfo& t : technique_table())
@@ -56,7 +45,7 @@ int run_render(const RenderArgs& a) {
     }
     int width = 0, height = 0;
     if (!parse_size(a.size, width, height))
-        return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with positive integers, e.g. 512x512");
+        return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
     if (a.frames < 1) return fail("--frames must be at least 1");
 
     Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene);

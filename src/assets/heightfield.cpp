@@ -1,5 +1,7 @@
 #include "assets/heightfield.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,18 +12,8 @@ namespace px {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxFieldSize = 8192;
 
-// Index wrapping for GL_REPEAT: result in [0, n) for any i (n > 0).
-int wrap_index(long long i, int n) {
-    long long r = i % n;
-    return static_cast<int>(r < 0 ? r + n : r);
-}
-
-std::uint8_t to_byte(double unit) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(unit, 0.0, 1.0) * 255.0));
-}
 
 // Formats a float for error messages without trailing noise ("0.3", not "0.300000").
 std::string num(double x) {
@@ -121,8 +113,9 @@ double distance_to_grid(double x, double period) {
     return std::abs(t - std::round(t)) * period;
 }
 
-// Checks the parameters the kind uses; other members of FieldSpec are ignored.
-Status validate(const FieldSpec& spec) {
+}  // namespace
+
+Status validate_field_spec(const FieldSpec& spec) {
     const std::string pre = field_prefix(spec);
     if (spec.size < 1 || spec.size > kMaxFieldSize)
         return make_error(pre + "size must be in 1.." + std::to_string(kMaxFieldSize) + ", got " +
@@ -207,6 +200,8 @@ Status validate(const FieldSpec& spec) {
     }
     return {};
 }
+
+namespace {
 
 // Running-bond bricks: rows of height 1/count, two bricks of width 1/2 per
 // row, odd rows shifted by half a brick. `d` is the distance to the nearest
@@ -316,22 +311,12 @@ double HeightField::sample_bilinear(double u, double v) const {
     // GL_LINEAR (ES 3.0 spec, 3.8.10): coordinates in texel space minus 0.5
     // put texel centres on integers; i0 = floor, weight = fraction, and
     // GL_REPEAT wraps i0 and i0 + 1 independently.
-    const double tx = u * width - 0.5;
-    const double ty = v * height - 0.5;
-    const double fx0 = std::floor(tx);
-    const double fy0 = std::floor(ty);
-    const double ax = tx - fx0;
-    const double ay = ty - fy0;
-    // Reduce before converting so huge coordinates cannot overflow the integer.
-    const int x0 = wrap_index(static_cast<long long>(std::fmod(fx0, width)), width);
-    const int y0 = wrap_index(static_cast<long long>(std::fmod(fy0, height)), height);
-    const int x1 = x0 + 1 == width ? 0 : x0 + 1;
-    const int y1 = y0 + 1 == height ? 0 : y0 + 1;
+    const BilinearTaps b = bilinear_taps(u, v, width, height);
     const auto t = [&](int x, int y) {
         return static_cast<double>(texels[static_cast<size_t>(y) * width + x]);
     };
-    return (1 - ax) * (1 - ay) * t(x0, y0) + ax * (1 - ay) * t(x1, y0) + (1 - ax) * ay * t(x0, y1) +
-           ax * ay * t(x1, y1);
+    return (1 - b.ax) * (1 - b.ay) * t(b.x0, b.y0) + b.ax * (1 - b.ay) * t(b.x1, b.y0) +
+           (1 - b.ax) * b.ay * t(b.x0, b.y1) + b.ax * b.ay * t(b.x1, b.y1);
 }
 
 HeightField height_field_from_image(const Image& image, HeightConvention convention) {
@@ -374,7 +359,7 @@ Result<FieldKind> parse_field_kind(const std::string& name) {
 // --- Procedural fields -----------------------------------------------------------
 
 Result<HeightField> make_height_field(const FieldSpec& spec) {
-    if (Status s = validate(spec); !s) return s.error();
+    if (Status s = validate_field_spec(spec); !s) return s.error();
     const int n = spec.size;
     switch (spec.kind) {
         case FieldKind::flat: {
@@ -416,7 +401,7 @@ Result<HeightField> make_height_field(const FieldSpec& spec) {
         case FieldKind::sine: {
             const double f = spec.frequency;
             return sample_field(n, [&](double u, double v) {
-                return 0.5 + 0.5 * std::sin(2.0 * kPi * f * u) * std::sin(2.0 * kPi * f * v);
+                return 0.5 + 0.5 * std::sin(2.0 * kPi<double> * f * u) * std::sin(2.0 * kPi<double> * f * v);
             });
         }
         case FieldKind::spike: {
@@ -456,10 +441,10 @@ Image derive_normal_map(const HeightField& field, float height_scale, bool pack_
             const double dhdv = (static_cast<double>(field.at(x, y + 1)) - field.at(x, y - 1)) * sy;
             const double len = std::sqrt(dhdu * dhdu + dhdv * dhdv + 1.0);
             std::uint8_t* p = img.texel(x, y);
-            p[0] = to_byte(-dhdu / len * 0.5 + 0.5);
-            p[1] = to_byte(-dhdv / len * 0.5 + 0.5);
-            p[2] = to_byte(1.0 / len * 0.5 + 0.5);
-            p[3] = pack_height ? to_byte(field.at(x, y)) : std::uint8_t{255};
+            p[0] = to_unorm8(-dhdu / len * 0.5 + 0.5);
+            p[1] = to_unorm8(-dhdv / len * 0.5 + 0.5);
+            p[2] = to_unorm8(1.0 / len * 0.5 + 0.5);
+            p[3] = pack_height ? to_unorm8(field.at(x, y)) : std::uint8_t{255};
         }
     return img;
 }
@@ -472,7 +457,7 @@ Image height_image(const HeightField& field) {
     img.pixels.resize(static_cast<size_t>(field.width) * field.height * 4);
     for (int y = 0; y < field.height; ++y)
         for (int x = 0; x < field.width; ++x) {
-            const std::uint8_t h = to_byte(field.at(x, y));
+            const std::uint8_t h = to_unorm8(field.at(x, y));
             std::uint8_t* p = img.texel(x, y);
             p[0] = p[1] = p[2] = h;
             p[3] = 255;  // opaque, so the image views as grey; the height is in R (and G, B)

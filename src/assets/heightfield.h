@@ -69,6 +69,11 @@ const char* field_kind_name(FieldKind kind);
 Result<FieldKind> parse_field_kind(const std::string& name);
 std::vector<std::string> field_kind_names();
 
+// Checks the parameters the kind uses (other members of FieldSpec are
+// ignored) without generating anything: the field's own rules (even brick
+// rows, mortar width, glyphs, line spacing, sizes). make_height_field checks
+// the same before it allocates.
+Status validate_field_spec(const FieldSpec& spec);
 Result<HeightField> make_height_field(const FieldSpec& spec);
 
 // Tangent-space normal map of a height field whose relief is `height_scale`

@@ -1,5 +1,7 @@
 #include "assets/image.h"
 
+#include "core/files.h"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -104,27 +106,8 @@ Status write_png(const std::string& path, const Image& image) {
                                 top_down.data(), static_cast<int>(stride)))
         return make_error(path + ": cannot write PNG: encoding failed");
 
-    // Write next to the target, then rename: readers never see a partial file
-    // and a failed write leaves any previous file intact (rename is atomic
-    // within a file system on POSIX).
-    const std::string tmp = path + ".tmp";
-    errno = 0;
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) return make_error(path + ": cannot write PNG: cannot create " + tmp + ": " + errno_text(errno));
-    const bool wrote = std::fwrite(encoded.data(), 1, encoded.size(), f) == encoded.size();
-    const int write_err = errno;
-    const bool closed = std::fclose(f) == 0;  // fclose flushes: it can fail too (disk full)
-    const int close_err = errno;
-    if (!wrote || !closed) {
-        std::remove(tmp.c_str());
-        return make_error(path + ": cannot write PNG: " + errno_text(!wrote ? write_err : close_err));
-    }
-    errno = 0;
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int err = errno;
-        std::remove(tmp.c_str());
-        return make_error(path + ": cannot write PNG: cannot rename " + tmp + ": " + errno_text(err));
-    }
+    Status written = write_file_atomically(path, encoded.data(), encoded.size());
+    if (!written) return make_error("cannot write PNG: " + written.error().message);
     return {};
 }
 

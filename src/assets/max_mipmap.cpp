@@ -1,5 +1,7 @@
 #include "assets/max_mipmap.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,14 +10,10 @@ namespace px {
 
 namespace {
 
-bool power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
 // Index wrapping for GL_REPEAT: result in [0, n) for any i (n a power of two).
 int wrap_pow2(long long i, int n) { return static_cast<int>(i & static_cast<long long>(n - 1)); }
 
-std::uint8_t quantize(float h) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(static_cast<double>(h), 0.0, 1.0) * 255.0));
-}
 
 Image single_channel(int width, int height) {
     Image img;
@@ -40,7 +38,7 @@ float MaxMipmap::max_height(int level, long long x, long long y) const {
 Result<MaxMipmap> build_max_mipmap(const HeightField& field) {
     const std::string size = std::to_string(field.width) + "x" + std::to_string(field.height);
     if (field.width < 1 || field.height < 1) return make_error("max mipmap: empty height field (" + size + ")");
-    if (!power_of_two(field.width) || !power_of_two(field.height))
+    if (!is_power_of_two(field.width) || !is_power_of_two(field.height))
         return make_error("max mipmap: height field size " + size +
                           " is not a power of two in both width and height (the quadtree halves every "
                           "level exactly); resize the field");
@@ -51,7 +49,7 @@ Result<MaxMipmap> build_max_mipmap(const HeightField& field) {
     const int w = field.width;
     const int h = field.height;
     std::vector<std::uint8_t> q(field.texels.size());
-    for (size_t i = 0; i < q.size(); ++i) q[i] = quantize(field.texels[i]);
+    for (size_t i = 0; i < q.size(); ++i) q[i] = to_unorm8(field.texels[i]);
     const auto texel = [&](int x, int y) { return q[static_cast<size_t>(y % h) * w + x % w]; };
 
     MaxMipmap m;

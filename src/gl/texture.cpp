@@ -2,14 +2,11 @@
 
 #include <string>
 
+#include "core/numeric.h"
 #include "gl/errors.h"
 #include "gl/state.h"
 
 namespace px {
-
-namespace {
-bool power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
-}  // namespace
 
 Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps) {
     if (image.width < 1 || image.height < 1 || image.pixels.empty())
@@ -17,7 +14,7 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
     if (image.width > caps.max_texture_size || image.height > caps.max_texture_size)
         return make_error(what + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                           " exceeds this context's GL_MAX_TEXTURE_SIZE of " + std::to_string(caps.max_texture_size));
-    if (!caps.npot_mipmaps() && !(power_of_two(image.width) && power_of_two(image.height)))
+    if (!caps.npot_mipmaps() && !(is_power_of_two(image.width) && is_power_of_two(image.height)))
         return make_error(what + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                           " is not a power of two, and this OpenGL ES 2.0 context lacks GL_OES_texture_npot, "
                           "so it can neither repeat nor mipmap it; resize the image");

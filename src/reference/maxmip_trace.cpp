@@ -1,5 +1,7 @@
 #include "reference/maxmip_trace.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,8 +31,7 @@ int log2_pow2(int n) {
 float corner_height(const HeightField& field, int x, int y) {
     // The 8-bit texel the GPU samples as exactly byte / 255 (the shader's
     // px_exact_8bit undoes a mediump sampler's fp16 rounding).
-    const double h = std::clamp(static_cast<double>(field.texels[static_cast<size_t>(y) * field.width + x]), 0.0, 1.0);
-    return static_cast<float>(std::lround(h * 255.0)) / 255.0f;
+    return static_cast<float>(to_unorm8(field.texels[static_cast<size_t>(y) * field.width + x])) / 255.0f;
 }
 
 // The ray in the traversal's frame, as maxmip.frag sets it up. Cell space is

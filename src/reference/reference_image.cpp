@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/limits.h"
+#include "core/numeric.h"
 #include "reference/tracer.h"
 #include "scene/material_images.h"
 
@@ -53,20 +54,7 @@ struct LightData {
 glm::dvec4 sample_bilinear(const Image& image, glm::dvec2 uv) {
     const int w = image.width;
     const int h = image.height;
-    const double tx = uv.x * w - 0.5;
-    const double ty = uv.y * h - 0.5;
-    const double fx = std::floor(tx);
-    const double fy = std::floor(ty);
-    const double ax = tx - fx;
-    const double ay = ty - fy;
-    auto wrap = [](double i, int n) {
-        const long long r = static_cast<long long>(std::fmod(i, static_cast<double>(n)));
-        return static_cast<int>(r < 0 ? r + n : r);
-    };
-    const int x0 = wrap(fx, w);
-    const int y0 = wrap(fy, h);
-    const int x1 = x0 + 1 == w ? 0 : x0 + 1;
-    const int y1 = y0 + 1 == h ? 0 : y0 + 1;
+    const BilinearTaps b = bilinear_taps(uv.x, uv.y, w, h);
     auto texel = [&](int x, int y) {
         const std::uint8_t* p = image.texel(x, y);
         glm::dvec4 v(1.0);
@@ -74,7 +62,8 @@ glm::dvec4 sample_bilinear(const Image& image, glm::dvec2 uv) {
         if (image.channels == 4) v.w = p[3] / 255.0;
         return v;
     };
-    return glm::mix(glm::mix(texel(x0, y0), texel(x1, y0), ax), glm::mix(texel(x0, y1), texel(x1, y1), ax), ay);
+    return glm::mix(glm::mix(texel(b.x0, b.y0), texel(b.x1, b.y0), b.ax), glm::mix(texel(b.x0, b.y1), texel(b.x1, b.y1), b.ax),
+                    b.ay);
 }
 
 // Into the material's texture frame: tangent-space components, then the uv
@@ -87,9 +76,6 @@ glm::dvec3 to_texture_frame(const PlaneData& plane, glm::dvec3 v) {
     return len > 0.0 ? ts / len : glm::dvec3(0.0);
 }
 
-std::uint8_t to_byte(double v) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
-}
 
 struct Frame {
     glm::dvec3 eye{0.0};
@@ -145,7 +131,7 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
         mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
     }
     if (!nearest) {
-        for (int c = 0; c < 3; ++c) rgba[c] = to_byte(f.background[c]);
+        for (int c = 0; c < 3; ++c) rgba[c] = to_unorm8(f.background[c]);
         rgba[3] = 255;
         return;
     }
@@ -183,7 +169,7 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
         const double specular = n_dot_l > 0.0 ? m.specular * std::pow(n_dot_h, m.shininess) : 0.0;
         color += visibility * l.color * (albedo * n_dot_l + glm::dvec3(specular));
     }
-    for (int c = 0; c < 3; ++c) rgba[c] = to_byte(color[c]);
+    for (int c = 0; c < 3; ++c) rgba[c] = to_unorm8(color[c]);
     rgba[3] = 255;
 
     sample.covered = m.reads_height;

@@ -1,5 +1,7 @@
 #include "reference/tracer.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,7 +11,6 @@ namespace px::reference {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 
 // Beyond this many texels from the origin a double cannot resolve a cell's
 // local coordinates to better than ~1e-4, so the walk refuses to start.
@@ -228,8 +229,7 @@ bool occluded(const HeightField& field, const Ray& ray, double t_min, double t_m
 HeightField quantized_8bit(const HeightField& field) {
     HeightField q = field;
     // Clamped as the unorm8 upload clamps (assets: to_byte).
-    for (float& h : q.texels)
-        h = static_cast<float>(std::round(std::clamp(static_cast<double>(h), 0.0, 1.0) * 255.0) / 255.0);
+    for (float& h : q.texels) h = static_cast<float>(quantize_unorm8(h));
     return q;
 }
 
@@ -296,7 +296,7 @@ double soft_visibility(const HeightField& field, glm::dvec2 uv, double height, g
     // in [cos r, 1] (1 - cos r = 2 sin^2(r/2) without cancellation), the
     // azimuth advancing by the golden angle. Deterministic and stratified.
     const double one_minus_cos_r = 2.0 * std::sin(0.5 * angular_radius) * std::sin(0.5 * angular_radius);
-    const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
+    const double golden_angle = kPi<double> * (3.0 - std::sqrt(5.0));
     double lit = 0.0;
     for (int k = 0; k < samples; ++k) {
         const double one_minus_cos = (k + 0.5) / samples * one_minus_cos_r;

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/limits.h"
+#include "core/numeric.h"
 #include "gl/state.h"
 #include "gl/texture.h"
 #include "scene/material_images.h"
@@ -309,7 +310,7 @@ Status Renderer::load(const SceneDesc& scene) {
         if (!images) return images.error();
         const std::string what = "material '" + m.name + "'";
         g.field = images->field;
-        for (float& h : g.field.texels) h = std::round(h * 255.0f) / 255.0f;
+        for (float& h : g.field.texels) h = static_cast<float>(to_unorm8(h)) / 255.0f;
         Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo");
         if (!albedo) return albedo.error();
         g.albedo = std::move(*albedo);

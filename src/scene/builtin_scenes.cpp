@@ -1,21 +1,17 @@
 // Scenes built into the program, written in C++ so they need no files. The
 // scene's up axis is +z; planes lie in the xy plane with u along +x, v along +y.
+#include "scene/scene.h"
+
 #include <cmath>
 #include <utility>
-
-#include "scene/scene.h"
 
 namespace px {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
-
-float radians(float degrees) { return degrees * kPi / 180.0f; }
-
 // Unit vector at `azimuth_deg` around +z from +x, `elevation_deg` above the xy plane.
 glm::vec3 spherical(float azimuth_deg, float elevation_deg) {
-    const float a = radians(azimuth_deg), e = radians(elevation_deg);
+    const float a = glm::radians(azimuth_deg), e = glm::radians(elevation_deg);
     return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
 }
 

@@ -1,5 +1,7 @@
 #include "scene/material_images.h"
 
+#include "core/numeric.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -12,9 +14,6 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
     return base_dir + "/" + path;
 }
 
-std::uint8_t to_byte(float v) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-}
 
 Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir) {
     const TextureSource& s = m.height;
@@ -64,7 +63,7 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
                                   std::to_string(out.field.width) + "x" + std::to_string(out.field.height) +
                                   ") must be the same size to pack height into the normal map's alpha");
             for (int y = 0; y < normal->height; ++y)
-                for (int x = 0; x < normal->width; ++x) normal->texel(x, y)[3] = to_byte(out.field.at(x, y));
+                for (int x = 0; x < normal->width; ++x) normal->texel(x, y)[3] = to_unorm8(out.field.at(x, y));
         }
         out.normal = std::move(*normal);
     } else if (m.normal.kind == TextureSource::Kind::procedural) {
@@ -77,7 +76,7 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
                 return make_error(where + ": the procedural normal field and the height field must be the same size "
                                           "to pack height into the normal map's alpha");
             for (int y = 0; y < bumps->height; ++y)
-                for (int x = 0; x < bumps->width; ++x) out.normal.texel(x, y)[3] = to_byte(out.field.at(x, y));
+                for (int x = 0; x < bumps->width; ++x) out.normal.texel(x, y)[3] = to_unorm8(out.field.at(x, y));
         }
     } else {
         out.normal = derive_normal_map(out.field, m.height_scale, m.pack_height_in_normal_alpha);
@@ -89,8 +88,8 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
             out.albedo = make_solid_image(4, 4, 204, 204, 204);
             break;
         case TextureSource::Kind::color:
-            out.albedo = make_solid_image(4, 4, to_byte(m.albedo.color.r), to_byte(m.albedo.color.g),
-                                          to_byte(m.albedo.color.b));
+            out.albedo = make_solid_image(4, 4, to_unorm8(m.albedo.color.r), to_unorm8(m.albedo.color.g),
+                                          to_unorm8(m.albedo.color.b));
             break;
         case TextureSource::Kind::file: {
             Result<Image> albedo = load_image(resolve(base_dir, m.albedo.path), 4);

@@ -6,11 +6,12 @@
 #include <cstddef>
 #include <string>
 
+#include "core/numeric.h"
+
 namespace px {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
 
 struct MeshKindName {
     MeshKind kind;
@@ -331,10 +332,10 @@ Mesh make_uv_sphere(float radius, int slices, int stacks) {
         push({0.0f, 0.0f, -1.0f}, {(static_cast<float>(j) + 0.5f) / fs, 0.0f});
     for (int k = 1; k < nt; ++k) {
         const float v = static_cast<float>(k) / ft;
-        const float lat = kPi * (v - 0.5f);
+        const float lat = kPi<float> * (v - 0.5f);
         for (int j = 0; j <= ns; ++j) {  // j = ns duplicates j = 0 with u = 1
             const float u = static_cast<float>(j) / fs;
-            const float lon = 2.0f * kPi * u;
+            const float lon = 2.0f * kPi<float> * u;
             push({-std::sin(lon) * std::cos(lat), std::cos(lon) * std::cos(lat), std::sin(lat)},
                  {u, v});
         }
@@ -367,10 +368,10 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
     // triangle. v = 0 is the outer equator, v = 0.25 the top.
     for (int j = 0; j <= nt; ++j) {
         const float v = static_cast<float>(j) / static_cast<float>(nt);
-        const float tube = 2.0f * kPi * v;
+        const float tube = 2.0f * kPi<float> * v;
         for (int i = 0; i <= nr; ++i) {
             const float u = static_cast<float>(i) / static_cast<float>(nr);
-            const float around = 2.0f * kPi * u;
+            const float around = 2.0f * kPi<float> * u;
             const glm::vec3 radial(std::cos(around), std::sin(around), 0.0f);
             const glm::vec3 n = std::cos(tube) * radial + glm::vec3(0.0f, 0.0f, std::sin(tube));
             Vertex vert;

@@ -24,6 +24,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/numeric.h"
+
 namespace px {
 
 namespace {
@@ -105,11 +107,11 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 }
 
 std::string unknown_field_message(const std::string& key, const std::string& path,
-                                  std::initializer_list<std::string_view> known) {
+                                  const std::vector<std::string>& known) {
     std::string message = "unknown field '" + key + "' " + (path.empty() ? "at the top level" : "in " + path);
     std::string_view best;
     std::size_t best_distance = 3;  // suggest only within an edit distance of 2
-    for (std::string_view k : known) {
+    for (const std::string& k : known) {
         const std::size_t d = edit_distance(key, k);
         if (d < best_distance) {
             best = k;
@@ -325,44 +327,57 @@ private:
     std::optional<Error> error_;
 };
 
-// One JSON object at a path and the keys it may hold: any other key is an
-// error. A null `j` stands for an absent object, whose reads keep defaults.
+// One JSON object at a path. The keys it may hold are the keys read from it:
+// every get, has and read records its key, and when the reading is done
+// (finish(), or at the end of the scope) any other key in the object is an
+// unknown field, with a did-you-mean among the recorded ones. So each key is
+// written once, where it is read. A null `j` stands for an absent object,
+// whose reads keep their defaults.
 class Fields {
 public:
-    Fields(Reader& r, const json* j, std::string path, std::initializer_list<std::string_view> keys)
-        : r_(r), path_(std::move(path)) {
+    Fields(Reader& r, const json* j, std::string path) : r_(r), path_(std::move(path)) {
         if (!j || r_.failed()) return;
         if (!j->is_object()) {
             r_.fail(path_, "expected an object, got " + describe(*j));
             return;
         }
-        for (auto it = j->begin(); it != j->end(); ++it) {
-            if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) {
-                r_.fail_message(unknown_field_message(it.key(), path_, keys));
-                return;
-            }
-        }
         j_ = j;
     }
+    ~Fields() { finish(); }
+    Fields(const Fields&) = delete;
+    Fields& operator=(const Fields&) = delete;
 
-    const json* get(const std::string& key) const {
+    // Reports the first key of the object that no read asked for.
+    void finish() {
+        if (!j_ || finished_) return;
+        finished_ = true;
+        if (r_.failed()) return;
+        for (auto it = j_->begin(); it != j_->end(); ++it)
+            if (std::find(asked_.begin(), asked_.end(), it.key()) == asked_.end()) {
+                r_.fail_message(unknown_field_message(it.key(), path_, asked_));
+                return;
+            }
+    }
+
+    const json* get(const std::string& key) {
+        if (std::find(asked_.begin(), asked_.end(), key) == asked_.end()) asked_.push_back(key);
         if (!j_ || r_.failed()) return nullptr;
         const auto it = j_->find(key);
         return it == j_->end() ? nullptr : &*it;
     }
-    bool has(const std::string& key) const { return get(key) != nullptr; }
+    bool has(const std::string& key) { return get(key) != nullptr; }
     std::string sub(const std::string& key) const { return field_path(path_, key); }
 
     template <typename T>
-    void read(const std::string& key, T& out) const {
+    void read(const std::string& key, T& out) {
         if (const json* v = get(key)) r_.value(*v, sub(key), out);
     }
     template <typename T>
-    void read_scale(const std::string& key, T& out) const {
+    void read_scale(const std::string& key, T& out) {
         if (const json* v = get(key)) r_.scale(*v, sub(key), out);
     }
     template <typename T>
-    void read_named(const std::string& key, Result<T> (*parse)(const std::string&), T& out) const {
+    void read_named(const std::string& key, Result<T> (*parse)(const std::string&), T& out) {
         if (const json* v = get(key)) r_.named(*v, sub(key), parse, out);
     }
 
@@ -370,6 +385,8 @@ private:
     Reader& r_;
     std::string path_;
     const json* j_ = nullptr;
+    std::vector<std::string> asked_;
+    bool finished_ = false;
 };
 
 MaterialDesc default_material(std::string name) {
@@ -382,6 +399,30 @@ MaterialDesc default_material(std::string name) {
     m.height.field.level = 1.0f;
     return m;
 }
+
+// The three object forms of a texture source. Each reads its own keys; a
+// source in no known form reads all three into a scratch value, so that the
+// keys any form knows are recorded and only truly unknown ones are reported.
+void read_file_form(Reader& r, Fields& f, bool height_slot, TextureSource& out) {
+    f.read("file", out.path);
+    if (f.has("convention") && !height_slot)
+        return r.fail(f.sub("convention"), "only a height map has a convention (height or depth)");
+    f.read_named("convention", parse_convention, out.convention);
+}
+
+void read_procedural_form(Fields& f, TextureSource& out) {
+    f.read_named("procedural", parse_field_kind, out.field.kind);
+    f.read("size", out.field.size);
+    f.read("level", out.field.level);
+    f.read("count", out.field.count);
+    f.read("frequency", out.field.frequency);
+    f.read("mortar", out.field.mortar);
+    f.read("line_width", out.field.line_width);
+    f.read("radius", out.field.radius);
+    f.read("text", out.field.text);
+}
+
+void read_color_form(Fields& f, TextureSource& out) { f.read("color", out.color); }
 
 // SOURCE: "path" | {"file", "convention"} | {"procedural", FieldSpec fields...} | {"color"}.
 void read_source(Reader& r, const json& j, const std::string& path, bool height_slot, TextureSource& out) {
@@ -398,42 +439,31 @@ void read_source(Reader& r, const json& j, const std::string& path, bool height_
     const int forms = int(j.contains("file")) + int(j.contains("procedural")) + int(j.contains("color"));
     if (forms > 1) return r.fail(path, "give one of \"file\", \"procedural\" or \"color\", not several");
 
+    Fields f(r, &j, path);
     if (j.contains("file")) {
-        Fields f(r, &j, path, {"file", "convention"});
         out.kind = TextureSource::Kind::file;
-        f.read("file", out.path);
-        if (f.has("convention") && !height_slot)
-            return r.fail(f.sub("convention"), "only a height map has a convention (height or depth)");
-        f.read_named("convention", parse_convention, out.convention);
+        read_file_form(r, f, height_slot, out);
     } else if (j.contains("procedural")) {
-        Fields f(r, &j, path,
-                 {"procedural", "size", "level", "count", "frequency", "mortar", "line_width", "radius", "text"});
         out.kind = TextureSource::Kind::procedural;
-        f.read_named("procedural", parse_field_kind, out.field.kind);
-        f.read("size", out.field.size);
-        f.read("level", out.field.level);
-        f.read("count", out.field.count);
-        f.read("frequency", out.field.frequency);
-        f.read("mortar", out.field.mortar);
-        f.read("line_width", out.field.line_width);
-        f.read("radius", out.field.radius);
-        f.read("text", out.field.text);
+        read_procedural_form(f, out);
     } else if (j.contains("color")) {
-        Fields f(r, &j, path, {"color"});
         out.kind = TextureSource::Kind::color;
-        f.read("color", out.color);
+        read_color_form(f, out);
     } else {
-        // Checking the keys first turns {"fiel": ...} into a "did you mean 'file'";
-        // keys valid in some form ({"size": 64}) get the message below instead.
-        Fields f(r, &j, path,
-                 {"file", "procedural", "color", "convention", "size", "level", "count", "frequency", "mortar",
-                  "line_width", "radius", "text"});
+        // Reading every form's keys first turns {"fiel": ...} into a "did you
+        // mean 'file'"; keys valid in some form ({"size": 64}) get the message
+        // below instead.
+        TextureSource scratch;
+        read_file_form(r, f, true, scratch);
+        read_procedural_form(f, scratch);
+        read_color_form(f, scratch);
+        f.finish();
         r.fail(path, "needs one of \"file\", \"procedural\" or \"color\"");
     }
 }
 
 void read_camera(Reader& r, const json* j, CameraDesc& cam) {
-    Fields f(r, j, "camera", {"position", "target", "up", "fov_y_deg", "near", "far"});
+    Fields f(r, j, "camera");
     f.read("position", cam.position);
     f.read("target", cam.target);
     f.read("up", cam.up);
@@ -443,7 +473,7 @@ void read_camera(Reader& r, const json* j, CameraDesc& cam) {
 }
 
 void read_light(Reader& r, const json& j, const std::string& path, LightDesc& light) {
-    Fields f(r, &j, path, {"type", "direction", "position", "color", "intensity", "angular_radius_deg"});
+    Fields f(r, &j, path);
     f.read_named("type", parse_light_kind, light.kind);
     f.read("direction", light.direction);
     f.read("position", light.position);
@@ -453,9 +483,7 @@ void read_light(Reader& r, const json& j, const std::string& path, LightDesc& li
 }
 
 void read_options(Reader& r, const json* j, const std::string& path, TechniqueOptions& t) {
-    Fields f(r, j, path,
-             {"min_samples", "max_samples", "refine_steps", "max_steps", "shadow", "shadow_samples", "depth_write", "exact_view", "lod",
-              "lod_threshold", "lod_band"});
+    Fields f(r, j, path);
     f.read("min_samples", t.min_samples);
     f.read("max_samples", t.max_samples);
     f.read("refine_steps", t.refine_steps);
@@ -470,9 +498,7 @@ void read_options(Reader& r, const json* j, const std::string& path, TechniqueOp
 }
 
 void read_material(Reader& r, const json& j, const std::string& path, MaterialDesc& m) {
-    Fields f(r, &j, path,
-             {"name", "albedo", "height", "normal", "height_scale", "height_bias", "pack_height_in_normal_alpha",
-              "uv", "technique", "options"});
+    Fields f(r, &j, path);
     f.read("name", m.name);
     if (const json* s = f.get("albedo")) read_source(r, *s, f.sub("albedo"), false, m.albedo);
     if (const json* s = f.get("height")) read_source(r, *s, f.sub("height"), true, m.height);
@@ -484,8 +510,10 @@ void read_material(Reader& r, const json& j, const std::string& path, MaterialDe
         m.height_bias = bias;
     }
     f.read("pack_height_in_normal_alpha", m.pack_height_in_normal_alpha);
+    f.read("specular", m.specular);
+    f.read("shininess", m.shininess);
 
-    Fields uv(r, f.get("uv"), f.sub("uv"), {"scale", "offset", "rotation_deg"});
+    Fields uv(r, f.get("uv"), f.sub("uv"));
     uv.read_scale("scale", m.uv.scale);
     uv.read("offset", m.uv.offset);
     uv.read("rotation_deg", m.uv.rotation_deg);
@@ -495,11 +523,11 @@ void read_material(Reader& r, const json& j, const std::string& path, MaterialDe
 }
 
 void read_object(Reader& r, const json& j, const std::string& path, ObjectDesc& o) {
-    Fields f(r, &j, path, {"name", "mesh", "transform", "material"});
+    Fields f(r, &j, path);
     f.read("name", o.name);
     f.read("material", o.material);
 
-    Fields mesh(r, f.get("mesh"), f.sub("mesh"), {"type", "size", "segments", "radius", "tube_radius", "displaced"});
+    Fields mesh(r, f.get("mesh"), f.sub("mesh"));
     mesh.read_named("type", parse_mesh_kind, o.mesh.kind);
     mesh.read("size", o.mesh.size);
     mesh.read("segments", o.mesh.segments);
@@ -507,7 +535,7 @@ void read_object(Reader& r, const json& j, const std::string& path, ObjectDesc& 
     mesh.read("tube_radius", o.mesh.tube_radius);
     mesh.read("displaced", o.mesh.displaced);
 
-    Fields t(r, f.get("transform"), f.sub("transform"), {"translate", "rotate_deg", "scale"});
+    Fields t(r, f.get("transform"), f.sub("transform"));
     t.read("translate", o.transform.translate);
     t.read("rotate_deg", o.transform.rotate_deg);
     t.read_scale("scale", o.transform.scale);
@@ -515,7 +543,7 @@ void read_object(Reader& r, const json& j, const std::string& path, ObjectDesc& 
 
 void read_scene(Reader& r, const json& doc, SceneDesc& scene) {
     if (!doc.is_object()) return r.fail_message("a scene must be a JSON object, got " + describe(doc));
-    Fields root(r, &doc, "", {"name", "camera", "ambient", "background", "lights", "materials", "objects"});
+    Fields root(r, &doc, "");
     root.read("name", scene.name);
     read_camera(r, root.get("camera"), scene.camera);
     root.read("ambient", scene.ambient);
@@ -585,7 +613,6 @@ bool no_zero(const glm::vec<N, float, glm::defaultp>& v) {
     return true;
 }
 
-bool is_power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 void check_source(Checker& c, const TextureSource& s, const std::string& path) {
     switch (s.kind) {
@@ -604,9 +631,9 @@ void check_source(Checker& c, const TextureSource& s, const std::string& path) {
                            "must be a power of two (OpenGL ES 2.0 repeats only those), got " +
                                std::to_string(s.field.size)))
                 return;
-            // The field's own rules (even brick rows, mortar width, glyphs...)
-            // live with the generator; building it is the one true check.
-            Result<HeightField> field = make_height_field(s.field);
+            // The field's own rules live with the generator, which checks
+            // them without generating the field.
+            const Status field = validate_field_spec(s.field);
             c.require(field.ok(), path, field.ok() ? "" : field.error().message);
             return;
         }
@@ -653,6 +680,12 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
               "components must be finite and non-zero, got " + num(m.uv.scale));
     c.require(finite(m.uv.offset), path + ".uv.offset", "must be finite, got " + num(m.uv.offset));
     c.require(std::isfinite(m.uv.rotation_deg), path + ".uv.rotation_deg", "must be finite");
+    c.require(m.specular >= 0.0f && m.specular <= 16.0f, path + ".specular",
+              "must be within [0, 16], got " + num(m.specular));
+    // The exponent runs in mediump (fp16 on mobile GPUs): past 1024 the
+    // highlight is a single pixel and pow's result underflows.
+    c.require(m.shininess >= 1.0f && m.shininess <= 1024.0f, path + ".shininess",
+              "must be within [1, 1024], got " + num(m.shininess));
     check_source(c, m.albedo, path + ".albedo");
     check_source(c, m.height, path + ".height");
     check_source(c, m.normal, path + ".normal");

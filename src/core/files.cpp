@@ -1,0 +1,69 @@
+#include "core/files.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+namespace px {
+
+namespace {
+
+std::string reason(int err) { return err != 0 ? std::string(std::strerror(err)) : "unknown error"; }
+
+}  // namespace
+
+Status write_file_atomically(const std::string& path, const void* bytes, std::size_t size) {
+    if (path.empty()) return make_error("cannot write a file with an empty path");
+    struct stat existing {};
+    if (::lstat(path.c_str(), &existing) == 0) {
+        if (S_ISDIR(existing.st_mode)) return make_error(path + ": cannot write: it is a folder");
+        // No write bit for anyone counts as protected even for root, whom
+        // access() would let through.
+        if (S_ISREG(existing.st_mode) && ((existing.st_mode & 0222) == 0 || ::access(path.c_str(), W_OK) != 0))
+            return make_error(path + ": cannot write: the file exists and is write-protected");
+    }
+    // mkstemp creates the file with O_CREAT | O_EXCL: it never opens a name
+    // that exists, so a symlink planted at the temporary name is not followed.
+    std::vector<char> name(path.begin(), path.end());
+    const char suffix[] = ".tmp-XXXXXX";
+    name.insert(name.end(), suffix, suffix + sizeof suffix);  // with the terminating 0
+    const int fd = ::mkstemp(name.data());
+    if (fd < 0) return make_error(path + ": cannot create a temporary file beside it: " + reason(errno));
+    const std::string tmp(name.data());
+    // mkstemp makes it 0600; a new output file gets the usual 0666 & ~umask,
+    // an existing one keeps its mode.
+    mode_t mode = existing.st_mode & 07777;
+    if (!S_ISREG(existing.st_mode)) {
+        const mode_t mask = ::umask(0);
+        ::umask(mask);
+        mode = 0666 & ~mask;
+    }
+    int error = ::fchmod(fd, mode) == 0 ? 0 : errno;
+    const char* p = static_cast<const char*>(bytes);
+    std::size_t left = size;
+    while (error == 0 && left > 0) {
+        const ssize_t n = ::write(fd, p, left);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            error = errno;
+            break;
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0 && error == 0) error = errno;  // a delayed write error (disk full) shows here
+    if (error == 0 && std::rename(tmp.c_str(), path.c_str()) != 0) error = errno;
+    if (error != 0) {
+        ::unlink(tmp.c_str());
+        return make_error(path + ": cannot write: " + reason(error));
+    }
+    return {};
+}
+
+}  // namespace px

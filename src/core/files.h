@@ -1,0 +1,24 @@
+// Writing an output file safely, one implementation for every writer (PNG
+// images, benchmark reports): the bytes go to a temporary file created
+// exclusively beside the target (never one that exists, a planted symlink
+// included), which is then renamed over it. Readers never see a partial
+// file, and a failure leaves the previous file intact and removes the
+// temporary.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "core/result.h"
+
+namespace px {
+
+// Errors name the path and the system's reason: the folder is missing or not
+// writable, the disk is full, the target is write-protected (an existing
+// file we may not write is refused, not silently replaced) or a folder.
+Status write_file_atomically(const std::string& path, const void* bytes, std::size_t size);
+inline Status write_file_atomically(const std::string& path, const std::string& text) {
+    return write_file_atomically(path, text.data(), text.size());
+}
+
+}  // namespace px

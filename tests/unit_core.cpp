@@ -1,0 +1,138 @@
+// The core's shared helpers: numeric conventions and safe output files.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "core/files.h"
+#include "core/numeric.h"
+
+namespace px {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Numeric, Unorm8RoundsToNearestAndClamps) {
+    EXPECT_EQ(to_unorm8(0.0), 0);
+    EXPECT_EQ(to_unorm8(1.0), 255);
+    EXPECT_EQ(to_unorm8(0.5), 128);  // 127.5 rounds away from zero, as lround does
+    EXPECT_EQ(to_unorm8(-3.0), 0);
+    EXPECT_EQ(to_unorm8(7.0), 255);
+    EXPECT_EQ(to_unorm8(std::nan("")), 0);
+    EXPECT_DOUBLE_EQ(quantize_unorm8(100.0 / 255.0 + 1e-4), 100.0 / 255.0);
+}
+
+TEST(Numeric, WrapAndPowerOfTwo) {
+    EXPECT_EQ(wrap_index(-1, 8), 7);
+    EXPECT_EQ(wrap_index(-8, 8), 0);
+    EXPECT_EQ(wrap_index(17, 8), 1);
+    EXPECT_TRUE(is_power_of_two(1));
+    EXPECT_TRUE(is_power_of_two(1LL << 40));
+    EXPECT_FALSE(is_power_of_two(0));
+    EXPECT_FALSE(is_power_of_two(-4));
+    EXPECT_FALSE(is_power_of_two(12));
+}
+
+// GL_LINEAR's taps (ES 3.0, 3.8.10): texel centres at +0.5, wrapping.
+TEST(Numeric, BilinearTapsFollowGlLinearWithRepeat) {
+    const BilinearTaps centre = bilinear_taps(0.5 / 4, 0.5 / 4, 4, 4);  // texel (0, 0)'s centre
+    EXPECT_EQ(centre.x0, 0);
+    EXPECT_DOUBLE_EQ(centre.ax, 0.0);
+    const BilinearTaps edge = bilinear_taps(0.0, 0.0, 4, 4);  // halfway between texel 3 (wrapped) and 0
+    EXPECT_EQ(edge.x0, 3);
+    EXPECT_EQ(edge.x1, 0);
+    EXPECT_DOUBLE_EQ(edge.ax, 0.5);
+    const BilinearTaps huge = bilinear_taps(1e12 + 0.5 / 4, -1e12 + 0.5 / 4, 4, 4);
+    EXPECT_GE(huge.x0, 0);
+    EXPECT_LT(huge.x0, 4);
+    EXPECT_GE(huge.y0, 0);
+    EXPECT_LT(huge.y0, 4);
+}
+
+class OutputFile : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("px_files_" + std::to_string(::getpid()) + "_" +
+                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::permissions(dir_, fs::perms::owner_all, ec);
+        fs::remove_all(dir_, ec);
+    }
+    static std::string read(const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    int entries() const { return static_cast<int>(std::distance(fs::directory_iterator(dir_), {})); }
+    fs::path dir_;
+};
+
+TEST_F(OutputFile, WritesThenReplacesLeavingNoTemporary) {
+    const fs::path out = dir_ / "report.md";
+    ASSERT_TRUE(write_file_atomically(out.string(), std::string("first")).ok());
+    ASSERT_TRUE(write_file_atomically(out.string(), std::string("second, longer")).ok());
+    EXPECT_EQ(read(out), "second, longer");
+    EXPECT_EQ(entries(), 1) << "a temporary file was left behind";
+}
+
+// A symlink planted at the output path is replaced, never followed: the
+// file it points at keeps its content.
+TEST_F(OutputFile, ReplacesASymlinkInsteadOfWritingThroughIt) {
+    const fs::path victim = dir_ / "victim.txt";
+    { std::ofstream(victim) << "precious"; }
+    const fs::path out = dir_ / "out.png";
+    fs::create_symlink(victim, out);
+    ASSERT_TRUE(write_file_atomically(out.string(), std::string("image")).ok());
+    EXPECT_EQ(read(victim), "precious");
+    EXPECT_FALSE(fs::is_symlink(out));
+    EXPECT_EQ(read(out), "image");
+}
+
+// A write-protected file (no write bit for anyone) is refused, even for
+// root, and keeps its content.
+TEST_F(OutputFile, RefusesAWriteProtectedFile) {
+    const fs::path out = dir_ / "locked.png";
+    { std::ofstream(out) << "old"; }
+    fs::permissions(out, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    Status s = write_file_atomically(out.string(), std::string("new"));
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("write-protected"), std::string::npos) << s.error().message;
+    EXPECT_NE(s.error().message.find(out.string()), std::string::npos) << s.error().message;
+    EXPECT_EQ(read(out), "old");
+    EXPECT_EQ(entries(), 1);
+}
+
+TEST_F(OutputFile, MissingFolderAndFolderTargetAreNamed) {
+    const fs::path missing = dir_ / "no" / "such" / "out.png";
+    Status a = write_file_atomically(missing.string(), std::string("x"));
+    ASSERT_FALSE(a.ok());
+    EXPECT_NE(a.error().message.find(missing.string()), std::string::npos) << a.error().message;
+    Status b = write_file_atomically(dir_.string(), std::string("x"));
+    ASSERT_FALSE(b.ok());
+    EXPECT_NE(b.error().message.find("folder"), std::string::npos) << b.error().message;
+    EXPECT_FALSE(write_file_atomically("", std::string("x")).ok());
+}
+
+TEST_F(OutputFile, NewFileGetsTheUmaskModeNotMkstemps) {
+    const fs::path out = dir_ / "new.png";
+    const mode_t mask = ::umask(022);
+    ASSERT_TRUE(write_file_atomically(out.string(), std::string("x")).ok());
+    ::umask(mask);
+    struct stat st {};
+    ASSERT_EQ(::stat(out.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0644u);
+}
+
+}  // namespace
+}  // namespace px

@@ -1,0 +1,39 @@
+// Helpers every subcommand shares: the error line and WIDTHxHEIGHT sizes.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+namespace px::tools {
+
+// Prints "parallax: error: MESSAGE" and returns the exit status 1.
+inline int fail(const std::string& message) {
+    std::fprintf(stderr, "parallax: error: %s\n", message.c_str());
+    return 1;
+}
+
+// "512x512" (or "512X512") into two integers within 1..limit. Digits only:
+// no sign, no spaces, no overflow (each side is checked against the limit
+// while it is read).
+inline bool parse_size(const std::string& text, int& width, int& height, int limit = 16384) {
+    int* out[2] = {&width, &height};
+    size_t i = 0;
+    for (int side = 0; side < 2; ++side) {
+        if (side == 1) {
+            if (i >= text.size() || (text[i] != 'x' && text[i] != 'X')) return false;
+            ++i;
+        }
+        long value = 0;
+        const size_t start = i;
+        while (i < text.size() && text[i] >= '0' && text[i] <= '9') {
+            value = value * 10 + (text[i] - '0');
+            if (value > limit) return false;
+            ++i;
+        }
+        if (i == start || value < 1) return false;
+        *out[side] = static_cast<int>(value);
+    }
+    return i == text.size();
+}
+
+}  // namespace px::tools
