@@ -104,7 +104,7 @@ ShadowMode bench_scene_shadow(const std::string& name) {
 std::vector<std::string> bench_technique_names() {
     std::vector<std::string> names;
     for (const TechniqueInfo& info : technique_table())
-        if (info.id != Technique::flat) names.push_back(info.name);
+        if (info.benched) names.push_back(info.name);
     names.push_back(kDisplacedMesh);
     return names;
 }

@@ -22,8 +22,7 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
 // The shadow mode a bench scene measures (and its reference uses).
 ShadowMode bench_scene_shadow(const std::string& name);
 
-// "displaced_mesh": the real-geometry baseline (one vertex per texel).
-inline const char* kDisplacedMesh = "displaced_mesh";
+// Every benched technique of the catalogue, then kDisplacedMesh.
 std::vector<std::string> bench_technique_names();
 
 struct BenchOptions {

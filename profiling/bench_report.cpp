@@ -8,6 +8,7 @@
 
 #include "core/files.h"
 #include "core/numeric.h"
+#include "effects/technique.h"
 
 #include <algorithm>
 #include <map>
@@ -103,29 +104,30 @@ constexpr std::array<Measure, 13> kMeasures{{
 enum class Marker { circle, square, triangle_up, triangle_down, diamond, pentagon, hexagon, star, cross, plus };
 
 struct TechniqueStyle {
-    const char* name;
     const char* colour;
     Marker marker;
 };
 
-// Catalogue order, then the two references; matplotlib's tab10 colours.
-constexpr std::array<TechniqueStyle, 9> kKnownTechniques{{
-    {"flat", "#7f7f7f", Marker::circle},
-    {"normal", "#1f77b4", Marker::square},
-    {"parallax", "#ff7f0e", Marker::triangle_up},
-    {"offset_limited", "#bcbd22", Marker::triangle_down},
-    {"steep", "#2ca02c", Marker::diamond},
-    {"pom", "#d62728", Marker::pentagon},
-    {"relief", "#9467bd", Marker::hexagon},
-    {"maxmip", "#17becf", Marker::star},
-    {"displaced_mesh", "#8c564b", Marker::cross},
+// The catalogue's techniques in table order (effects/technique.h), then the
+// displaced-mesh baseline; matplotlib's tab10 colours.
+constexpr std::array<TechniqueStyle, 8> kCatalogueStyles{{
+    {"#7f7f7f", Marker::circle},
+    {"#1f77b4", Marker::square},
+    {"#ff7f0e", Marker::triangle_up},
+    {"#bcbd22", Marker::triangle_down},
+    {"#2ca02c", Marker::diamond},
+    {"#d62728", Marker::pentagon},
+    {"#9467bd", Marker::hexagon},
+    {"#17becf", Marker::star},
 }};
+static_assert(kCatalogueStyles.size() >= static_cast<size_t>(kTechniqueCount), "a style per catalogue technique");
+constexpr TechniqueStyle kBaselineStyle{"#8c564b", Marker::cross};
 
 // For names outside the catalogue, in order of appearance.
 constexpr std::array<const char*, 6> kExtraColours{{"#e377c2", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173"}};
 constexpr std::array<Marker, 4> kExtraMarkers{{Marker::plus, Marker::circle, Marker::square, Marker::diamond}};
 
-struct Technique {
+struct TechniqueEntry {
     std::string name;
     std::string colour;
     Marker marker;
@@ -133,17 +135,20 @@ struct Technique {
 
 // The techniques in the run: catalogue order, then unknown names in order of
 // appearance, each with its colour and marker.
-std::vector<Technique> techniques_in(const BenchRun& run) {
-    std::vector<Technique> out;
-    for (const TechniqueStyle& style : kKnownTechniques) {
+std::vector<TechniqueEntry> techniques_in(const BenchRun& run) {
+    std::vector<TechniqueEntry> out;
+    auto add_if_present = [&](const std::string& name, const TechniqueStyle& style) {
         const bool present =
-            std::any_of(run.rows.begin(), run.rows.end(), [&](const BenchRow& r) { return r.technique == style.name; });
-        if (present) out.push_back({style.name, style.colour, style.marker});
-    }
+            std::any_of(run.rows.begin(), run.rows.end(), [&](const BenchRow& r) { return r.technique == name; });
+        if (present) out.push_back({name, style.colour, style.marker});
+    };
+    for (const TechniqueInfo& info : technique_table())
+        add_if_present(info.name, kCatalogueStyles[static_cast<size_t>(info.id)]);
+    add_if_present(kDisplacedMesh, kBaselineStyle);
     size_t extra = 0;
     for (const BenchRow& row : run.rows) {
         const bool seen =
-            std::any_of(out.begin(), out.end(), [&](const Technique& t) { return t.name == row.technique; });
+            std::any_of(out.begin(), out.end(), [&](const TechniqueEntry& t) { return t.name == row.technique; });
         if (seen) continue;
         out.push_back(
             {row.technique, kExtraColours[extra % kExtraColours.size()], kExtraMarkers[extra % kExtraMarkers.size()]});
@@ -152,7 +157,7 @@ std::vector<Technique> techniques_in(const BenchRun& run) {
     return out;
 }
 
-size_t technique_index(const std::vector<Technique>& techniques, const std::string& name) {
+size_t technique_index(const std::vector<TechniqueEntry>& techniques, const std::string& name) {
     for (size_t i = 0; i < techniques.size(); ++i)
         if (techniques[i].name == name) return i;
     return techniques.size();
@@ -758,7 +763,7 @@ private:
         // and the lower ones hollow.
         for (const PlotPoint& pt : p.points) {
             const bool hollow = pt.row->angle_deg < p.angles.back();
-            const Technique& t = techniques_[technique_index(techniques_, pt.row->technique)];
+            const TechniqueEntry& t = techniques_[technique_index(techniques_, pt.row->technique)];
             const std::string tip = setting_text(*pt.row) + " — " + pt.row->scene + " at " +
                                     angle_text(pt.row->angle_deg) + ": " + human_sig(pt.row->uv_error_mean) +
                                     " texels, " + human_fixed(pt.row->ratio_to_normal, 2) + "× normal";
@@ -858,7 +863,7 @@ private:
         auto label = [&](const std::string& text) { body += text_svg(x + 46, y, text, "start", kFont, "#222222", ""); };
 
         heading("technique", 20);
-        for (const Technique& t : techniques_) {
+        for (const TechniqueEntry& t : techniques_) {
             y += 20;
             body += "<g class=\"legend-entry\">";
             body += line_svg(x + 10, y - 4, x + 38, y - 4, t.colour, 1.4, "");
@@ -928,7 +933,7 @@ private:
     }
 
     const BenchRun& run_;
-    std::vector<Technique> techniques_;
+    std::vector<TechniqueEntry> techniques_;
     std::vector<std::string> scenes_;
     std::vector<Panel> panels_;
     LogAxis x_axis_, y_axis_;
@@ -1079,7 +1084,7 @@ std::string summary_section(const BenchRun& run) {
 }
 
 std::string markdown_text(const BenchRun& run) {
-    const std::vector<Technique> techniques = techniques_in(run);
+    const std::vector<TechniqueEntry> techniques = techniques_in(run);
     std::string out = "# ParallaxES benchmark: accuracy against cost\n\n";
     out += "- **Date:** " + md_text(run.date.empty() ? "unknown" : run.date) + "\n";
     out += "- **Command:** " + (run.command.empty() ? std::string("unknown") : md_code(run.command)) + "\n";
@@ -1119,7 +1124,7 @@ std::string markdown_text(const BenchRun& run) {
             }
         }
         std::vector<std::string> misses;
-        for (const Technique& t : techniques) {
+        for (const TechniqueEntry& t : techniques) {
             std::vector<const BenchRow*> rows;
             for (const BenchRow* row : g.rows)
                 if (row->technique == t.name) rows.push_back(row);

@@ -9,6 +9,9 @@
 
 namespace px::profiling {
 
+// "displaced_mesh": the real-geometry baseline (one vertex per texel).
+inline constexpr const char* kDisplacedMesh = "displaced_mesh";
+
 struct BenchRow {
     std::string scene;        // bench scene name
     double angle_deg = 0.0;   // view angle from the normal

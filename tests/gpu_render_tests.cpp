@@ -10,9 +10,18 @@
 namespace px::test {
 namespace {
 
-const Technique kParallaxTechniques[] = {Technique::parallax, Technique::offset_limited, Technique::steep,
-                                         Technique::pom, Technique::relief};
-const Technique kMarchTechniques[] = {Technique::steep, Technique::pom, Technique::relief};
+// The catalogue's techniques with every bit of `flags` that this context's
+// ES version runs (the technique table is the one list of them).
+std::vector<Technique> techniques_with(std::uint32_t flags) {
+    std::vector<Technique> out;
+    for (const TechniqueInfo& info : technique_table())
+        if ((info.options & flags) == flags && info.min_es_major <= test_es_major()) out.push_back(info.id);
+    return out;
+}
+// Every technique that offsets or traces by height, and those that search
+// along the view ray with a sample count.
+const std::vector<Technique> kParallaxTechniques = techniques_with(kOptHeight);
+const std::vector<Technique> kMarchTechniques = techniques_with(kOptSamples);
 
 // A flat green plane parallel to the test plane at height z, drawn after it:
 // it shows wherever the relief's written depth lies behind z.
@@ -441,7 +450,7 @@ TEST(ShaderInterface, MissingNeededUniformFailsTheBuild) {
     ASSERT_FALSE(program.ok());
     const std::string& m = program.error().message;
     EXPECT_NE(m.find("needs uniform 'u_specular'"), std::string::npos) << m;
-    EXPECT_NE(m.find("PX_TECHNIQUE_NAME_pom"), std::string::npos) << "names the defines: " << m;
+    EXPECT_NE(m.find("PX_TECH_POM"), std::string::npos) << "names the defines: " << m;
 }
 
 // The other way round: an active uniform that the interface does not list

@@ -19,6 +19,7 @@
 
 #include <unistd.h>  // getpid: a per-process temp directory
 
+#include "effects/technique.h"
 #include "profiling/bench_results.h"
 
 namespace px::profiling {
@@ -424,8 +425,12 @@ TEST(BenchReportSvg, PanelsLegendFrontier) {
     EXPECT_EQ(count(svg, "45-60°"), 0u);
 
     // A legend entry per technique, none twice.
-    const std::vector<std::string> techniques = {"flat", "normal", "offset_limited", "steep",
-                                                 "pom",  "relief", "maxmip",         "displaced_mesh"};
+    // The techniques in the rows, in the technique table's order, then the baseline.
+    std::vector<std::string> techniques;
+    for (const TechniqueInfo& info : technique_table())
+        if (std::any_of(run.rows.begin(), run.rows.end(), [&](const BenchRow& r) { return r.technique == info.name; }))
+            techniques.push_back(info.name);
+    techniques.push_back(kDisplacedMesh);
     std::vector<std::string> entries;
     const std::string entry = "<g class=\"legend-entry\">";
     for (size_t at = svg.find(entry); at != std::string::npos; at = svg.find(entry, at + 1))

@@ -184,3 +184,70 @@ TEST(ShaderSource, EveryDeclarationHasAPrecisionQualifier) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// The planner's notes come from the technique table: the techniques that
+// cast a shadow ray or find a hit depth are every one whose row has the
+// option (maxmip among them), not a list written in the note.
+TEST(Planner, NotesNameTheTechniquesThatHaveTheOptionFromTheTable) {
+    MaterialDesc m;
+    m.name = "m";
+    m.technique.technique = Technique::parallax;
+    m.technique.shadow = ShadowMode::hard;
+    m.technique.depth_write = true;
+    Result<VariantPlan> plan = plan_variant(m, Caps::full(3));
+    ASSERT_TRUE(plan.ok());
+    ASSERT_EQ(plan->notes.size(), 2u);
+    // "... casts no shadow ray (steep, pom, relief and maxmip do)": the list in brackets.
+    auto listed = [](const std::string& note, const std::string& name) {
+        const size_t open = note.find('(');
+        const std::string list = open == std::string::npos ? "" : note.substr(open);
+        return std::regex_search(list, std::regex("[(, ]" + name + "[,) ]"));
+    };
+    for (const TechniqueInfo& info : technique_table()) {
+        EXPECT_EQ(listed(plan->notes[0], info.name), (info.options & kOptShadow) != 0)
+            << plan->notes[0] << " / " << info.name;
+        EXPECT_EQ(listed(plan->notes[1], info.name), (info.options & kOptDepth) != 0)
+            << plan->notes[1] << " / " << info.name;
+    }
+    EXPECT_NE(plan->notes[0].find("maxmip"), std::string::npos) << "maxmip casts a shadow ray";
+    EXPECT_EQ(technique_names_with(kOptShadow), "steep, pom, relief and maxmip");
+}
+
+// A technique the context is too old for becomes its table fallback, with
+// at least the fallback's sample count, and the note says so.
+TEST(Planner, TooNewATechniqueFallsBackAsTheTableSays) {
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major <= 2) continue;
+        MaterialDesc m;
+        m.name = "m";
+        m.technique.technique = info.id;
+        Result<VariantPlan> plan = plan_variant(m, Caps::full(2));
+        ASSERT_TRUE(plan.ok()) << info.name;
+        EXPECT_EQ(plan->key.technique, info.fallback) << info.name;
+        EXPECT_GE(plan->key.max_samples, info.fallback_min_samples) << info.name;
+        ASSERT_FALSE(plan->notes.empty());
+        EXPECT_NE(plan->notes[0].find(std::string(info.name) + " -> " + technique_name(info.fallback)),
+                  std::string::npos)
+            << plan->notes[0];
+    }
+}
+
+// A technique whose row says it always takes the exact view vector gets it
+// in every key, asked for or not.
+TEST(VariantKey, AlwaysExactViewComesFromTheTable) {
+    for (const TechniqueInfo& info : technique_table()) {
+        VariantKey k;
+        k.technique = info.id;
+        k.exact_view = false;
+        EXPECT_EQ(k.canonical().exact_view, info.always_exact_view) << info.name;
+        const std::vector<ShaderDefine> d = k.defines();
+        EXPECT_TRUE(std::any_of(d.begin(), d.end(), [&](const ShaderDefine& x) { return x.name == info.define; }))
+            << info.name << " variants define " << info.define;
+    }
+}
+
+}  // namespace
+}  // namespace px

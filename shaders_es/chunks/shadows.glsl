@@ -1,8 +1,7 @@
 // Self-shadowing (Tatarchuk 2005; McGuire & McGuire 2005): from the hit, cast
 // a ray toward the light through the relief and look for blockers.
 // PX_SHADOW is 1 (hard) or 2 (soft).
-#define PX_SHADOW_HARD 1
-#define PX_SHADOW_SOFT 2
+#define PX_SHADOW_HARD 1  // else 2: soft
 
 // light_dir: unit vector toward the light in texture space (not height-scaled).
 mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height, mediump vec3 light_dir,

@@ -41,19 +41,19 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     // them (PowerVR whitepaper 3.2.1: one wait instead of two).
 #if PX_ES >= 3
     lowp vec4 albedo = textureGrad(u_albedo_map, uv, uv_dx, uv_dy);
-#ifndef PX_TECH_FLAT
+#ifdef PX_NORMAL_MAP
     mediump vec4 normal_texel = textureGrad(u_normal_map, uv, uv_dx, uv_dy);
 #endif
 #else
     lowp vec4 albedo = texture2D(u_albedo_map, uv);
-#ifndef PX_TECH_FLAT
+#ifdef PX_NORMAL_MAP
     mediump vec4 normal_texel = texture2D(u_normal_map, uv);
 #endif
 #endif
-#ifdef PX_TECH_FLAT
-    mediump vec3 normal = vec3(0.0, 0.0, 1.0);
-#else
+#ifdef PX_NORMAL_MAP
     mediump vec3 normal = normalize(normal_texel.xyz * 2.0 - 1.0);
+#else
+    mediump vec3 normal = vec3(0.0, 0.0, 1.0);
 #endif
     mediump vec3 color = u_ambient * albedo.rgb;
     for (int i = 0; i < PX_MAX_LIGHTS; i++) {

@@ -6,39 +6,56 @@ namespace px {
 
 namespace {
 
-constexpr std::uint32_t kMarchOptions = kOptHeight | kOptSamples | kOptShadow | kOptDepth | kOptLod;
+constexpr std::uint32_t kMarchOptions =
+    kOptHeight | kOptNormals | kOptSamples | kOptShadow | kOptDepth | kOptLod;
 
 // The loop bound must be a constant in GLSL ES 1.00 (Appendix A), so each
 // max_samples is a shader variant; 256 keeps the worst case bounded.
 constexpr int kMaxMarchSamples = 256;
 constexpr int kMaxExactSteps = 4096;
 
-const std::array<TechniqueInfo, kTechniqueCount> kTable = {{
-    {Technique::flat, "flat", "PX_TECH_FLAT", "flat.frag", "albedo only, lit by the geometric normal",
-     "-", 0u, 2, 0},
-    {Technique::normal, "normal", "PX_TECH_NORMAL", "normal.frag",
-     "normal mapping: per-pixel normals, no parallax", "Blinn 1978; Peercy et al. 1997", 0u, 2, 0},
+constexpr std::array<TechniqueInfo, kTechniqueCount> kTable = {{
+    {Technique::flat, "flat", "PX_TECH_FLAT", "flat.frag", "albedo only, lit by the geometric normal", "-", 0u, 2,
+     0, false, Technique::flat, 0, false},
+    {Technique::normal, "normal", "PX_TECH_NORMAL", "normal.frag", "normal mapping: per-pixel normals, no parallax",
+     "Blinn 1978; Peercy et al. 1997", kOptNormals, 2, 0, false, Technique::normal, 0, true},
     {Technique::parallax, "parallax", "PX_TECH_PARALLAX", "parallax.frag",
      "parallax mapping: one height fetch, offset h * V.xy / V.z", "Kaneko et al. 2001",
-     kOptHeight | kOptLod, 2, 0},
+     kOptHeight | kOptNormals | kOptLod, 2, 0, false, Technique::parallax, 0, true},
     {Technique::offset_limited, "offset_limited", "PX_TECH_OFFSET_LIMITED", "offset_limited.frag",
      "parallax with offset limiting: offset h * V.xy, bounded by the height",
-     "Welsh 2004; PowerVR Parallax Bumpmapping whitepaper", kOptHeight | kOptLod, 2, 0},
+     "Welsh 2004; PowerVR Parallax Bumpmapping whitepaper", kOptHeight | kOptNormals | kOptLod, 2, 0, false,
+     Technique::offset_limited, 0, true},
     {Technique::steep, "steep", "PX_TECH_STEEP", "steep.frag",
-     "steep parallax: linear march, first sample under the surface", "McGuire & McGuire 2005",
-     kMarchOptions, 2, kMaxMarchSamples},
+     "steep parallax: linear march, first sample under the surface", "McGuire & McGuire 2005", kMarchOptions, 2,
+     kMaxMarchSamples, false, Technique::steep, 0, true},
     {Technique::pom, "pom", "PX_TECH_POM", "pom.frag",
-     "parallax occlusion mapping: linear march, then the ray against the last linear segment",
-     "Tatarchuk 2005", kMarchOptions, 2, kMaxMarchSamples},
+     "parallax occlusion mapping: linear march, then the ray against the last linear segment", "Tatarchuk 2005",
+     kMarchOptions, 2, kMaxMarchSamples, false, Technique::pom, 0, true},
     {Technique::relief, "relief", "PX_TECH_RELIEF", "relief.frag",
-     "relief mapping: linear march, then binary refinement", "Policarpo et al. 2005",
-     kMarchOptions | kOptRefine, 2, kMaxMarchSamples},
+     "relief mapping: linear march, then binary refinement", "Policarpo et al. 2005", kMarchOptions | kOptRefine, 2,
+     kMaxMarchSamples, false, Technique::relief, 0, true},
     {Technique::maxmip, "maxmip", "PX_TECH_MAXMIP", "maxmip.frag",
      "maximum mip-maps: skips empty space down a max pyramid of the filtered surface, then solves the "
      "bilinear patch exactly",
-     "Tevs, Ihrke & Seidel 2008; Drobot 2010", kOptHeight | kOptSteps | kOptShadow | kOptDepth | kOptLod, 3,
-     kMaxExactSteps},
+     "Tevs, Ihrke & Seidel 2008; Drobot 2010",
+     kOptHeight | kOptNormals | kOptSteps | kOptShadow | kOptDepth | kOptLod, 3, kMaxExactSteps, true,
+     Technique::relief, 64, true},
 }};
+
+constexpr bool rows_in_enum_order() {
+    for (std::size_t i = 0; i < kTable.size(); ++i)
+        if (static_cast<std::size_t>(kTable[i].id) != i) return false;
+    return true;
+}
+static_assert(rows_in_enum_order(), "technique table rows must follow PX_TECHNIQUES");
+// A fallback runs on every ES version (it is what an older context gets).
+constexpr bool fallbacks_run_everywhere() {
+    for (const TechniqueInfo& t : kTable)
+        if (kTable[static_cast<std::size_t>(t.fallback)].min_es_major != 2) return false;
+    return true;
+}
+static_assert(fallbacks_run_everywhere(), "a fallback technique must run on OpenGL ES 2.0");
 
 }  // namespace
 
@@ -47,6 +64,18 @@ const std::array<TechniqueInfo, kTechniqueCount>& technique_table() { return kTa
 const TechniqueInfo& technique_info(Technique t) { return kTable[static_cast<size_t>(t)]; }
 
 const char* technique_name(Technique t) { return technique_info(t).name; }
+
+std::string technique_names_with(std::uint32_t flags) {
+    std::vector<const char*> names;
+    for (const TechniqueInfo& info : kTable)
+        if ((info.options & flags) == flags) names.push_back(info.name);
+    std::string out;
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (i > 0) out += i + 1 == names.size() ? " and " : ", ";
+        out += names[i];
+    }
+    return out.empty() ? "none" : out;
+}
 
 std::string technique_names_joined(const char* separator) {
     std::string out;

@@ -12,17 +12,28 @@
 
 namespace px {
 
+// Every technique, in catalogue order: the enum and its count come from this
+// one list, and technique.cpp's table must hold a row for each, in order.
+#define PX_TECHNIQUES(X)                                                                   \
+    X(flat)           /* albedo only, lit by the geometric normal */                       \
+    X(normal)         /* normal mapping */                                                 \
+    X(parallax)       /* Kaneko 2001: uv += h * V.xy / V.z */                              \
+    X(offset_limited) /* Welsh 2004 / PowerVR whitepaper: uv += h * V.xy */                \
+    X(steep)          /* McGuire & McGuire 2005: linear march, first sample below */       \
+    X(pom)            /* Tatarchuk 2005: linear march + the last linear segment */         \
+    X(relief)         /* Policarpo et al. 2005: linear march + binary refinement */        \
+    X(maxmip)         /* Tevs et al. 2008; Drobot 2010: max mip-map descent, exact solve */
+
 enum class Technique : std::uint8_t {
-    flat,            // albedo only, no lighting detail
-    normal,          // normal mapping
-    parallax,        // Kaneko 2001: uv += h * V.xy / V.z
-    offset_limited,  // Welsh 2004 / PowerVR whitepaper: uv += h * V.xy
-    steep,           // McGuire & McGuire 2005: linear march, first sample below the surface
-    pom,             // Tatarchuk 2005: linear march + intersection with the last linear segment
-    relief,          // Policarpo et al. 2005: linear march + binary refinement
-    maxmip,          // Tevs et al. 2008; Drobot 2010: maximum mip-map descent, exact patch solve
+#define PX_ENUM(id) id,
+    PX_TECHNIQUES(PX_ENUM)
+#undef PX_ENUM
 };
-inline constexpr int kTechniqueCount = 8;
+inline constexpr int kTechniqueCount = 0
+#define PX_COUNT(id) +1
+    PX_TECHNIQUES(PX_COUNT)
+#undef PX_COUNT
+    ;
 
 enum class ShadowMode : std::uint8_t {
     none,
@@ -66,23 +77,37 @@ enum OptionFlag : std::uint32_t {
     kOptDepth = 1u << 4,    // depth_write
     kOptLod = 1u << 5,      // mip-level LOD blend to normal mapping
     kOptSteps = 1u << 6,    // max_steps (an exact walk's iteration budget)
+    kOptNormals = 1u << 7,  // shades with the normal map (PX_NORMAL_MAP); flat does not
 };
 
 struct TechniqueInfo {
     Technique id;
     const char* name;      // as written in scene files and on the command line
-    const char* define;    // the preprocessor symbol the shader entry tests
+    const char* define;    // defined in every variant of the technique (PX_TECH_POM, ...)
     const char* source;    // shaders_es/techniques/<source>
     const char* summary;   // one line
     const char* citation;  // the paper the shader follows
     std::uint32_t options; // OptionFlag bits
     int min_es_major;      // lowest OpenGL ES major version that runs it
     int max_samples_limit; // largest max_samples (or max_steps) accepted: a constant loop bound
+    // Exact only with an exact ray: the view vector is always interpolated
+    // unnormalised in highp (PX_EXACT_VIEW), whatever the material asks.
+    bool always_exact_view;
+    // What the planner draws on a context older than min_es_major: the most
+    // accurate technique that runs there, at this many samples at least.
+    Technique fallback;
+    int fallback_min_samples;
+    // Measured by `parallax bench`. flat is not: it draws no surface detail,
+    // and normal mapping is the bench's baseline for "no parallax".
+    bool benched;
 };
 
 const std::array<TechniqueInfo, kTechniqueCount>& technique_table();
 const TechniqueInfo& technique_info(Technique t);
 const char* technique_name(Technique t);
+// "steep, pom, relief and maxmip": the techniques with every bit of `flags`,
+// for messages that say which techniques have an option.
+std::string technique_names_with(std::uint32_t flags);
 Result<Technique> parse_technique(const std::string& name);
 std::string technique_names_joined(const char* separator = ", ");
 

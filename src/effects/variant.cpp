@@ -17,6 +17,7 @@ VariantKey VariantKey::canonical() const {
     VariantKey k = *this;
     if (!has_option(k.technique, kOptHeight)) k.packed_height = false;
     if (!has_option(k.technique, kOptHeight)) k.exact_view = false;
+    if (technique_info(k.technique).always_exact_view) k.exact_view = true;
     if (!has_option(k.technique, kOptSamples) && !has_option(k.technique, kOptSteps)) k.max_samples = 0;
     if (!has_option(k.technique, kOptRefine)) k.refine_steps = 0;
     if (!has_option(k.technique, kOptShadow)) k.shadow = ShadowMode::none;
@@ -30,6 +31,7 @@ VariantKey VariantKey::canonical() const {
 std::uint64_t VariantKey::bits() const {
     const VariantKey k = canonical();
     std::uint64_t b = 0;
+    static_assert(kTechniqueCount <= 8, "the key holds the technique in 3 bits");
     b |= static_cast<std::uint64_t>(k.technique);             // 3 bits
     b |= static_cast<std::uint64_t>(k.shadow) << 3;           // 2 bits
     b |= static_cast<std::uint64_t>(k.depth_write) << 5;
@@ -50,7 +52,8 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     const TechniqueInfo& info = technique_info(k.technique);
     std::vector<ShaderDefine> d;
     d.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
-    d.push_back({"PX_TECHNIQUE_NAME_" + std::string(info.name), ""});
+    d.push_back({info.define, ""});
+    if (info.options & kOptNormals) d.push_back({"PX_NORMAL_MAP", ""});
     if (info.options & kOptHeight) d.push_back({"PX_READS_HEIGHT", ""});
     if (k.packed_height) d.push_back({"PX_PACKED_HEIGHT", ""});
     if (k.exact_view) d.push_back({"PX_EXACT_VIEW", ""});
@@ -119,7 +122,7 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                         k.shadow = shadow;
                         k.depth_write = depth != 0;
                         k.lod = lod != 0;
-                        k.exact_view = info.id == Technique::maxmip;
+                        k.exact_view = false;  // canonical() keeps it on where the technique always has it
                         add(k);
                         k.exact_view = true;
                         add(k);

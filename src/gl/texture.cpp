@@ -40,7 +40,6 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
     t.handle = make_texture();
     t.width = image.width;
     t.height = image.height;
-    t.mipmapped = mipmaps;
     glBindTexture(GL_TEXTURE_2D, t.handle.get());
     set_unpack_defaults(caps);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
@@ -63,7 +62,6 @@ Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, co
     t.handle = make_texture();
     t.width = pyramid.width;
     t.height = pyramid.height;
-    t.mipmapped = true;
     glBindTexture(GL_TEXTURE_2D, t.handle.get());
     set_unpack_defaults(caps);
     for (int level = 0; level < pyramid.level_count(); ++level) {

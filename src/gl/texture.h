@@ -15,7 +15,6 @@ struct Texture {
     TextureHandle handle;
     int width = 0;
     int height = 0;
-    bool mipmapped = false;
 };
 
 // RGBA8 texture, GL_REPEAT, trilinear with a full mip chain. Errors: empty

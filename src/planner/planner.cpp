@@ -14,11 +14,12 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
 
     const TechniqueInfo& asked = technique_info(o.technique);
     if (asked.min_es_major > caps.es_major) {
-        // The most accurate technique this context runs, at its finest search.
-        k.technique = Technique::relief;
-        plan.notes.push_back(std::string(asked.name) + " -> relief with 64 samples: " + asked.name +
-                             " needs OpenGL ES " + std::to_string(asked.min_es_major) + ".0 and this context is " +
-                             caps.version);
+        // The most accurate technique this context runs (the table's fallback).
+        k.technique = asked.fallback;
+        plan.notes.push_back(std::string(asked.name) + " -> " + technique_name(asked.fallback) + " with " +
+                             std::to_string(std::max(o.max_samples, asked.fallback_min_samples)) + " samples: " +
+                             asked.name + " needs OpenGL ES " + std::to_string(asked.min_es_major) +
+                             ".0 and this context is " + caps.version);
     }
     if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
         plan.notes.clear();
@@ -31,10 +32,10 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
     const TechniqueInfo& info = technique_info(t);
 
     k.packed_height = material.pack_height_in_normal_alpha;
-    // maxmip is exact only if its ray is: it always takes the exact view vector.
-    k.exact_view = o.exact_view || t == Technique::maxmip;
+    // canonical() turns it on where the technique always takes the exact view vector.
+    k.exact_view = o.exact_view;
     if (info.options & kOptSamples)
-        k.max_samples = static_cast<std::uint16_t>(t == o.technique ? o.max_samples : std::max(o.max_samples, 64));
+        k.max_samples = static_cast<std::uint16_t>(t == o.technique ? o.max_samples : std::max(o.max_samples, asked.fallback_min_samples));
     if (info.options & kOptSteps) k.max_samples = static_cast<std::uint16_t>(o.max_steps);
     if (info.options & kOptRefine) k.refine_steps = static_cast<std::uint8_t>(o.refine_steps);
 
@@ -44,14 +45,14 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
             k.shadow_samples = static_cast<std::uint8_t>(o.shadow_samples);
         } else if (t == o.technique) {
             plan.notes.push_back(std::string("shadow=") + shadow_mode_name(o.shadow) + " ignored: " + info.name +
-                                 " casts no shadow ray (steep, pom and relief do)");
+                                 " casts no shadow ray (" + technique_names_with(kOptShadow) + " do)");
         }
     }
     if (o.depth_write) {
         if (!(info.options & kOptDepth)) {
             if (t == o.technique)
                 plan.notes.push_back(std::string("depth_write ignored: ") + info.name +
-                                     " finds no hit depth (steep, pom and relief do)");
+                                     " finds no hit depth (" + technique_names_with(kOptDepth) + " do)");
         } else if (!caps.frag_depth()) {
             plan.notes.push_back("depth_write dropped: this OpenGL ES 2.0 context lacks GL_EXT_frag_depth");
         } else {

@@ -149,7 +149,7 @@ bool needed(Uniform uniform, const VariantKey& key) {
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:
-            return (u.shading && k.technique != Technique::flat) || (u.traced && k.packed_height && k.es_major >= 3);
+            return (u.shading && has(k, kOptNormals)) || (u.traced && k.packed_height && k.es_major >= 3);
         // The traced height's own texture: a separate height map, or on GLSL
         // ES 1.00 a base-level copy of the packed one.
         case Uniform::height_map: return u.traced && (!k.packed_height || k.es_major < 3);
