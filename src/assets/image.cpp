@@ -12,6 +12,13 @@
 // libstb-dev ships headers only as far as CMake is concerned). stb's global
 // flip flags (stbi_set_flip_vertically_on_load, stbi_flip_vertically_on_write)
 // are never touched: they are process-wide state, so we flip explicitly below.
+// The formats the scene format documents (docs/scene-format.md): PNG, JPEG
+// and TGA. The other decoders stb carries (BMP, GIF, PSD, HDR, PIC, PNM)
+// would only grow every host app's binary and the attack surface.
+#define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
+#define STBI_ONLY_TGA
+#define STBI_NO_LINEAR
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 #define STB_IMAGE_WRITE_IMPLEMENTATION
