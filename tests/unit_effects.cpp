@@ -8,6 +8,7 @@
 
 #include "effects/variant.h"
 #include "planner/planner.h"
+#include "shaders/interface.h"
 #include "shaders/shader_source.h"
 #include "scene/scene.h"
 
@@ -247,6 +248,36 @@ TEST(VariantKey, AlwaysExactViewComesFromTheTable) {
         EXPECT_TRUE(std::any_of(d.begin(), d.end(), [&](const ShaderDefine& x) { return x.name == info.define; }))
             << info.name << " variants define " << info.define;
     }
+}
+
+}  // namespace
+}  // namespace px
+
+namespace px {
+namespace {
+
+// The interface table, read by the shader assembly without a context: every
+// variant's declarations are in it, and a declaration that is not (a typo)
+// or that has another type fails with the line.
+TEST(ShaderInterface, EveryVariantsDeclarationsAreInTheTable) {
+    for (int es : {2, 3})
+        for (const VariantKey& key : enumerate_variants(es)) {
+            Result<VariantSources> s = assemble_variant(key);
+            EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
+        }
+    const Status typo = shader::check_declarations("precision mediump float;\nuniform mediump float u_specularr;\n", "t");
+    ASSERT_FALSE(typo.ok());
+    EXPECT_NE(typo.error().message.find("t, line 2: uniform 'u_specularr' is not in"), std::string::npos)
+        << typo.error().message;
+    const Status type = shader::check_declarations("uniform highp vec3 u_model;\n", "t");
+    ASSERT_FALSE(type.ok());
+    EXPECT_NE(type.error().message.find("declared as vec3"), std::string::npos) << type.error().message;
+    const Status array = shader::check_declarations("uniform mediump vec3 u_light_color;\n", "t");
+    EXPECT_FALSE(array.ok()) << "u_light_color is an array in the table";
+    const Status attribute = shader::check_declarations("PX_ATTRIBUTE highp vec3 a_uv;\n", "t");
+    ASSERT_FALSE(attribute.ok());
+    EXPECT_NE(attribute.error().message.find("2 components (vec2)"), std::string::npos) << attribute.error().message;
+    EXPECT_TRUE(shader::check_declarations("uniform mediump sampler2D u_max_map;\nPX_ATTRIBUTE highp vec2 a_uv;\n", "t").ok());
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "shaders/interface.h"
 
+#include <sstream>
+
 namespace px::shader {
 
 namespace {
@@ -167,6 +169,62 @@ bool needed(Attribute a, const VariantKey& key) {
         case Attribute::tangent: return uses(k).frame;
     }
     return true;
+}
+
+namespace {
+
+bool is_precision(const std::string& t) {
+    return t == "lowp" || t == "mediump" || t == "highp" || t == "PX_HIGHP" || t == "PX_VIEW_PRECISION";
+}
+
+}  // namespace
+
+Status check_declarations(const std::string& source, const std::string& what) {
+    std::istringstream in(source);
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        std::istringstream words(line);
+        std::string kind;
+        words >> kind;
+        const bool uniform = kind == "uniform";
+        if (!uniform && kind != "PX_ATTRIBUTE") continue;
+        std::string type, name;
+        words >> type;
+        if (is_precision(type)) words >> type;
+        words >> name;
+        // "u_light_color[PX_MAX_LIGHTS];" -> name and array length text
+        const size_t end = name.find_first_of("[;");
+        const bool array = end != std::string::npos && name[end] == '[';
+        const std::string bare = name.substr(0, end);
+        const std::string where = what + ", line " + std::to_string(number) + ": ";
+        if (uniform) {
+            const UniformInfo* found = nullptr;
+            for (const UniformInfo& u : uniforms())
+                if (bare == u.name) found = &u;
+            if (!found)
+                return make_error(where + "uniform '" + bare + "' is not in src/shaders/interface.h, so no program "
+                                  "would ever set it");
+            if (type != type_name(found->type) || array != (found->array_size > 1))
+                return make_error(where + "uniform '" + bare + "' is declared as " + type + (array ? "[]" : "") +
+                                  ", and src/shaders/interface.h lists it as " + type_name(found->type) +
+                                  (found->array_size > 1 ? "[]" : ""));
+        } else {
+            const AttributeInfo* found = nullptr;
+            for (const AttributeInfo& a : attributes())
+                if (bare == a.name) found = &a;
+            if (!found)
+                return make_error(where + "attribute '" + bare + "' is not in src/shaders/interface.h, so it has "
+                                  "no slot");
+            const std::string expected = found->components == 1 ? "float" : "vec" + std::to_string(found->components);
+            if (type != expected)
+                return make_error(where + "attribute '" + bare + "' is declared as " + type +
+                                  ", and src/shaders/interface.h gives it " + std::to_string(found->components) +
+                                  " components (" + expected + ")");
+        }
+    }
+    return {};
 }
 
 }  // namespace px::shader

@@ -11,8 +11,10 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "core/limits.h"
+#include "core/result.h"
 #include "effects/variant.h"
 
 namespace px::shader {
@@ -130,5 +132,11 @@ const char* type_name(Type t);  // "mat4", "sampler2D", ...
 // each case says where the value is used.
 bool needed(Uniform u, const VariantKey& key);
 bool needed(Attribute a, const VariantKey& key);
+
+// Checks an assembled source's declarations against this table, with no GL:
+// every `uniform` and every attribute (PX_ATTRIBUTE) it declares must be
+// listed, with the listed GLSL type and array length. The error names the
+// source line. assemble_variant runs it on every variant it assembles.
+Status check_declarations(const std::string& source, const std::string& what);
 
 }  // namespace px::shader

@@ -1,5 +1,7 @@
 #include "shaders/shader_source.h"
 
+#include "shaders/interface.h"
+
 #include <map>
 #include <set>
 #include <sstream>
@@ -119,6 +121,13 @@ Result<VariantSources> assemble_variant(const VariantKey& key) {
     Result<AssembledSource> fs =
         assemble_shader(entry, ShaderStage::fragment, key.es_major, key.extensions(ShaderStage::fragment), defines);
     if (!fs) return fs.error();
+    // The declarations against the interface table that gl/program binds and
+    // the renderer sets: a name it does not list fails here, without a context.
+    for (const AssembledSource* stage : {&*vs, &*fs}) {
+        Status declared = shader::check_declarations(
+            stage->text, "variant '" + key.describe() + "' " + (stage == &*vs ? "vertex" : "fragment") + " stage");
+        if (!declared) return declared.error();
+    }
     return VariantSources{std::move(*vs), std::move(*fs)};
 }
 
