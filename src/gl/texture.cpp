@@ -8,6 +8,22 @@
 
 namespace px {
 
+namespace {
+
+// A new texture of this size, bound to the active unit, with the unpack
+// state that tightly packed rows need.
+Texture new_bound_texture(int width, int height, const Caps& caps) {
+    Texture t;
+    t.handle = make_texture();
+    t.width = width;
+    t.height = height;
+    glBindTexture(GL_TEXTURE_2D, t.handle.get());
+    set_unpack_defaults(caps);
+    return t;
+}
+
+}  // namespace
+
 Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps) {
     if (image.width < 1 || image.height < 1 || image.pixels.empty())
         return make_error(what + ": empty image");
@@ -36,12 +52,7 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
             }
         source = &rgba;
     }
-    Texture t;
-    t.handle = make_texture();
-    t.width = image.width;
-    t.height = image.height;
-    glBindTexture(GL_TEXTURE_2D, t.handle.get());
-    set_unpack_defaults(caps);
+    Texture t = new_bound_texture(image.width, image.height, caps);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                  source->pixels.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -58,12 +69,7 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
 Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, const std::string& what) {
     if (caps.es_major < 3) return make_error(what + ": the max pyramid needs OpenGL ES 3.0 (texelFetch with a level)");
     if (pyramid.levels.empty()) return make_error(what + ": empty max pyramid");
-    Texture t;
-    t.handle = make_texture();
-    t.width = pyramid.width;
-    t.height = pyramid.height;
-    glBindTexture(GL_TEXTURE_2D, t.handle.get());
-    set_unpack_defaults(caps);
+    Texture t = new_bound_texture(pyramid.width, pyramid.height, caps);
     for (int level = 0; level < pyramid.level_count(); ++level) {
         const Image& image = pyramid.levels[static_cast<size_t>(level)];
         if (image.channels != 1) return make_error(what + ": max pyramid levels must have one channel");
