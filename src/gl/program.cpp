@@ -100,6 +100,8 @@ Status check_interface(GLuint program, const std::string& what) {
         // Arrays are reported as "u_name[0]".
         const size_t bracket = name.find('[');
         if (bracket != std::string::npos) name.resize(bracket);
+        // Built-in uniforms (gl_DepthRange) may be listed as active too.
+        if (name.rfind("gl_", 0) == 0) continue;
         const shader::UniformInfo* found = nullptr;
         for (const shader::UniformInfo& u : shader::uniforms())
             if (name == u.name) found = &u;
