@@ -43,7 +43,7 @@ struct BenchOptions {
 using Progress = std::function<void(int done, int total, const std::string& what)>;
 
 // Needs a current context. `target` is an offscreen colour target of the
-// options' size and `read_color` reads it back (platform/ provides both).
+// options' size and `read_color` reads it back (render/offscreen_target.h provides both).
 Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& target,
                            const std::function<Result<Image>()>& read_color, const Progress& progress);
 
