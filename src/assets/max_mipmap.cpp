@@ -10,11 +10,6 @@ namespace px {
 
 namespace {
 
-
-// Index wrapping for GL_REPEAT: result in [0, n) for any i (n a power of two).
-int wrap_pow2(long long i, int n) { return static_cast<int>(i & static_cast<long long>(n - 1)); }
-
-
 Image single_channel(int width, int height) {
     Image img;
     img.width = width;
@@ -28,7 +23,7 @@ Image single_channel(int width, int height) {
 
 std::uint8_t MaxMipmap::max_byte(int level, long long x, long long y) const {
     const Image& img = levels[static_cast<size_t>(level)];
-    return img.texel(wrap_pow2(x, img.width), wrap_pow2(y, img.height))[0];
+    return img.texel(wrap_index(x, img.width), wrap_index(y, img.height))[0];
 }
 
 float MaxMipmap::max_height(int level, long long x, long long y) const {
