@@ -465,4 +465,10 @@ Image height_image(const HeightField& field) {
     return img;
 }
 
+HeightField quantized_8bit(const HeightField& field) {
+    HeightField q = field;
+    for (float& h : q.texels) h = static_cast<float>(to_unorm8(h)) / 255.0f;
+    return q;
+}
+
 }  // namespace px

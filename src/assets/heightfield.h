@@ -83,6 +83,11 @@ Result<HeightField> make_height_field(const FieldSpec& spec);
 // pack_height is true (one fetch gives both), else 255.
 Image derive_normal_map(const HeightField& field, float height_scale, bool pack_height);
 
+// The field as an RGBA8 upload stores it and the GPU samples it: every
+// texel clamped to [0, 1] and rounded to byte / 255. The renderer keeps this
+// copy for displaced meshes and max pyramids; the reference traces it.
+HeightField quantized_8bit(const HeightField& field);
+
 // The height field as an 8-bit RGBA image: R, G and B hold height, alpha is
 // 255 (opaque, so the file views as a grey image).
 Image height_image(const HeightField& field);

@@ -226,13 +226,6 @@ bool occluded(const HeightField& field, const Ray& ray, double t_min, double t_m
     return blocked;
 }
 
-HeightField quantized_8bit(const HeightField& field) {
-    HeightField q = field;
-    // Clamped as the unorm8 upload clamps (assets: to_byte).
-    for (float& h : q.texels) h = static_cast<float>(quantize_unorm8(h));
-    return q;
-}
-
 Ray view_ray(const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts, double height_scale,
              double polygon_height) {
     // Exact geometry, unlike the shader's clamp of V.z to 1/64; the guard only

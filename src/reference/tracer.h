@@ -37,9 +37,9 @@ Hit first_hit(const HeightField& field, const Ray& ray, double t_min, double t_m
 // by more than `epsilon` (normalised height): the shadow-ray test.
 bool occluded(const HeightField& field, const Ray& ray, double t_min, double t_max, double epsilon = 1e-9);
 
-// Quantises a field to the 8-bit values the GPU samples (round(h * 255) / 255):
+// assets/heightfield.h: the field as the GPU samples it, 8-bit quantised;
 // the reference must trace what the shader traces.
-HeightField quantized_8bit(const HeightField& field);
+using px::quantized_8bit;
 
 // The view ray of the parallax techniques, in the conventions of
 // shaders_es/chunks/march.glsl: `uv` where the pixel meets the polygon,

@@ -8,7 +8,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/limits.h"
-#include "core/numeric.h"
 #include "gl/state.h"
 #include "gl/texture.h"
 #include "scene/material_images.h"
@@ -309,8 +308,7 @@ Status Renderer::load(const SceneDesc& scene) {
         Result<MaterialImages> images = build_material_images(m, desc.base_dir);
         if (!images) return images.error();
         const std::string what = "material '" + m.name + "'";
-        g.field = images->field;
-        for (float& h : g.field.texels) h = static_cast<float>(to_unorm8(h)) / 255.0f;
+        g.field = quantized_8bit(images->field);
         Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo");
         if (!albedo) return albedo.error();
         g.albedo = std::move(*albedo);
@@ -329,7 +327,8 @@ Status Renderer::load(const SceneDesc& scene) {
         }
         const Texture& traced_texture = g.height.handle ? g.height : g.normal;
         g.traced_size = glm::vec2(static_cast<float>(traced_texture.width), static_cast<float>(traced_texture.height));
-        if (g.plan.key.technique == Technique::maxmip) {
+        // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
+        if (technique_info(g.plan.key.technique).options & kOptSteps) {
             Result<MaxMipmap> pyramid = build_max_mipmap(g.field);
             if (!pyramid) return with_context(what, pyramid.error());
             Result<Texture> max_map = upload_max_mipmap(*pyramid, caps_, what + " max pyramid");
