@@ -42,6 +42,8 @@ expect_error "unknown field, with a suggestion" "hieght_scale" render "$work/fie
 expect_error "missing texture file" "missing.png" render "$work/texture.json" -o "$work/out.png"
 expect_error "unknown --technique" "unknown technique 'bump'" render default --technique bump -o "$work/out.png"
 expect_error "bad --size" "--size" render default --size 12by3 -o "$work/out.png"
+expect_error "overflowing --size" "integers in 1..16384" render default --size 99999999999x2 -o "$work/out.png"
+expect_error "zero bench --size" "integers in 1..16384" bench --size 0x5 --out "$work/bench"
 expect_error "unsupported --es" "--es" render default --es 4 -o "$work/out.png"
 MESA_GLES_VERSION_OVERRIDE=3.1 expect_error "contradicting MESA_GLES_VERSION_OVERRIDE" \
     "MESA_GLES_VERSION_OVERRIDE=3.1 contradicts" render default --es 2 --size 16x16 -o "$work/out.png"
