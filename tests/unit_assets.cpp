@@ -202,7 +202,10 @@ TEST(Image, PngRoundTripPreservesPixelsAndOrientation) {
     // In the file itself rows are top-down: the file's first row is the
     // image's last row (v = 1). Read with plain stb, no flipping.
     int w = 0, h = 0, n = 0;
-    stbi_uc* raw = stbi_load(path.c_str(), &w, &h, &n, 4);
+    std::ifstream in(path, std::ios::binary);
+    const std::string file_bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    stbi_uc* raw = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(file_bytes.data()),
+                                         static_cast<int>(file_bytes.size()), &w, &h, &n, 4);
     ASSERT_NE(raw, nullptr);
     ASSERT_EQ(w, 5);
     ASSERT_EQ(h, 3);

@@ -1,5 +1,6 @@
 #include "assets/heightfield.h"
 
+#include "core/limits.h"
 #include "core/numeric.h"
 
 #include <algorithm>
@@ -11,8 +12,6 @@
 namespace px {
 
 namespace {
-
-constexpr int kMaxFieldSize = 8192;
 
 
 // Formats a float for error messages without trailing noise ("0.3", not "0.300000").
@@ -117,8 +116,8 @@ double distance_to_grid(double x, double period) {
 
 Status validate_field_spec(const FieldSpec& spec) {
     const std::string pre = field_prefix(spec);
-    if (spec.size < 1 || spec.size > kMaxFieldSize)
-        return make_error(pre + "size must be in 1.." + std::to_string(kMaxFieldSize) + ", got " +
+    if (spec.size < 1 || spec.size > kMaxTextureSize)
+        return make_error(pre + "size must be in 1.." + std::to_string(kMaxTextureSize) + ", got " +
                           std::to_string(spec.size));
     const auto need_count = [&]() -> Status {
         if (spec.count < 1)
@@ -153,6 +152,9 @@ Status validate_field_spec(const FieldSpec& spec) {
         }
         case FieldKind::text:
             if (spec.text.empty()) return make_error(pre + "text must not be empty");
+            if (spec.text.size() > static_cast<size_t>(kMaxFieldTextLength))
+                return make_error(pre + "text must be at most " + std::to_string(kMaxFieldTextLength) +
+                                  " characters, got " + std::to_string(spec.text.size()));
             for (size_t i = 0; i < spec.text.size(); ++i) {
                 const char c = spec.text[i];
                 if (!find_glyph(c)) {
@@ -168,11 +170,13 @@ Status validate_field_spec(const FieldSpec& spec) {
             if (spec.line_width < 1)
                 return make_error(pre + "line_width must be ≥ 1, got " + std::to_string(spec.line_width));
             // At least one ground texel between neighbours, or lines merge.
-            if (static_cast<long long>(spec.count) * (spec.line_width + 1) > spec.size)
+            // In 64 bits: count and line_width are each at most INT_MAX here.
+            if (const long long span = static_cast<long long>(spec.count) * (static_cast<long long>(spec.line_width) + 1);
+                span > spec.size)
                 return make_error(pre + "count * (line_width + 1) must be ≤ size so lines stay "
                                         "apart, got " +
                                   std::to_string(spec.count) + " * " +
-                                  std::to_string(spec.line_width + 1) + " > " +
+                                  std::to_string(static_cast<long long>(spec.line_width) + 1) + " > " +
                                   std::to_string(spec.size));
             break;
         case FieldKind::hemispheres:

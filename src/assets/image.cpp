@@ -1,12 +1,31 @@
 #include "assets/image.h"
 
 #include "core/files.h"
+#include "core/limits.h"
 
+#include <array>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <cctype>
+
+// stb_image's allocations go through a per-decode budget (below): a file
+// whose data expands past what its header declares (a deflate bomb in a
+// small PNG) makes stb fail with "outofmem" instead of taking the machine's
+// memory. stb is C: it reports a refused allocation, it never throws.
+namespace px::detail {
+void* stb_malloc(std::size_t size);
+void* stb_realloc(void* p, std::size_t size);
+void stb_free(void* p);
+}  // namespace px::detail
+#define STBI_MALLOC(size) px::detail::stb_malloc(size)
+#define STBI_REALLOC(p, size) px::detail::stb_realloc(p, size)
+#define STBI_FREE(p) px::detail::stb_free(p)
+#define STBI_MAX_DIMENSIONS 4096  // = kMaxTextureSize (static_assert below)
 
 // The one translation unit that compiles stb's implementations (Debian's
 // libstb-dev ships headers only as far as CMake is concerned). stb's global
@@ -19,12 +38,61 @@
 #define STBI_ONLY_JPEG
 #define STBI_ONLY_TGA
 #define STBI_NO_LINEAR
+#define STBI_NO_STDIO
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_WRITE_NO_STDIO
 #include <stb/stb_image_write.h>
 
+static_assert(STBI_MAX_DIMENSIONS == px::kMaxTextureSize, "stb's own size limit is the library's");
+
 namespace px {
+
+namespace detail {
+
+namespace {
+
+// Live bytes of the current decode on this thread, and its cap.
+thread_local std::size_t t_live = 0;
+thread_local std::size_t t_budget = std::numeric_limits<std::size_t>::max();
+constexpr std::size_t kHeader = 16;  // keeps the block 16-byte aligned; holds its size
+
+}  // namespace
+
+void* stb_malloc(std::size_t size) {
+    if (size > t_budget - t_live || size > std::numeric_limits<std::size_t>::max() - kHeader) return nullptr;
+    auto* block = static_cast<unsigned char*>(std::malloc(size + kHeader));
+    if (!block) return nullptr;
+    std::memcpy(block, &size, sizeof size);
+    t_live += size;
+    return block + kHeader;
+}
+
+void* stb_realloc(void* p, std::size_t size) {
+    if (!p) return stb_malloc(size);
+    unsigned char* block = static_cast<unsigned char*>(p) - kHeader;
+    std::size_t old = 0;
+    std::memcpy(&old, block, sizeof old);
+    if (size > old && size - old > t_budget - t_live) return nullptr;
+    if (size > std::numeric_limits<std::size_t>::max() - kHeader) return nullptr;
+    auto* grown = static_cast<unsigned char*>(std::realloc(block, size + kHeader));
+    if (!grown) return nullptr;
+    std::memcpy(grown, &size, sizeof size);
+    t_live = t_live - old + size;
+    return grown + kHeader;
+}
+
+void stb_free(void* p) {
+    if (!p) return;
+    unsigned char* block = static_cast<unsigned char*>(p) - kHeader;
+    std::size_t size = 0;
+    std::memcpy(&size, block, sizeof size);
+    t_live -= size;
+    std::free(block);
+}
+
+}  // namespace detail
 
 namespace {
 
@@ -38,17 +106,6 @@ void copy_rows_flipped(const std::uint8_t* src, std::uint8_t* dst, int height, s
                     src + static_cast<size_t>(y) * stride, stride);
 }
 
-std::string errno_text(int err) { return err != 0 ? std::string(std::strerror(err)) : "unknown error"; }
-
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-struct StbiFree {
-    void operator()(stbi_uc* p) const { stbi_image_free(p); }
-};
-
 // stbi_write_png_to_func callback: collects the encoded PNG in memory so that
 // the file I/O (and its error reporting through errno) stays ours.
 void append_bytes(void* context, void* data, int size) {
@@ -57,36 +114,286 @@ void append_bytes(void* context, void* data, int size) {
     out->insert(out->end(), bytes, bytes + size);
 }
 
+struct StbiFree {
+    void operator()(stbi_uc* p) const { stbi_image_free(p); }
+};
+
+// Caps what stb may hold while one decode runs on this thread.
+class DecodeBudget {
+public:
+    explicit DecodeBudget(std::size_t bytes) { detail::t_budget = detail::t_live + bytes; }
+    ~DecodeBudget() { detail::t_budget = std::numeric_limits<std::size_t>::max(); }
+    DecodeBudget(const DecodeBudget&) = delete;
+    DecodeBudget& operator=(const DecodeBudget&) = delete;
+};
+
+// stb's reason, or a plain one when it gave none readable (some of its
+// paths leave a string that starts with NUL bytes).
+std::string stb_reason() {
+    const char* reason = stbi_failure_reason();
+    if (!reason || reason[0] == '\0') return "corrupt or unsupported image data";
+    const std::string text(reason);
+    if (text == "outofmem")
+        return "the image data expands past what its header declares (refused before it could exhaust memory)";
+    for (const char c : text)
+        if (static_cast<unsigned char>(c) < 0x20) return "corrupt or unsupported image data";
+    return echo(text);
+}
+
+// --- PNG structure --------------------------------------------------------------
+// PNG (ISO/IEC 15948): an 8-byte signature, then chunks of
+// length (4 bytes, big-endian, < 2^31), type (4 letters), data, CRC-32 of
+// type and data. IHDR comes first, PLTE before the first IDAT, IDATs in a
+// row, IEND last. stb checks little of this and not the CRCs.
+
+constexpr std::uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+
+std::uint32_t be32(const std::uint8_t* p) {
+    return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+
+void put_be32(std::uint8_t* p, std::uint32_t v) {
+    p[0] = static_cast<std::uint8_t>(v >> 24);
+    p[1] = static_cast<std::uint8_t>(v >> 16);
+    p[2] = static_cast<std::uint8_t>(v >> 8);
+    p[3] = static_cast<std::uint8_t>(v);
+}
+
+// CRC-32 as PNG defines it (polynomial 0xEDB88320, reflected).
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
+    static const std::array<std::uint32_t, 256> table = [] {
+        std::array<std::uint32_t, 256> t{};
+        for (std::uint32_t n = 0; n < 256; ++n) {
+            std::uint32_t c = n;
+            for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+            t[n] = c;
+        }
+        return t;
+    }();
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < size; ++i) c = table[(c ^ data[i]) & 0xFF] ^ (c >> 8);
+    return c ^ 0xFFFFFFFFu;
+}
+
+struct PngLayout {
+    std::uint32_t width = 0, height = 0;
+    int bit_depth = 0, color_type = 0;
+    std::size_t plte_offset = 0;  // of the chunk's length field; 0 when absent
+    std::uint32_t plte_entries = 0;
+};
+
+std::string chunk_name(const std::uint8_t* type) {
+    std::string name;
+    for (int i = 0; i < 4; ++i) {
+        const auto c = static_cast<char>(type[i]);
+        name += (std::isalpha(static_cast<unsigned char>(c)) ? std::string(1, c) : "?");
+    }
+    return name;
+}
+
+bool is_png(const std::uint8_t* bytes, std::size_t size) {
+    return size >= 8 && std::memcmp(bytes, kPngSignature, 8) == 0;
+}
+
+Result<PngLayout> check_png(const std::uint8_t* bytes, std::size_t size) {
+    PngLayout png;
+    std::size_t at = 8;
+    bool seen_ihdr = false, seen_idat = false, idat_ended = false, seen_iend = false;
+    while (at < size && !seen_iend) {
+        const std::string where = " at byte " + std::to_string(at);
+        if (size - at < 12) return make_error("truncated chunk header" + where + " (the file ends before its IEND chunk)");
+        const std::uint32_t length = be32(bytes + at);
+        const std::uint8_t* type = bytes + at + 4;
+        const std::string name = chunk_name(type);
+        if (length > 0x7FFFFFFFu) return make_error("chunk '" + name + "'" + where + " declares an invalid length");
+        if (length > size - at - 12)
+            return make_error("chunk '" + name + "'" + where + " runs past the end of the file (truncated)");
+        const std::uint8_t* data = type + 4;
+        if (be32(data + length) != crc32(type, length + 4))
+            return make_error("chunk '" + name + "'" + where + " has a bad CRC (the file is damaged)");
+        if (!seen_ihdr && name != "IHDR") return make_error("the first chunk is '" + name + "', not IHDR");
+        if (name == "IHDR") {
+            if (seen_ihdr) return make_error("a second IHDR chunk" + where);
+            if (length != 13) return make_error("IHDR is " + std::to_string(length) + " bytes, not 13");
+            seen_ihdr = true;
+            png.width = be32(data);
+            png.height = be32(data + 4);
+            png.bit_depth = data[8];
+            png.color_type = data[9];
+            const int d = png.bit_depth;
+            bool valid = false;
+            switch (png.color_type) {
+                case 0: valid = d == 1 || d == 2 || d == 4 || d == 8 || d == 16; break;
+                case 3: valid = d == 1 || d == 2 || d == 4 || d == 8; break;
+                case 2: case 4: case 6: valid = d == 8 || d == 16; break;
+                default: break;
+            }
+            if (!valid)
+                return make_error("IHDR: bit depth " + std::to_string(d) + " with colour type " +
+                                  std::to_string(png.color_type) + " is not a valid PNG combination");
+            if (data[10] != 0 || data[11] != 0 || data[12] > 1)
+                return make_error("IHDR: unknown compression, filter or interlace method");
+            if (png.width == 0 || png.height == 0) return make_error("IHDR declares an empty image");
+        } else if (name == "PLTE") {
+            if (seen_idat) return make_error("PLTE" + where + " comes after the image data");
+            if (png.plte_offset) return make_error("a second PLTE chunk" + where);
+            if (length == 0 || length % 3 != 0 || length > 768)
+                return make_error("PLTE is " + std::to_string(length) + " bytes: a palette holds 1 to 256 entries of 3 bytes");
+            png.plte_offset = at;
+            png.plte_entries = length / 3;
+        } else if (name == "IDAT") {
+            if (idat_ended) return make_error("IDAT chunks" + where + " are not consecutive");
+            if (png.color_type == 3 && !png.plte_offset) return make_error("an indexed-colour image without a PLTE chunk");
+            seen_idat = true;
+        } else if (name == "IEND") {
+            if (!seen_idat) return make_error("the file has no image data (IDAT) before IEND");
+            seen_iend = true;
+        } else if ((type[0] & 0x20) == 0) {
+            return make_error("unknown critical chunk '" + name + "'" + where);
+        }
+        if (seen_idat && name != "IDAT") idat_ended = true;
+        at += 12 + static_cast<std::size_t>(length);
+    }
+    if (!seen_ihdr) return make_error("no IHDR chunk");
+    if (!seen_iend) return make_error("the file ends before its IEND chunk (truncated)");
+    return png;
+}
+
+// The decoder's cap for an image of the declared size: its output at up to
+// 16 bits and 4 channels, twice over for the conversions, the inflated rows
+// (which stb grows by doubling), and the compressed bytes it gathers.
+std::size_t decode_budget(int width, int height, std::size_t file_bytes) {
+    const std::size_t texels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    return texels * 8 * 4 + 2 * file_bytes + (std::size_t{1} << 20);
+}
+
+Result<ImageInfo> header_info(const std::uint8_t* bytes, std::size_t size, const PngLayout* png) {
+    ImageInfo info;
+    if (png) {
+        if (png->width > static_cast<std::uint32_t>(kMaxTextureSize) ||
+            png->height > static_cast<std::uint32_t>(kMaxTextureSize))
+            return make_error("the header declares " + std::to_string(png->width) + "x" + std::to_string(png->height) +
+                              ", over the limit of " + std::to_string(kMaxTextureSize) + " texels per side");
+        info.width = static_cast<int>(png->width);
+        info.height = static_cast<int>(png->height);
+        return info;
+    }
+    if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) return make_error("file too large");
+    int channels = 0;
+    DecodeBudget budget(std::size_t{1} << 20);
+    if (!stbi_info_from_memory(bytes, static_cast<int>(size), &info.width, &info.height, &channels))
+        return make_error("not a PNG, JPEG or TGA image (" + stb_reason() + ")");
+    if (info.width < 1 || info.height < 1) return make_error("the header declares an empty image");
+    if (info.width > kMaxTextureSize || info.height > kMaxTextureSize)
+        return make_error("the header declares " + std::to_string(info.width) + "x" + std::to_string(info.height) +
+                          ", over the limit of " + std::to_string(kMaxTextureSize) + " texels per side");
+    return info;
+}
+
+// Decodes with stb under the budget; rows come back top first.
+Result<std::unique_ptr<stbi_uc, StbiFree>> stb_decode(const std::uint8_t* bytes, std::size_t size,
+                                                      const ImageInfo& info, int channels) {
+    DecodeBudget budget(decode_budget(info.width, info.height, size));
+    int w = 0, h = 0, file_channels = 0;
+    std::unique_ptr<stbi_uc, StbiFree> data(
+        stbi_load_from_memory(bytes, static_cast<int>(size), &w, &h, &file_channels, channels));
+    if (!data) return make_error("cannot decode image: " + stb_reason());
+    if (w != info.width || h != info.height)
+        return make_error("decoded " + std::to_string(w) + "x" + std::to_string(h) + ", but the header declares " +
+                          std::to_string(info.width) + "x" + std::to_string(info.height));
+    return data;
+}
+
+// A copy of the PNG with its PLTE padded to 256 entries of `fill`, CRC
+// recomputed; stb then reads only initialised palette entries.
+std::vector<std::uint8_t> with_full_palette(const std::uint8_t* bytes, std::size_t size, const PngLayout& png,
+                                            std::uint8_t fill) {
+    const std::size_t old_length = png.plte_entries * 3;
+    std::vector<std::uint8_t> out;
+    out.reserve(size + 768);
+    out.insert(out.end(), bytes, bytes + png.plte_offset);
+    std::uint8_t header[8];
+    put_be32(header, 768);
+    std::memcpy(header + 4, "PLTE", 4);
+    out.insert(out.end(), header, header + 8);
+    const std::uint8_t* entries = bytes + png.plte_offset + 8;
+    out.insert(out.end(), entries, entries + old_length);
+    out.insert(out.end(), 768 - old_length, fill);
+    std::uint8_t crc[4];
+    put_be32(crc, crc32(out.data() + png.plte_offset + 4, 768 + 4));
+    out.insert(out.end(), crc, crc + 4);
+    const std::size_t rest = png.plte_offset + 12 + old_length;
+    out.insert(out.end(), bytes + rest, bytes + size);
+    return out;
+}
+
 }  // namespace
 
-Result<Image> load_image(const std::string& path, int channels) {
+Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels) {
+    const std::string who = echo_path(name);
     if (channels < 1 || channels > 4)
-        return make_error(path + ": cannot load image: channels must be 1..4, got " +
-                          std::to_string(channels));
+        return make_error(who + ": cannot load image: channels must be 1..4, got " + std::to_string(channels));
+    if (size > kMaxImageFileBytes)
+        return make_error(who + ": the image is larger than the limit of " + std::to_string(kMaxImageFileBytes >> 20) +
+                          " MiB");
+    if (size == 0) return make_error(who + ": the image file is empty");
+    std::optional<PngLayout> png;
+    if (is_png(bytes, size)) {
+        Result<PngLayout> layout = check_png(bytes, size);
+        if (!layout) return make_error(who + ": not a valid PNG: " + layout.error().message);
+        png = *layout;
+    }
+    Result<ImageInfo> info = header_info(bytes, size, png ? &*png : nullptr);
+    if (!info) return make_error(who + ": " + info.error().message);
 
-    // Open the file ourselves: errno then says why (missing, permissions),
-    // where stb would only report "can't fopen".
-    errno = 0;
-    FilePtr file(std::fopen(path.c_str(), "rb"));
-    if (!file) return make_error(path + ": cannot open image: " + errno_text(errno));
-
-    int width = 0, height = 0, file_channels = 0;
-    std::unique_ptr<stbi_uc, StbiFree> data(
-        stbi_load_from_file(file.get(), &width, &height, &file_channels, channels));
-    if (!data) {
-        // stbi_failure_reason is thread-local in C++11 builds of stb_image (STBI_THREAD_LOCAL).
-        const char* reason = stbi_failure_reason();
-        return make_error(path + ": cannot decode image: " + (reason ? reason : "unknown reason"));
+    Result<std::unique_ptr<stbi_uc, StbiFree>> data = stb_decode(bytes, size, *info, channels);
+    if (!data) return make_error(who + ": " + data.error().message);
+    // A short palette: stb reads an out-of-range index's entry from memory it
+    // never wrote. Decode again with the palette padded two ways; pixels
+    // that differ use an index past the file's PLTE.
+    if (png && png->color_type == 3 && png->plte_entries < (1u << png->bit_depth)) {
+        const std::size_t count = static_cast<std::size_t>(info->width) * info->height * channels;
+        std::unique_ptr<stbi_uc, StbiFree> padded[2];
+        for (int k = 0; k < 2; ++k) {
+            const std::vector<std::uint8_t> copy = with_full_palette(bytes, size, *png, k == 0 ? 0x00 : 0xFF);
+            Result<std::unique_ptr<stbi_uc, StbiFree>> d = stb_decode(copy.data(), copy.size(), *info, channels);
+            if (!d) return make_error(who + ": " + d.error().message);
+            padded[k] = std::move(*d);
+        }
+        if (std::memcmp(padded[0].get(), padded[1].get(), count) != 0)
+            return make_error(who + ": pixels use palette indices past the " + std::to_string(png->plte_entries) +
+                              " entries of its PLTE chunk");
+        *data = std::move(padded[0]);
     }
 
     Image image;
-    image.width = width;
-    image.height = height;
+    image.width = info->width;
+    image.height = info->height;
     image.channels = channels;
-    const size_t stride = row_bytes(width, channels);
-    image.pixels.resize(stride * static_cast<size_t>(height));
-    copy_rows_flipped(data.get(), image.pixels.data(), height, stride);
+    const size_t stride = row_bytes(image.width, channels);
+    image.pixels.resize(stride * static_cast<size_t>(image.height));
+    copy_rows_flipped(data->get(), image.pixels.data(), image.height, stride);
     return image;
+}
+
+Result<Image> load_image(const std::string& path, int channels) {
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(path, kMaxImageFileBytes, "image");
+    if (!bytes) return bytes.error();
+    return decode_image(bytes->data(), bytes->size(), path, channels);
+}
+
+Result<ImageInfo> read_image_info(const std::string& path) {
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(path, kMaxImageFileBytes, "image");
+    if (!bytes) return bytes.error();
+    std::optional<PngLayout> png;
+    if (is_png(bytes->data(), bytes->size())) {
+        Result<PngLayout> layout = check_png(bytes->data(), bytes->size());
+        if (!layout) return make_error(echo_path(path) + ": not a valid PNG: " + layout.error().message);
+        png = *layout;
+    }
+    Result<ImageInfo> info = header_info(bytes->data(), bytes->size(), png ? &*png : nullptr);
+    if (!info) return make_error(echo_path(path) + ": " + info.error().message);
+    return info;
 }
 
 Status write_png(const std::string& path, const Image& image) {

@@ -3,6 +3,7 @@
 // load_image and write_png flip so that files keep their usual top-down order.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -23,9 +24,27 @@ struct Image {
     }
 };
 
-// Loads PNG, JPG or TGA (whatever stb_image reads) as `channels` channels.
-// Errors name the file and stb's reason.
+// What an image file's header declares, read without decoding its pixels.
+struct ImageInfo {
+    int width = 0;
+    int height = 0;
+};
+
+// Loads PNG, JPEG or TGA as `channels` channels. Before anything is decoded:
+// the file must be a regular file of at most kMaxImageFileBytes, its header
+// must declare at most kMaxTextureSize texels per side, and a PNG's chunk
+// structure must be sound (IHDR first, valid depth and colour type, CRCs,
+// PLTE sizes, IDAT, IEND). The decoder's memory is capped by what the header
+// declares, so data that expands past it is refused. An indexed PNG whose
+// pixels use palette entries its PLTE lacks is refused (the decoder would
+// fill them with whatever memory held). Errors name the file and the reason.
 Result<Image> load_image(const std::string& path, int channels = 4);
+
+// The same from bytes in memory; `name` is what errors call them.
+Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels = 4);
+
+// The header's size, with the same file and header checks as load_image.
+Result<ImageInfo> read_image_info(const std::string& path);
 
 // Writes a PNG; errors name the file.
 Status write_png(const std::string& path, const Image& image);

@@ -8,7 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <vector>
+
+#include "core/limits.h"
 
 namespace px {
 
@@ -64,6 +67,71 @@ Status write_file_atomically(const std::string& path, const void* bytes, std::si
         return make_error(path + ": cannot write: " + reason(error));
     }
     return {};
+}
+
+Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std::size_t max_bytes,
+                                                    const std::string& what) {
+    const std::string name = echo_path(path);
+    // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return make_error(name + ": cannot open " + what + ": " + reason(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
+    if (S_ISDIR(st.st_mode)) return make_error(name + ": cannot read " + what + ": it is a folder");
+    if (!S_ISREG(st.st_mode))
+        return make_error(name + ": cannot read " + what + ": not a regular file (a pipe, socket or device)");
+    const auto limit_error = [&] {
+        return make_error(name + ": " + what + " is larger than the limit of " + std::to_string(max_bytes >> 20) +
+                          " MiB (" + std::to_string(max_bytes) + " bytes)");
+    };
+    if (st.st_size < 0 || static_cast<std::uint64_t>(st.st_size) > max_bytes) return limit_error();
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags >= 0) (void)::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(st.st_size));
+    std::size_t filled = 0;
+    for (;;) {
+        if (filled == bytes.size()) {
+            // The file may have grown since fstat: read on, up to the limit.
+            std::uint8_t probe = 0;
+            const ssize_t n = ::read(fd, &probe, 1);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
+            if (n == 0) break;
+            if (bytes.size() + 1 > max_bytes) return limit_error();
+            bytes.push_back(probe);
+            bytes.resize(std::min(max_bytes, bytes.size() + (std::size_t{1} << 16)));
+            ++filled;
+            continue;
+        }
+        const ssize_t n = ::read(fd, bytes.data() + filled, bytes.size() - filled);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
+        if (n == 0) break;
+        filled += static_cast<std::size_t>(n);
+    }
+    bytes.resize(filled);
+    return bytes;
+}
+
+std::string echo(const std::string& value, std::size_t max_bytes) {
+    std::string out;
+    const std::size_t shown = std::min(value.size(), max_bytes);
+    for (std::size_t i = 0; i < shown; ++i) {
+        const auto c = static_cast<unsigned char>(value[i]);
+        if (c < 0x20 || c == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02x", c);
+            out += buf;
+        } else {
+            out += static_cast<char>(c);
+        }
+    }
+    if (shown < value.size()) out += "... (" + std::to_string(value.size()) + " bytes)";
+    return out;
 }
 
 }  // namespace px

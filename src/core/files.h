@@ -7,8 +7,11 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
+#include <vector>
 
+#include "core/limits.h"
 #include "core/result.h"
 
 namespace px {
@@ -20,5 +23,20 @@ Status write_file_atomically(const std::string& path, const void* bytes, std::si
 inline Status write_file_atomically(const std::string& path, const std::string& text) {
     return write_file_atomically(path, text.data(), text.size());
 }
+
+// Reads a whole regular file of at most max_bytes. Refused, naming the path
+// and `what` ("scene file", "image"): a missing or unreadable file, a folder,
+// a FIFO or device (which could block or never end), a file over the limit
+// (checked before anything is allocated for it, and again while reading, in
+// case it grows).
+Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std::size_t max_bytes,
+                                                    const std::string& what);
+
+// A value quoted in a message: at most kMaxEchoBytes bytes of it, control
+// bytes escaped, and "... (N bytes)" when cut, so a hostile 10 MB key or
+// path never floods a log.
+// Paths get a longer allowance (kMaxEchoPathBytes).
+std::string echo(const std::string& value, std::size_t max_bytes = kMaxEchoBytes);
+inline std::string echo_path(const std::string& path) { return echo(path, kMaxEchoPathBytes); }
 
 }  // namespace px

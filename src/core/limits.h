@@ -1,13 +1,59 @@
-// Limits that the scene description, the shaders and the exact reference
-// share: one value each, seen from every layer.
+// Limits that the scene description, the loaders, the shaders and the exact
+// reference share: one value each, seen from every layer. Each is checked
+// from parameters or file headers before anything is allocated or
+// generated; docs/scene-format.md ("Limits") states them for users.
 #pragma once
+
+#include <cstddef>
+#include <cstdint>
 
 namespace px {
 
 // Lights drawn per object: a constant loop bound in GLSL ES 1.00 (Appendix
 // A), and 4 light vectors + 4 other varyings fit the 8 varying vectors that
-// ES 2.0 guarantees. The renderer and the reference both draw the first
-// kMaxLights lights of a scene.
+// ES 2.0 guarantees. A scene with more lights is refused.
 inline constexpr int kMaxLights = 4;
+
+// Texels per side of any texture: image files and procedural fields. 4096 is
+// what most OpenGL ES 3.0 mobile GPUs support (ES 3.0 guarantees 2048).
+inline constexpr int kMaxTextureSize = 4096;
+
+// Texels a scene's materials may hold in all: the sum over every material of
+// its albedo, height and normal sources. The load keeps about 24 bytes per
+// texel at its peak (the float field, its 8-bit copy, RGBA images, the
+// upload's expansion, the max pyramid), so this bounds it near 800 MB.
+inline constexpr std::int64_t kMaxSceneTexels = std::int64_t{1} << 25;
+
+// Vertices of all a scene's meshes together (a displaced plane has one per
+// texel corner): 4M vertices of 48 bytes plus indices stay under 300 MB.
+inline constexpr std::int64_t kMaxSceneVertices = std::int64_t{1} << 22;
+
+// Counts in one scene.
+inline constexpr int kMaxMaterials = 64;
+inline constexpr int kMaxObjects = 1024;
+
+// Bytes of one file read whole: a scene file, an image file.
+inline constexpr std::size_t kMaxSceneFileBytes = std::size_t{16} << 20;
+inline constexpr std::size_t kMaxImageFileBytes = std::size_t{64} << 20;
+
+// Characters of the text a 'text' field raises (each glyph is 6 columns).
+inline constexpr int kMaxFieldTextLength = 64;
+
+// Magnitudes the renderer honours: every position, extent and scale stays
+// well inside fp32 (and the shading's mediump: fp16 overflows at 65504)
+// after the model, view and projection products.
+inline constexpr float kMaxCoordinate = 1e5f;   // positions, translations
+inline constexpr float kMaxExtent = 1e4f;       // mesh sizes and radii, object scales
+inline constexpr float kMinExtent = 1e-4f;
+inline constexpr float kMaxUvScale = 1024.0f;   // tiles per mesh uv unit
+inline constexpr float kMinUvScale = 1.0f / 1024.0f;
+inline constexpr float kMaxUvOffset = 1024.0f;
+inline constexpr float kMaxAngleDeg = 3600.0f;  // rotations: ten turns either way
+inline constexpr float kMaxRadiance = 1000.0f;  // light colour * intensity, ambient
+inline constexpr float kMaxHeightScale = 4.0f;  // relief depth in tiles
+
+// Bytes of any value a message echoes (a key, a string, a path).
+inline constexpr std::size_t kMaxEchoBytes = 64;
+inline constexpr std::size_t kMaxEchoPathBytes = 512;
 
 }  // namespace px
