@@ -1,4 +1,5 @@
 #include "assets/heightfield.h"
+#include "core/text.h"
 
 #include "core/limits.h"
 #include "core/numeric.h"
@@ -357,7 +358,7 @@ Result<FieldKind> parse_field_kind(const std::string& name) {
         if (!known.empty()) known += ", ";
         known += k.name;
     }
-    return make_error("unknown field kind '" + name + "' (known: " + known + ")");
+    return make_error("unknown field kind '" + echo(name) + "' (known: " + known + ")");
 }
 
 // --- Procedural fields -----------------------------------------------------------

@@ -2,6 +2,7 @@
 
 #include "core/files.h"
 #include "core/limits.h"
+#include "core/text.h"
 
 #include <array>
 #include <cerrno>

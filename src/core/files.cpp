@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "core/limits.h"
+#include "core/text.h"
 
 namespace px {
 
@@ -115,23 +115,6 @@ Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std
     }
     bytes.resize(filled);
     return bytes;
-}
-
-std::string echo(const std::string& value, std::size_t max_bytes) {
-    std::string out;
-    const std::size_t shown = std::min(value.size(), max_bytes);
-    for (std::size_t i = 0; i < shown; ++i) {
-        const auto c = static_cast<unsigned char>(value[i]);
-        if (c < 0x20 || c == 0x7f) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\x%02x", c);
-            out += buf;
-        } else {
-            out += static_cast<char>(c);
-        }
-    }
-    if (shown < value.size()) out += "... (" + std::to_string(value.size()) + " bytes)";
-    return out;
 }
 
 }  // namespace px

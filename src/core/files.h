@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "core/limits.h"
 #include "core/result.h"
 
 namespace px {
@@ -31,12 +30,5 @@ inline Status write_file_atomically(const std::string& path, const std::string& 
 // case it grows).
 Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std::size_t max_bytes,
                                                     const std::string& what);
-
-// A value quoted in a message: at most kMaxEchoBytes bytes of it, control
-// bytes escaped, and "... (N bytes)" when cut, so a hostile 10 MB key or
-// path never floods a log.
-// Paths get a longer allowance (kMaxEchoPathBytes).
-std::string echo(const std::string& value, std::size_t max_bytes = kMaxEchoBytes);
-inline std::string echo_path(const std::string& path) { return echo(path, kMaxEchoPathBytes); }
 
 }  // namespace px

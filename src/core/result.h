@@ -2,7 +2,9 @@
 // Result<T>; tools/ prints the message and exits non-zero.
 #pragma once
 
+#include <new>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <variant>
@@ -54,6 +56,21 @@ private:
 // Prefix an error message with context ("scene.json: " + message).
 inline Error with_context(const std::string& context, const Error& e) {
     return Error{context + ": " + e.message};
+}
+
+// Runs f() and turns an allocation failure (std::bad_alloc, or the
+// std::length_error of a size no container can hold) into an error naming
+// `what`, at the library's edge, so a host app gets a message and keeps
+// running. The limits of core/limits.h keep this the last resort.
+template <typename F>
+auto out_of_memory_is_an_error(const std::string& what, F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const std::bad_alloc&) {
+        return Error{what + ": out of memory"};
+    } catch (const std::length_error&) {
+        return Error{what + ": out of memory (a size past what a container can hold)"};
+    }
 }
 
 }  // namespace px

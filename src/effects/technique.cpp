@@ -1,4 +1,5 @@
 #include "effects/technique.h"
+#include "core/text.h"
 
 #include <cmath>
 
@@ -89,7 +90,7 @@ std::string technique_names_joined(const char* separator) {
 Result<Technique> parse_technique(const std::string& name) {
     for (const TechniqueInfo& info : kTable)
         if (name == info.name) return info.id;
-    return make_error("unknown technique '" + name + "' (known: " + technique_names_joined() + ")");
+    return make_error("unknown technique '" + echo(name) + "' (known: " + technique_names_joined() + ")");
 }
 
 const char* shadow_mode_name(ShadowMode m) {
@@ -104,7 +105,7 @@ const char* shadow_mode_name(ShadowMode m) {
 Result<ShadowMode> parse_shadow_mode(const std::string& name) {
     for (ShadowMode m : {ShadowMode::none, ShadowMode::hard, ShadowMode::soft})
         if (name == shadow_mode_name(m)) return m;
-    return make_error("unknown shadow mode '" + name + "' (known: none, hard, soft)");
+    return make_error("unknown shadow mode '" + echo(name) + "' (known: none, hard, soft)");
 }
 
 Status validate_options(const TechniqueOptions& o) {

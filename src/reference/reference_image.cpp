@@ -1,4 +1,6 @@
 #include "reference/reference_image.h"
+#include "core/text.h"
+#include "scene/material_images.h"
 
 #include <algorithm>
 #include <cmath>
@@ -180,8 +182,21 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
 
 }  // namespace
 
+namespace {
+Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int width, int height,
+                                                const ReferenceOptions& options);
+}  // namespace
+
 Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int height,
                                         const ReferenceOptions& options) {
+    return out_of_memory_is_an_error("reference of scene '" + echo(scene.name) + "'",
+                                     [&] { return render_reference_checked(scene, width, height, options); });
+}
+
+namespace {
+
+Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int width, int height,
+                                                const ReferenceOptions& options) {
     if (width < 1 || height < 1)
         return make_error("reference: image size " + std::to_string(width) + "x" + std::to_string(height) +
                           " is empty");
@@ -189,6 +204,8 @@ Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int h
         return make_error("reference: soft_samples must be at least 1, got " + std::to_string(options.soft_samples));
     Status valid = validate_scene(scene);
     if (!valid) return valid.error();
+    Status resources = check_scene_resources(scene, true);
+    if (!resources) return resources.error();
     for (const ObjectDesc& o : scene.objects)
         if (o.mesh.kind != MeshKind::plane)
             return make_error("reference: object '" + o.name + "' is a " + mesh_kind_name(o.mesh.kind) +
@@ -293,5 +310,7 @@ Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int h
     for (std::thread& t : pool) t.join();
     return out;
 }
+
+}  // namespace
 
 }  // namespace px::reference

@@ -1,4 +1,5 @@
 #include "render/renderer.h"
+#include "core/text.h"
 
 #include <array>
 #include <cmath>
@@ -292,6 +293,15 @@ void Renderer::abandon() {
 Status Renderer::load(const SceneDesc& scene) {
     Status valid = validate_scene(scene);
     if (!valid) return valid;
+    Status resources = check_scene_resources(scene, true);
+    if (!resources) return resources;
+    // Any partial GPU scene is released by its handles' destructors, and the
+    // host's GL state restored, on the way out.
+    return out_of_memory_is_an_error("loading scene '" + echo(scene.name) + "'",
+                                     [&] { return load_checked(scene); });
+}
+
+Status Renderer::load_checked(const SceneDesc& scene) {
     SavedGlState saved(caps_);
     set_unpack_defaults(caps_);
     auto gpu = std::make_unique<GpuScene>();
@@ -303,11 +313,11 @@ Status Renderer::load(const SceneDesc& scene) {
         GpuMaterial g;
         g.desc = &m;
         Result<VariantPlan> plan = plan_variant(m, caps_);
-        if (!plan) return with_context("material '" + m.name + "'", plan.error());
+        if (!plan) return with_context("material '" + echo(m.name) + "'", plan.error());
         g.plan = std::move(*plan);
         Result<MaterialImages> images = build_material_images(m, desc.base_dir);
         if (!images) return images.error();
-        const std::string what = "material '" + m.name + "'";
+        const std::string what = "material '" + echo(m.name) + "'";
         g.field = quantized_8bit(images->field);
         Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo");
         if (!albedo) return albedo.error();
@@ -342,7 +352,7 @@ Status Renderer::load(const SceneDesc& scene) {
         gpu->materials.push_back(std::move(g));
     }
     for (const ObjectDesc& o : desc.objects) {
-        const std::string what = "object '" + o.name + "'";
+        const std::string what = "object '" + echo(o.name) + "'";
         const size_t material_index = desc.material_index(o.material);  // validate_scene checked it exists
         Mesh mesh;
         if (o.mesh.displaced) {

@@ -71,6 +71,7 @@ public:
     struct GpuScene;
 
 private:
+    Status load_checked(const SceneDesc& scene);
     Renderer() = default;
     Caps caps_;
     std::unique_ptr<GpuScene> scene_;

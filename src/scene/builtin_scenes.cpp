@@ -1,6 +1,7 @@
 // Scenes built into the program, written in C++ so they need no files. The
 // scene's up axis is +z; planes lie in the xy plane with u along +x, v along +y.
 #include "scene/scene.h"
+#include "core/text.h"
 
 #include <cmath>
 #include <utility>
@@ -223,7 +224,7 @@ Result<SceneDesc> builtin_scene(const std::string& name) {
         if (name == b.name) return b.build();
     std::string known;
     for (const Builtin& b : kBuiltins) known += (known.empty() ? "" : ", ") + std::string(b.name);
-    return make_error("unknown built-in scene '" + name + "' (built-in: " + known + ")");
+    return make_error("unknown built-in scene '" + echo(name) + "' (built-in: " + known + ")");
 }
 
 }  // namespace px

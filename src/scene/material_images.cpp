@@ -1,6 +1,9 @@
 #include "scene/material_images.h"
+#include "core/text.h"
 
+#include "core/limits.h"
 #include "core/numeric.h"
+#include "scene/scene_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,10 +45,78 @@ Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_d
     return make_error("unhandled height source");
 }
 
+// Texels per side of a source; 0 x 0 for a file whose header is not read.
+Result<ImageInfo> source_size(const TextureSource& s, const std::string& base_dir, bool read_file_headers) {
+    switch (s.kind) {
+        case TextureSource::Kind::none:
+        case TextureSource::Kind::color: return ImageInfo{4, 4};
+        case TextureSource::Kind::procedural: return ImageInfo{s.field.size, s.field.size};
+        case TextureSource::Kind::file:
+            if (!read_file_headers) return ImageInfo{0, 0};
+            return read_image_info(resolve(base_dir, s.path));
+    }
+    return ImageInfo{0, 0};
+}
+
+std::string count_text(std::int64_t n) {
+    return std::to_string(n);
+}
+
 }  // namespace
 
+Status check_scene_resources(const SceneDesc& scene, bool read_file_headers) {
+    using scene_format::index_path;
+    std::int64_t texels = 0;
+    std::vector<ImageInfo> traced(scene.materials.size());
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const MaterialDesc& m = scene.materials[i];
+        const std::pair<const TextureSource*, const char*> slots[] = {
+            {&m.albedo, "albedo"}, {&m.height, "height"}, {&m.normal, "normal"}};
+        for (auto [source, slot] : slots) {
+            const std::string path = index_path("materials", i) + "." + slot + " (material '" + echo(m.name) + "')";
+            Result<ImageInfo> size = source_size(*source, scene.base_dir, read_file_headers);
+            if (!size) return with_context(path, size.error());
+            if (source == &m.height) traced[i] = *size;
+            // Each side is at most kMaxTextureSize: no overflow in 64 bits.
+            const std::int64_t n = static_cast<std::int64_t>(size->width) * size->height;
+            texels += n;
+            if (texels > kMaxSceneTexels)
+                return make_error(path + ": the scene's textures pass the limit of " + count_text(kMaxSceneTexels) +
+                                  " texels in all (" + count_text(texels - n) + " before this one, which adds " +
+                                  count_text(n) + "); use smaller textures or fewer materials");
+        }
+    }
+    std::int64_t vertices = 0;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const ObjectDesc& o = scene.objects[i];
+        std::int64_t n = 0;
+        switch (o.mesh.kind) {
+            case MeshKind::plane: {
+                std::int64_t columns = o.mesh.segments, rows = o.mesh.segments;
+                if (o.mesh.displaced) {  // one vertex per texel corner of the traced field
+                    const std::size_t k = scene.material_index(o.material);
+                    const ImageInfo field = k < traced.size() ? traced[k] : ImageInfo{4, 4};
+                    columns = field.width;
+                    rows = field.height;
+                }
+                n = (std::max<std::int64_t>(columns, 1) + 1) * (std::max<std::int64_t>(rows, 1) + 1);
+                break;
+            }
+            case MeshKind::cube: n = 24; break;
+            case MeshKind::sphere:
+            case MeshKind::torus: n = 4096; break;  // fixed tessellations (mesh.h), rounded up
+        }
+        vertices += n;
+        if (vertices > kMaxSceneVertices)
+            return make_error(index_path("objects", i) + ".mesh: the scene's meshes pass the limit of " +
+                              count_text(kMaxSceneVertices) + " vertices in all (this one adds " + count_text(n) +
+                              (o.mesh.displaced ? ", one per texel corner of its material's height field" : "") + ")");
+    }
+    return {};
+}
+
 Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::string& base_dir) {
-    const std::string where = "material '" + m.name + "'";
+    const std::string where = "material '" + echo(m.name) + "'";
     MaterialImages out;
     Result<HeightField> field = load_height(m, base_dir);
     if (!field) return with_context(where + " height", field.error());

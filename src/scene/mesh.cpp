@@ -1,4 +1,6 @@
 #include "scene/mesh.h"
+#include "core/text.h"
+#include "core/limits.h"
 
 #include <algorithm>
 #include <array>
@@ -134,7 +136,7 @@ Result<MeshKind> parse_mesh_kind(const std::string& name) {
         known += known.empty() ? "" : ", ";
         known += k.name;
     }
-    return make_error("unknown mesh kind '" + name + "' (known: " + known + ")");
+    return make_error("unknown mesh kind '" + echo(name) + "' (known: " + known + ")");
 }
 
 Status generate_tangents(Mesh& mesh) {
@@ -398,6 +400,11 @@ namespace px {
 Result<Mesh> make_displaced_plane(float size, const HeightField& field, float height_scale, float polygon_height,
                                   float units_per_tile) {
     if (field.width < 1 || field.height < 1) return make_error("displaced plane: the height field is empty");
+    const std::int64_t vertex_count = (static_cast<std::int64_t>(field.width) + 1) * (static_cast<std::int64_t>(field.height) + 1);
+    if (vertex_count > kMaxSceneVertices)
+        return make_error("displaced plane: a " + std::to_string(field.width) + "x" + std::to_string(field.height) +
+                          " height field needs " + std::to_string(vertex_count) + " vertices, over the limit of " +
+                          std::to_string(kMaxSceneVertices));
     const int columns = field.width;
     const int rows = field.height;
     Mesh mesh;

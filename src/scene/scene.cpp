@@ -3,12 +3,15 @@
 // No JSON here: a host app that builds its scene in code links this without
 // the parser (scene_json.cpp).
 #include "scene/scene.h"
+#include "core/text.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/limits.h"
 #include "core/numeric.h"
 #include "scene/scene_format.h"
 
@@ -53,6 +56,32 @@ bool non_negative(const glm::vec<N, float, glm::defaultp>& v) {
     return finite(v) && within(v, 0.0f, std::numeric_limits<float>::max());
 }
 
+// Every component's magnitude at most `hi` (NaN fails).
+template <glm::length_t N>
+bool bounded(const glm::vec<N, float, glm::defaultp>& v, float hi) {
+    return within(v, -hi, hi);
+}
+
+// Every component's magnitude within [lo, hi] (so non-zero; NaN fails).
+template <glm::length_t N>
+bool magnitudes_within(const glm::vec<N, float, glm::defaultp>& v, float lo, float hi) {
+    for (glm::length_t i = 0; i < N; ++i)
+        if (!(std::abs(v[i]) >= lo && std::abs(v[i]) <= hi)) return false;
+    return true;
+}
+
+bool in_range(float x, float lo, float hi) { return x >= lo && x <= hi; }  // NaN fails
+
+// Names are quoted in every message about the thing they name: short and printable.
+void check_name(Checker& c, const std::string& name, const std::string& path) {
+    bool printable = true;
+    for (const char ch : name)
+        if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) printable = false;
+    c.require(name.size() <= kMaxEchoBytes, path,
+              "must be at most " + std::to_string(kMaxEchoBytes) + " bytes, got " + std::to_string(name.size()));
+    c.require(printable, path, "must not contain control characters");
+}
+
 template <glm::length_t N>
 bool no_zero(const glm::vec<N, float, glm::defaultp>& v) {
     for (glm::length_t i = 0; i < N; ++i)
@@ -88,15 +117,21 @@ void check_source(Checker& c, const TextureSource& s, const std::string& path) {
 }
 
 void check_camera(Checker& c, const CameraDesc& cam) {
-    c.require(finite(cam.position), "camera.position", "must be finite, got " + num(cam.position));
-    c.require(finite(cam.target), "camera.target", "must be finite, got " + num(cam.target));
+    const std::string coordinate = "components must be within ±" + num(kMaxCoordinate) + ", got ";
+    c.require(bounded(cam.position, kMaxCoordinate), "camera.position", coordinate + num(cam.position));
+    c.require(bounded(cam.target, kMaxCoordinate), "camera.target", coordinate + num(cam.target));
     c.require(finite(cam.up), "camera.up", "must be finite, got " + num(cam.up));
-    c.require(cam.fov_y_deg > 0.0f && cam.fov_y_deg < 180.0f, "camera.fov_y_deg",
-              "must be within (0, 180) degrees, got " + num(cam.fov_y_deg));
-    c.require(cam.near_plane > 0.0f && std::isfinite(cam.near_plane), "camera.near",
-              "must be greater than 0, got " + num(cam.near_plane));
-    c.require(cam.far_plane > cam.near_plane && std::isfinite(cam.far_plane), "camera.far",
-              "must be greater than near (" + num(cam.near_plane) + "), got " + num(cam.far_plane));
+    // Past these the projection's tan(fov/2) and far/near overflow or lose
+    // every bit of depth precision.
+    c.require(in_range(cam.fov_y_deg, 1.0f, 170.0f), "camera.fov_y_deg",
+              "must be within [1, 170] degrees, got " + num(cam.fov_y_deg));
+    c.require(in_range(cam.near_plane, kMinExtent, kMaxCoordinate), "camera.near",
+              "must be within [" + num(kMinExtent) + ", " + num(kMaxCoordinate) + "], got " + num(cam.near_plane));
+    c.require(cam.far_plane > cam.near_plane && cam.far_plane <= 1e6f * cam.near_plane &&
+                  cam.far_plane <= 2.0f * kMaxCoordinate,
+              "camera.far",
+              "must be greater than near (" + num(cam.near_plane) + "), at most 10^6 times near and at most " +
+                  num(2.0f * kMaxCoordinate) + ", got " + num(cam.far_plane));
     const glm::vec3 view = cam.target - cam.position;
     if (c.require(glm::length(view) > 0.0f, "camera.target", "must differ from camera.position"))
         c.require(glm::length(glm::cross(view, cam.up)) > 1e-6f * glm::length(view) * glm::length(cam.up),
@@ -106,27 +141,41 @@ void check_camera(Checker& c, const CameraDesc& cam) {
 
 void check_light(Checker& c, const LightDesc& l, const std::string& path) {
     if (l.kind == LightKind::directional)
-        c.require(finite(l.direction) && glm::length(l.direction) > 0.0f, path + ".direction",
-                  "must be a finite non-zero vector, got " + num(l.direction));
+        // Normalised in float: a length under 1e-6 squares to an underflow.
+        c.require(bounded(l.direction, kMaxCoordinate) && glm::length(l.direction) >= 1e-6f, path + ".direction",
+                  "must be a non-zero vector (length at least 1e-6, components within ±" + num(kMaxCoordinate) +
+                      "), got " + num(l.direction));
     else
-        c.require(finite(l.position), path + ".position", "must be finite, got " + num(l.position));
-    c.require(non_negative(l.color), path + ".color",
-              "components must be 0 or more, got " + num(l.color));
-    c.require(l.intensity >= 0.0f && std::isfinite(l.intensity), path + ".intensity",
-              "must be 0 or more, got " + num(l.intensity));
+        c.require(bounded(l.position, kMaxCoordinate), path + ".position",
+                  "components must be within ±" + num(kMaxCoordinate) + ", got " + num(l.position));
+    // The shading runs in mediump: fp16 overflows at 65504.
+    c.require(within(l.color, 0.0f, kMaxRadiance), path + ".color",
+              "components must be within [0, " + num(kMaxRadiance) + "], got " + num(l.color));
+    c.require(in_range(l.intensity, 0.0f, kMaxRadiance), path + ".intensity",
+              "must be within [0, " + num(kMaxRadiance) + "], got " + num(l.intensity));
+    if (!c.failed())
+        c.require(std::max({l.color.r, l.color.g, l.color.b}) * l.intensity <= kMaxRadiance, path + ".intensity",
+                  "color * intensity must be at most " + num(kMaxRadiance) + " (the shading runs in mediump), got " +
+                      num(std::max({l.color.r, l.color.g, l.color.b}) * l.intensity));
     c.require(l.angular_radius_deg >= 0.0f && l.angular_radius_deg <= 45.0f, path + ".angular_radius_deg",
               "must be within [0, 45] degrees, got " + num(l.angular_radius_deg));
 }
 
 void check_material(Checker& c, const MaterialDesc& m, const std::string& path) {
     c.require(!m.name.empty(), path + ".name", "a material needs a name");
-    c.require(m.height_scale >= 0.0f && std::isfinite(m.height_scale), path + ".height_scale",
-              "must be 0 or more, got " + num(m.height_scale));
-    c.require(std::isfinite(m.bias()), path + ".height_bias", "must be finite, got " + num(m.bias()));
-    c.require(finite(m.uv.scale) && no_zero(m.uv.scale), path + ".uv.scale",
-              "components must be finite and non-zero, got " + num(m.uv.scale));
-    c.require(finite(m.uv.offset), path + ".uv.offset", "must be finite, got " + num(m.uv.offset));
-    c.require(std::isfinite(m.uv.rotation_deg), path + ".uv.rotation_deg", "must be finite");
+    check_name(c, m.name, path + ".name");
+    c.require(in_range(m.height_scale, 0.0f, kMaxHeightScale), path + ".height_scale",
+              "must be within [0, " + num(kMaxHeightScale) + "] tiles, got " + num(m.height_scale));
+    c.require(in_range(m.bias(), -2.0f * kMaxHeightScale, 2.0f * kMaxHeightScale), path + ".height_bias",
+              "must be within ±" + num(2.0f * kMaxHeightScale) + " tiles, got " + num(m.bias()));
+    // Texture coordinates run in fp32 (mediump on some paths): past these
+    // a texel's position is lost to rounding.
+    c.require(magnitudes_within(m.uv.scale, kMinUvScale, kMaxUvScale), path + ".uv.scale",
+              "components must be non-zero with magnitudes within [1/1024, 1024], got " + num(m.uv.scale));
+    c.require(bounded(m.uv.offset, kMaxUvOffset), path + ".uv.offset",
+              "components must be within ±" + num(kMaxUvOffset) + ", got " + num(m.uv.offset));
+    c.require(in_range(m.uv.rotation_deg, -kMaxAngleDeg, kMaxAngleDeg), path + ".uv.rotation_deg",
+              "must be within ±" + num(kMaxAngleDeg) + " degrees, got " + num(m.uv.rotation_deg));
     c.require(m.specular >= 0.0f && m.specular <= 16.0f, path + ".specular",
               "must be within [0, 16], got " + num(m.specular));
     // The exponent runs in mediump (fp16 on mobile GPUs): past 1024 the
@@ -142,31 +191,35 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
 
 void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const std::string& path) {
     const MeshDesc& mesh = o.mesh;
-    c.require(mesh.size > 0.0f && std::isfinite(mesh.size), path + ".mesh.size",
-              "must be greater than 0, got " + num(mesh.size));
+    const std::string extent = "must be within [" + num(kMinExtent) + ", " + num(kMaxExtent) + "], got ";
+    c.require(in_range(mesh.size, kMinExtent, kMaxExtent), path + ".mesh.size", extent + num(mesh.size));
     c.require(mesh.segments >= 1 && mesh.segments <= 1024, path + ".mesh.segments",
               "must be within 1..1024, got " + std::to_string(mesh.segments));
-    c.require(mesh.radius > 0.0f && std::isfinite(mesh.radius), path + ".mesh.radius",
-              "must be greater than 0, got " + num(mesh.radius));
+    c.require(in_range(mesh.radius, kMinExtent, kMaxExtent), path + ".mesh.radius", extent + num(mesh.radius));
     c.require(!mesh.displaced || mesh.kind == MeshKind::plane, path + ".mesh.displaced",
               "only a plane can be displaced");
-    c.require(mesh.tube_radius > 0.0f && std::isfinite(mesh.tube_radius), path + ".mesh.tube_radius",
-              "must be greater than 0, got " + num(mesh.tube_radius));
+    c.require(in_range(mesh.tube_radius, kMinExtent, kMaxExtent), path + ".mesh.tube_radius",
+              extent + num(mesh.tube_radius));
     if (mesh.kind == MeshKind::torus)  // a thicker tube passes through the axis and folds over itself
         c.require(mesh.tube_radius < mesh.radius, path + ".mesh.tube_radius",
                   "must be less than radius (" + num(mesh.radius) + "), got " + num(mesh.tube_radius));
 
     const TransformDesc& t = o.transform;
-    c.require(finite(t.translate), path + ".transform.translate", "must be finite, got " + num(t.translate));
-    c.require(finite(t.rotate_deg), path + ".transform.rotate_deg", "must be finite, got " + num(t.rotate_deg));
-    c.require(finite(t.scale) && no_zero(t.scale), path + ".transform.scale",
-              "components must be finite and non-zero, got " + num(t.scale));
+    c.require(bounded(t.translate, kMaxCoordinate), path + ".transform.translate",
+              "components must be within ±" + num(kMaxCoordinate) + ", got " + num(t.translate));
+    c.require(bounded(t.rotate_deg, kMaxAngleDeg), path + ".transform.rotate_deg",
+              "components must be within ±" + num(kMaxAngleDeg) + " degrees, got " + num(t.rotate_deg));
+    // The normal matrix inverts the scale: both stay inside fp32.
+    c.require(magnitudes_within(t.scale, kMinExtent, kMaxExtent), path + ".transform.scale",
+              "components must be non-zero with magnitudes within [" + num(kMinExtent) + ", " + num(kMaxExtent) +
+                  "], got " + num(t.scale));
+    check_name(c, o.name, path + ".name");
 
     if (!scene.find_material(o.material)) {
         std::vector<std::string> names;
         for (const MaterialDesc& m : scene.materials) names.push_back(m.name);
         c.require(false, path + ".material",
-                  "no material named '" + o.material + "' (" +
+                  "no material named '" + echo(o.material) + "' (" +
                       (names.empty() ? std::string("the scene defines none") : "materials: " + joined(names)) +
                       ")");
     }
@@ -196,8 +249,17 @@ const MaterialDesc* SceneDesc::find_material(const std::string& material_name) c
 Status validate_scene(const SceneDesc& scene) {
     Checker c;
     check_camera(c, scene.camera);
-    c.require(non_negative(scene.ambient), "ambient",
-              "components must be 0 or more, got " + num(scene.ambient));
+    c.require(within(scene.ambient, 0.0f, kMaxRadiance), "ambient",
+              "components must be within [0, " + num(kMaxRadiance) + "], got " + num(scene.ambient));
+    // Drawn per object in one pass with a constant loop bound: a light past
+    // the last would be dropped without a word, so it is refused.
+    c.require(scene.lights.size() <= static_cast<std::size_t>(kMaxLights), index_path("lights", kMaxLights),
+              "at most " + std::to_string(kMaxLights) + " lights are drawn, got " + std::to_string(scene.lights.size()) +
+                  "; remove lights[" + std::to_string(kMaxLights) + "] and after");
+    c.require(scene.materials.size() <= static_cast<std::size_t>(kMaxMaterials), "materials",
+              "at most " + std::to_string(kMaxMaterials) + " materials, got " + std::to_string(scene.materials.size()));
+    c.require(scene.objects.size() <= static_cast<std::size_t>(kMaxObjects), "objects",
+              "at most " + std::to_string(kMaxObjects) + " objects, got " + std::to_string(scene.objects.size()));
     c.require(within(scene.background, 0.0f, 1.0f), "background",
               "components must be within [0, 1], got " + num(scene.background));
     for (std::size_t i = 0; i < scene.lights.size(); ++i) check_light(c, scene.lights[i], index_path("lights", i));
@@ -206,7 +268,7 @@ Status validate_scene(const SceneDesc& scene) {
         check_material(c, scene.materials[i], path);
         for (std::size_t k = 0; k < i; ++k)
             c.require(scene.materials[k].name != scene.materials[i].name, path + ".name",
-                      "duplicate material name '" + scene.materials[i].name + "' (also " +
+                      "duplicate material name '" + echo(scene.materials[i].name) + "' (also " +
                           index_path("materials", k) + ")");
     }
     c.require(!scene.objects.empty(), "objects", "a scene needs at least one object");

@@ -3,6 +3,7 @@
 // otherwise; the format is described in docs/scene-format.md. The value
 // checks are scene.cpp's validate_scene.
 #include "scene/scene.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -24,6 +25,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/files.h"
+#include "core/limits.h"
+#include "scene/material_images.h"
 #include "scene/scene_format.h"
 
 namespace px {
@@ -45,9 +49,7 @@ std::string describe(const json& j) {
         case json::value_t::null: return "null";
         case json::value_t::boolean: return j.get<bool>() ? "boolean true" : "boolean false";
         case json::value_t::string: {
-            std::string s = j.get<std::string>();
-            if (s.size() > 40) s = s.substr(0, 37) + "...";
-            return "string \"" + s + "\"";
+            return "string \"" + echo(j.get<std::string>(), 40) + "\"";
         }
         case json::value_t::number_integer:
         case json::value_t::number_unsigned: return "integer " + j.dump();
@@ -78,10 +80,14 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 
 std::string unknown_field_message(const std::string& key, const std::string& path,
                                   const std::vector<std::string>& known) {
-    std::string message = "unknown field '" + key + "' " + (path.empty() ? "at the top level" : "in " + path);
+    std::string message = "unknown field '" + echo(key) + "' " + (path.empty() ? "at the top level" : "in " + path);
     std::string_view best;
     std::size_t best_distance = 3;  // suggest only within an edit distance of 2
     for (const std::string& k : known) {
+        // The edit distance is at least the difference in length: skip the
+        // quadratic search for a key that cannot be within 2 edits (a
+        // hostile 10 MB key costs nothing).
+        if (key.size() > k.size() + 2 || k.size() > key.size() + 2) continue;
         const std::size_t d = edit_distance(key, k);
         if (d < best_distance) {
             best = k;
@@ -140,7 +146,7 @@ public:
                 top.key = parsed.get<std::string>();
                 if (!top.keys.insert(top.key).second && message_.empty()) {
                     const std::string path = object_path();
-                    message_ = "duplicate field '" + top.key + "' " +
+                    message_ = "duplicate field '" + echo(top.key) + "' " +
                                (path.empty() ? "at the top level" : "in " + path);
                 }
                 break;
@@ -182,13 +188,13 @@ private:
 Result<LightKind> parse_light_kind(const std::string& name) {
     if (name == "directional") return LightKind::directional;
     if (name == "point") return LightKind::point;
-    return make_error("unknown light type '" + name + "' (known: directional, point)");
+    return make_error("unknown light type '" + echo(name) + "' (known: directional, point)");
 }
 
 Result<HeightConvention> parse_convention(const std::string& name) {
     if (name == "height") return HeightConvention::height;
     if (name == "depth") return HeightConvention::depth;
-    return make_error("unknown height convention '" + name + "' (known: height, depth)");
+    return make_error("unknown height convention '" + echo(name) + "' (known: height, depth)");
 }
 
 // --- Reading JSON -----------------------------------------------------------------
@@ -544,16 +550,9 @@ void read_scene(Reader& r, const json& doc, SceneDesc& scene) {
 // --- Files ------------------------------------------------------------------------
 
 Result<std::string> read_text_file(const std::string& path) {
-    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!file) return make_error("cannot open scene file '" + path + "': " + std::strerror(errno));
-    std::string text;
-    char buffer[1 << 16];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) text.append(buffer, n);
-    // A directory opens fine on Linux; reading it fails with EISDIR.
-    if (std::ferror(file.get()))
-        return make_error("cannot read scene file '" + path + "': " + std::strerror(errno));
-    return text;
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(path, kMaxSceneFileBytes, "scene file");
+    if (!bytes) return bytes.error();
+    return std::string(bytes->begin(), bytes->end());
 }
 
 bool ends_with(const std::string& s, const std::string& suffix) {
@@ -562,7 +561,20 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
+namespace {
+Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::string& origin);
+}  // namespace
+
 Result<SceneDesc> parse_scene(const std::string& json_text, const std::string& origin) {
+    if (json_text.size() > kMaxSceneFileBytes)
+        return make_error(echo_path(origin) + ": the scene is larger than the limit of " +
+                          std::to_string(kMaxSceneFileBytes >> 20) + " MiB");
+    return out_of_memory_is_an_error(echo_path(origin), [&] { return parse_scene_text(json_text, origin); });
+}
+
+namespace {
+
+Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::string& origin) {
     const auto at = [&](std::size_t byte) {
         const auto [line, column] = line_column(json_text, byte);
         return origin + ":" + std::to_string(line) + ":" + std::to_string(column);
@@ -598,8 +610,12 @@ Result<SceneDesc> parse_scene(const std::string& json_text, const std::string& o
         scene.materials.push_back(default_material(kDefaultMaterial));
 
     if (Status s = validate_scene(scene); !s) return with_context(origin, s.error());
+    // Procedural sizes now; files' headers once their paths are resolved.
+    if (Status s = check_scene_resources(scene, false); !s) return with_context(origin, s.error());
     return scene;
 }
+
+}  // namespace
 
 Result<SceneDesc> load_scene_file(const std::string& path) {
     Result<std::string> text = read_text_file(path);
@@ -629,6 +645,7 @@ Result<SceneDesc> load_scene_file(const std::string& path) {
             source->path = resolved.string();
         }
     }
+    if (Status s = check_scene_resources(*scene, true); !s) return with_context(path, s.error());
     return scene;
 }
 
@@ -639,7 +656,7 @@ Result<SceneDesc> load_scene(const std::string& name_or_path) {
     std::error_code ec;
     if (ends_with(name_or_path, ".json") || fs::is_regular_file(name_or_path, ec))
         return load_scene_file(name_or_path);
-    return make_error("unknown scene '" + name_or_path + "': neither a built-in scene (" + joined(builtins) +
+    return make_error("unknown scene '" + echo_path(name_or_path) + "': neither a built-in scene (" + joined(builtins) +
                       ") nor a scene file");
 }
 

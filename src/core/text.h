@@ -1,0 +1,17 @@
+// Quoting values from untrusted input in messages.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "core/limits.h"
+
+namespace px {
+
+// A value quoted in a message: at most max_bytes bytes of it, control bytes
+// escaped, and "... (N bytes)" when cut, so a hostile 10 MB key or name
+// never floods a log. Paths get a longer allowance (echo_path).
+std::string echo(const std::string& value, std::size_t max_bytes = kMaxEchoBytes);
+inline std::string echo_path(const std::string& path) { return echo(path, kMaxEchoPathBytes); }
+
+}  // namespace px
