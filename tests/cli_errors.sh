@@ -52,6 +52,37 @@ expect_error "unknown bench scene" "unknown bench scene 'nope'" bench --scenes n
 expect_error "bench samples past the loop bound" "300 is outside 1..256 for pom" bench --techniques pom --samples 300 --out "$work/bench"
 expect_error "unknown bench technique" "unknown technique 'bump'" bench --techniques bump --out "$work/bench"
 
+# Hostile scenes and outputs (tests/unit_hostile.cpp has one test per class).
+lights='{"direction": [0, 0, -1]}'
+printf '{"lights": [%s, %s, %s, %s, %s], "objects": [{}]}\n' "$lights" "$lights" "$lights" "$lights" "$lights" >"$work/lights.json"
+printf '{"objects": [{}], "materials": [{"name": "default", "height": {"procedural": "lines", "size": 64, "line_width": 2147483647}}]}\n' >"$work/lines.json"
+printf '{"objects": [{"transform": {"scale": 1e-20}}]}\n' >"$work/scale.json"
+printf '{"objects": [{"mesh": {"displaced": true}}], "materials": [{"name": "default", "height": {"procedural": "bricks", "size": 4096}}]}\n' >"$work/displaced.json"
+expect_error "a fifth light is refused, not dropped" "lights[4]: at most 4 lights" render "$work/lights.json" -o "$work/out.png"
+expect_error "an overflowing line width is refused at once" "materials[0].height: field 'lines'" render "$work/lines.json" -o "$work/out.png"
+expect_error "an object scale that overflows floats" "objects[0].transform.scale" render "$work/scale.json" -o "$work/out.png"
+expect_error "a displaced plane over the vertex budget" "objects[0].mesh: the scene's meshes pass the limit" render "$work/displaced.json" -o "$work/out.png"
+
+# A symlink planted where the old writer put its temporary file: the
+# link's target is untouched and the image is written.
+echo precious >"$work/victim"
+ln -s "$work/victim" "$work/planted.png.tmp"
+if "$parallax" render default --size 16x16 --frames 1 -o "$work/planted.png" >/dev/null 2>&1 &&
+    [ "$(cat "$work/victim")" = precious ] && [ -s "$work/planted.png" ]; then
+    echo "ok: a symlink planted at OUT.png.tmp is not followed"
+else
+    echo "FAIL: the planted symlink's target changed or no image was written"; failures=$((failures + 1))
+fi
+# A write-protected output is refused and kept.
+echo old >"$work/protected.png"
+chmod a-w "$work/protected.png"
+stderr=$("$parallax" render default --size 16x16 --frames 1 -o "$work/protected.png" 2>&1 >/dev/null)
+if [ $? != 0 ] && grep -q "write-protected" <<<"$stderr" && [ "$(cat "$work/protected.png")" = old ]; then
+    echo "ok: a write-protected output is refused and kept -> $stderr"
+else
+    echo "FAIL: a write-protected output: $stderr"; failures=$((failures + 1))
+fi
+
 # A tiny sweep writes its four files, with one row per setting.
 if "$parallax" bench --scenes sine --angles 30 --techniques normal,pom,displaced_mesh --samples 8 --size 32x32 \
         --frames 1 --out "$work/bench" >/dev/null 2>&1 &&

@@ -1,10 +1,14 @@
 // `parallax`: the command-line program. Thin: parses arguments, calls the
 // library, prints results and errors, and sets the exit status.
+#include <exception>
+#include <new>
+#include <string>
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <iostream>
 
+#include "cli_common.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
@@ -17,6 +21,12 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
+    } catch (const std::bad_alloc&) {
+        // The library's limits and its own out-of-memory checks make this the
+        // last resort: a message and a failing exit, never an abort.
+        return px::tools::fail("out of memory");
+    } catch (const std::exception& e) {
+        return px::tools::fail(std::string("internal error: ") + e.what());
     }
     return px::tools::exit_status();
 }

@@ -21,8 +21,9 @@ inline constexpr int kMaxTextureSize = 4096;
 // Texels a scene's materials may hold in all: the sum over every material of
 // its albedo, height and normal sources. The load keeps about 24 bytes per
 // texel at its peak (the float field, its 8-bit copy, RGBA images, the
-// upload's expansion, the max pyramid), so this bounds it near 800 MB.
-inline constexpr std::int64_t kMaxSceneTexels = std::int64_t{1} << 25;
+// upload's expansion, the max pyramid), so this bounds it near 1.5 GB: one
+// material of three 4096 x 4096 textures fits, or sixteen of 1024 x 1024.
+inline constexpr std::int64_t kMaxSceneTexels = std::int64_t{1} << 26;
 
 // Vertices of all a scene's meshes together (a displaced plane has one per
 // texel corner): 4M vertices of 48 bytes plus indices stay under 300 MB.

@@ -128,8 +128,10 @@ Walk walk(const MaxMipmap& pyramid, const HeightField& field, const Frame& ray, 
         // stops growing at the field size, as the mip chain's does).
         const glm::ivec2 shift = glm::min(glm::ivec2(level), size_log2);
         const glm::ivec2 node(cell.x >> shift.x, cell.y >> shift.y);
-        const glm::ivec2 lo(node.x << shift.x, node.y << shift.y);
-        const glm::ivec2 hi((node.x + 1) << shift.x, (node.y + 1) << shift.y);
+        // node * 2^shift: cells may have negative indices (the ray wraps
+        // across tiles), and a left shift of a negative int is undefined.
+        const glm::ivec2 lo(node.x * (1 << shift.x), node.y * (1 << shift.y));
+        const glm::ivec2 hi((node.x + 1) * (1 << shift.x), (node.y + 1) * (1 << shift.y));
         // Where the ray leaves the node's xy square (bounds relative to the anchor).
         const glm::vec2 lo_rel(lo - ray.anchor);
         const glm::vec2 hi_rel(hi - ray.anchor);

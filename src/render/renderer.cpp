@@ -257,6 +257,29 @@ struct Renderer::GpuScene {
 
 Renderer::~Renderer() { release(); }
 
+namespace {
+
+// Where a texture's data came from, for messages about it.
+std::string source_label(const TextureSource& source) {
+    switch (source.kind) {
+        case TextureSource::Kind::file: return "file '" + echo_path(source.path) + "'";
+        case TextureSource::Kind::procedural: return std::string("procedural '") + field_kind_name(source.field.kind) + "'";
+        case TextureSource::Kind::color: return "a colour";
+        case TextureSource::Kind::none: return "the default";
+    }
+    return "unknown";
+}
+
+std::string normal_label(const MaterialDesc& m) {
+    std::string label = m.normal.kind == TextureSource::Kind::none ? "derived from the height, " + source_label(m.height)
+                                                                   : source_label(m.normal);
+    if (m.pack_height_in_normal_alpha && m.normal.kind != TextureSource::Kind::none)
+        label += ", with the height (" + source_label(m.height) + ") in alpha";
+    return label;
+}
+
+}  // namespace
+
 Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& options) {
     const GLubyte* version = glGetString(GL_VERSION);
     if (!version) return make_error("no current OpenGL ES context: make one current before creating the renderer");
@@ -319,10 +342,10 @@ Status Renderer::load_checked(const SceneDesc& scene) {
         if (!images) return images.error();
         const std::string what = "material '" + echo(m.name) + "'";
         g.field = quantized_8bit(images->field);
-        Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo");
+        Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo (" + source_label(m.albedo) + ")");
         if (!albedo) return albedo.error();
         g.albedo = std::move(*albedo);
-        Result<Texture> normal = upload_texture(images->normal, caps_, what + " normal map");
+        Result<Texture> normal = upload_texture(images->normal, caps_, what + " normal map (" + normal_label(m) + ")");
         if (!normal) return normal.error();
         g.normal = std::move(*normal);
         const bool traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
@@ -331,7 +354,7 @@ Status Renderer::load_checked(const SceneDesc& scene) {
                                    : base_level_trace ? &images->normal
                                                       : nullptr;
         if (trace_image) {
-            Result<Texture> height = upload_texture(*trace_image, caps_, what + " traced height", !base_level_trace);
+            Result<Texture> height = upload_texture(*trace_image, caps_, what + " height (" + (images->height ? source_label(m.height) : normal_label(m)) + ")", !base_level_trace);
             if (!height) return height.error();
             g.height = std::move(*height);
         }
@@ -341,7 +364,7 @@ Status Renderer::load_checked(const SceneDesc& scene) {
         if (technique_info(g.plan.key.technique).options & kOptSteps) {
             Result<MaxMipmap> pyramid = build_max_mipmap(g.field);
             if (!pyramid) return with_context(what, pyramid.error());
-            Result<Texture> max_map = upload_max_mipmap(*pyramid, caps_, what + " max pyramid");
+            Result<Texture> max_map = upload_max_mipmap(*pyramid, caps_, what + " max pyramid of the height (" + source_label(m.height) + ")");
             if (!max_map) return max_map.error();
             g.max_map = std::move(*max_map);
             g.max_levels = pyramid->level_count();

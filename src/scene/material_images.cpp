@@ -129,8 +129,8 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
         if (!normal) return with_context(where + " normal", normal.error());
         if (m.pack_height_in_normal_alpha) {
             if (normal->width != out.field.width || normal->height != out.field.height)
-                return make_error(where + ": the normal map (" + std::to_string(normal->width) + "x" +
-                                  std::to_string(normal->height) + ") and height map (" +
+                return make_error(where + ": the normal map '" + echo_path(m.normal.path) + "' (" + std::to_string(normal->width) + "x" +
+                                  std::to_string(normal->height) + ") and height map" + (m.height.kind == TextureSource::Kind::file ? " '" + echo_path(m.height.path) + "'" : std::string()) + " (" +
                                   std::to_string(out.field.width) + "x" + std::to_string(out.field.height) +
                                   ") must be the same size to pack height into the normal map's alpha");
             for (int y = 0; y < normal->height; ++y)

@@ -1,0 +1,423 @@
+// Hostile input, one class per test: each fails on a loader that trusts
+// what it reads (a hang, an abort, an overwritten file, a silent wrong
+// image) and passes when the input is refused with a message naming the
+// file or JSON path. The fuzz targets (tests/fuzz) look for more; a crash
+// they find becomes a test here.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#include <array>
+#include <climits>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "assets/heightfield.h"
+#include "assets/image.h"
+#include "core/files.h"
+#include "core/limits.h"
+#include "core/text.h"
+#include "scene/material_images.h"
+#include "scene/mesh.h"
+#include "scene/scene.h"
+
+// stb_image_write's deflate, compiled into the library's image.cpp: the
+// tests build PNGs byte by byte with it.
+extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int data_len, int* out_len, int quality);
+
+namespace px {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// --- PNG building ------------------------------------------------------------------
+
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < size; ++i) {
+        c ^= data[i];
+        for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+    }
+    return c ^ 0xFFFFFFFFu;
+}
+
+void put32(std::vector<std::uint8_t>& out, std::uint32_t v) {
+    for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
+}
+
+void chunk(std::vector<std::uint8_t>& png, const char* type, const std::vector<std::uint8_t>& data,
+           bool good_crc = true) {
+    put32(png, static_cast<std::uint32_t>(data.size()));
+    const std::size_t start = png.size();
+    png.insert(png.end(), type, type + 4);
+    png.insert(png.end(), data.begin(), data.end());
+    const std::uint32_t crc = crc32(png.data() + start, png.size() - start);
+    put32(png, good_crc ? crc : crc ^ 1u);
+}
+
+std::vector<std::uint8_t> ihdr(std::uint32_t w, std::uint32_t h, int depth, int colour_type) {
+    std::vector<std::uint8_t> d;
+    put32(d, w);
+    put32(d, h);
+    d.insert(d.end(), {static_cast<std::uint8_t>(depth), static_cast<std::uint8_t>(colour_type), 0, 0, 0});
+    return d;
+}
+
+std::vector<std::uint8_t> deflate(const std::vector<std::uint8_t>& raw) {
+    int size = 0;
+    std::vector<std::uint8_t> copy = raw;
+    unsigned char* z = stbi_zlib_compress(copy.data(), static_cast<int>(copy.size()), &size, 8);
+    std::vector<std::uint8_t> out(z, z + size);
+    std::free(z);
+    return out;
+}
+
+const std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+
+// An 8-bit indexed PNG of w x h pixels with the given indices and palette.
+std::vector<std::uint8_t> indexed_png(int w, int h, const std::vector<std::uint8_t>& indices,
+                                      const std::vector<std::array<std::uint8_t, 3>>& palette) {
+    std::vector<std::uint8_t> png(kSignature, kSignature + 8);
+    chunk(png, "IHDR", ihdr(w, h, 8, 3));
+    std::vector<std::uint8_t> plte;
+    for (const auto& e : palette) plte.insert(plte.end(), e.begin(), e.end());
+    chunk(png, "PLTE", plte);
+    std::vector<std::uint8_t> raw;
+    for (int y = 0; y < h; ++y) {
+        raw.push_back(0);  // filter: none
+        raw.insert(raw.end(), indices.begin() + y * w, indices.begin() + (y + 1) * w);
+    }
+    chunk(png, "IDAT", deflate(raw));
+    chunk(png, "IEND", {});
+    return png;
+}
+
+// A grey 8-bit PNG declaring w x h, whose IDAT inflates to `raw_bytes` of zeros.
+std::vector<std::uint8_t> grey_png(std::uint32_t w, std::uint32_t h, std::size_t raw_bytes, bool with_iend = true) {
+    std::vector<std::uint8_t> png(kSignature, kSignature + 8);
+    chunk(png, "IHDR", ihdr(w, h, 8, 0));
+    chunk(png, "IDAT", deflate(std::vector<std::uint8_t>(raw_bytes, 0)));
+    if (with_iend) chunk(png, "IEND", {});
+    return png;
+}
+
+Result<Image> decode(const std::vector<std::uint8_t>& bytes) {
+    return decode_image(bytes.data(), bytes.size(), "hostile.png", 4);
+}
+
+// --- Images --------------------------------------------------------------------------
+
+TEST(HostileImage, ValidHandMadePngsDecode) {
+    // The builders make files the loader accepts, so the refusals below are
+    // about the one thing each test breaks.
+    Result<Image> grey = decode(grey_png(4, 3, 3 * (1 + 4)));
+    ASSERT_TRUE(grey.ok()) << grey.error().message;
+    EXPECT_EQ(grey->width, 4);
+    EXPECT_EQ(grey->height, 3);
+    // An indexed image whose indices stay inside a short palette is fine.
+    Result<Image> indexed = decode(indexed_png(2, 2, {0, 1, 1, 0}, {{{10, 20, 30}}, {{200, 100, 50}}}));
+    ASSERT_TRUE(indexed.ok()) << indexed.error().message;
+    // The file's last row {1, 0} is the image's row 0 (v = 0).
+    EXPECT_EQ(indexed->texel(0, 0)[0], 200);
+    EXPECT_EQ(indexed->texel(1, 0)[2], 30);
+    EXPECT_EQ(indexed->texel(1, 1)[1], 100);
+}
+
+// A header declaring 30000 x 30000 is refused from the header: nothing of
+// that size is allocated (the decoder would need 3.6 GB).
+TEST(HostileImage, HugeDeclaredSizeRefusedFromTheHeader) {
+    Result<Image> image = decode(grey_png(30000, 30000, 16));
+    ASSERT_FALSE(image.ok());
+    EXPECT_TRUE(contains(image.error().message, "hostile.png")) << image.error().message;
+    EXPECT_TRUE(contains(image.error().message, "30000x30000")) << image.error().message;
+    EXPECT_TRUE(contains(image.error().message, std::to_string(kMaxTextureSize))) << image.error().message;
+}
+
+// A small image whose data inflates far past its declared size (a deflate
+// bomb) is stopped by the decoder's memory cap.
+TEST(HostileImage, DataExpandingPastTheHeaderIsRefused) {
+    const std::vector<std::uint8_t> bomb = grey_png(16, 16, std::size_t{24} << 20);
+    ASSERT_LT(bomb.size(), std::size_t{1} << 20);  // a small file
+    Result<Image> image = decode(bomb);
+    ASSERT_FALSE(image.ok());
+    EXPECT_TRUE(contains(image.error().message, "expands past what its header declares")) << image.error().message;
+}
+
+// Pixels that use palette entries the PLTE does not hold: stb would fill
+// them from uninitialised stack memory (a silent, nondeterministic image).
+TEST(HostileImage, PaletteIndexPastAShortPlteIsRefused) {
+    Result<Image> image = decode(indexed_png(2, 2, {0, 1, 5, 0}, {{{10, 20, 30}}, {{200, 100, 50}}}));
+    ASSERT_FALSE(image.ok());
+    EXPECT_TRUE(contains(image.error().message, "palette indices past the 2 entries")) << image.error().message;
+}
+
+TEST(HostileImage, MissingIendGivesAReason) {
+    Result<Image> image = decode(grey_png(4, 4, 4 * 5, /*with_iend=*/false));
+    ASSERT_FALSE(image.ok());
+    EXPECT_TRUE(contains(image.error().message, "hostile.png: not a valid PNG: the file ends before its IEND chunk"))
+        << image.error().message;
+}
+
+TEST(HostileImage, StructuralDamageIsNamed) {
+    std::vector<std::uint8_t> png(kSignature, kSignature + 8);
+    chunk(png, "IHDR", ihdr(4, 4, 8, 0), /*good_crc=*/false);
+    EXPECT_TRUE(contains(decode(png).error().message, "bad CRC"));
+
+    png.assign(kSignature, kSignature + 8);
+    chunk(png, "IHDR", ihdr(4, 4, 3, 2));  // 3-bit RGB does not exist
+    EXPECT_TRUE(contains(decode(png).error().message, "not a valid PNG combination"));
+
+    png.assign(kSignature, kSignature + 8);
+    chunk(png, "IHDR", ihdr(4, 4, 8, 3));
+    chunk(png, "IDAT", deflate(std::vector<std::uint8_t>(20, 0)));
+    chunk(png, "IEND", {});
+    EXPECT_TRUE(contains(decode(png).error().message, "without a PLTE"));
+
+    png.assign(kSignature, kSignature + 8);
+    chunk(png, "IHDR", ihdr(4, 4, 8, 0));
+    put32(png, 0x7FFFFFF0u);  // a chunk claiming 2 GB
+    png.insert(png.end(), {'I', 'D', 'A', 'T', 0, 0, 0, 0});
+    EXPECT_TRUE(contains(decode(png).error().message, "runs past the end of the file"));
+
+    EXPECT_TRUE(contains(decode({}).error().message, "empty"));
+    const std::vector<std::uint8_t> junk(100, 0x41);
+    EXPECT_FALSE(decode(junk).ok());
+}
+
+class HostileFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("px_hostile_" + std::to_string(::getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ec);
+        fs::remove_all(dir_, ec);
+    }
+    std::string write(const std::string& name, const std::vector<std::uint8_t>& bytes) {
+        const fs::path p = dir_ / name;
+        std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                 static_cast<std::streamsize>(bytes.size()));
+        return p.string();
+    }
+    std::string write(const std::string& name, const std::string& text) {
+        return write(name, std::vector<std::uint8_t>(text.begin(), text.end()));
+    }
+    std::string read(const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
+    fs::path dir_;
+};
+
+// A file named as an image that is a FIFO would block a plain open forever;
+// a folder, or a file past the byte limit, is refused before it is read.
+TEST_F(HostileFiles, NonRegularAndOversizedFilesAreRefused) {
+    const std::string fifo = (dir_ / "pipe.png").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    Result<Image> from_fifo = load_image(fifo);
+    ASSERT_FALSE(from_fifo.ok());
+    EXPECT_TRUE(contains(from_fifo.error().message, "not a regular file")) << from_fifo.error().message;
+
+    EXPECT_TRUE(contains(load_image(dir_.string()).error().message, "it is a folder"));
+
+    const std::string big = (dir_ / "big.json").string();
+    {
+        std::ofstream out(big, std::ios::binary);
+        out.seekp(static_cast<std::streamoff>(kMaxSceneFileBytes));  // sparse: no disk used
+        out.put('}');
+    }
+    Result<SceneDesc> scene = load_scene_file(big);
+    ASSERT_FALSE(scene.ok());
+    EXPECT_TRUE(contains(scene.error().message, "larger than the limit of 16 MiB")) << scene.error().message;
+}
+
+// The old writer opened OUT.png.tmp with fopen: a symlink planted there
+// made the render overwrite the link's target.
+TEST_F(HostileFiles, SymlinkPlantedAtTheTemporaryNameIsNotFollowed) {
+    const fs::path victim = dir_ / "victim.txt";
+    std::ofstream(victim) << "precious";
+    const fs::path out = dir_ / "out.png";
+    fs::create_symlink(victim, dir_ / "out.png.tmp");
+    ASSERT_TRUE(write_png(out.string(), make_solid_image(2, 2, 1, 2, 3)).ok());
+    EXPECT_EQ(read(victim), "precious");
+    EXPECT_TRUE(load_image(out.string()).ok());
+    // And no temporary is left beside it, the planted link apart.
+    int entries = 0;
+    for (const auto& e : fs::directory_iterator(dir_)) entries += e.path().filename() != "out.png.tmp";
+    EXPECT_EQ(entries, 2);  // victim.txt, out.png
+}
+
+TEST_F(HostileFiles, WriteProtectedOutputIsRefusedAndKept) {
+    const fs::path out = dir_ / "kept.png";
+    std::ofstream(out) << "old";
+    fs::permissions(out, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    const Status s = write_png(out.string(), make_solid_image(2, 2, 1, 2, 3));
+    ASSERT_FALSE(s.ok());
+    EXPECT_TRUE(contains(s.error().message, "write-protected")) << s.error().message;
+    EXPECT_EQ(read(out), "old");
+}
+
+// An image file referenced by a scene is checked from its header when the
+// scene is read, and the error names the JSON path and the file.
+TEST_F(HostileFiles, SceneTextureOverTheLimitNamesPathAndFile) {
+    write("huge.png", grey_png(30000, 30000, 16));
+    const std::string scene = write("s.json", std::string(R"({"materials": [{"name": "m", "height": "huge.png"}],
+                                                            "objects": [{"material": "m"}]})"));
+    Result<SceneDesc> s = load_scene_file(scene);
+    ASSERT_FALSE(s.ok());
+    EXPECT_TRUE(contains(s.error().message, "materials[0].height (material 'm')")) << s.error().message;
+    EXPECT_TRUE(contains(s.error().message, "huge.png")) << s.error().message;
+    EXPECT_TRUE(contains(s.error().message, "30000x30000")) << s.error().message;
+}
+
+// --- Scenes ------------------------------------------------------------------------------
+
+std::string scene_error(const std::string& text) {
+    Result<SceneDesc> s = parse_scene(text, "hostile.json");
+    return s.ok() ? std::string("(parsed)") : s.error().message;
+}
+
+std::string with_material(const std::string& fields, const std::string& object = "") {
+    return R"({"materials": [{"name": "m")" + (fields.empty() ? "" : ", " + fields) + R"(}], "objects": [{"material": "m")" +
+           object + "}]}";
+}
+
+// line_width + 1 overflowed int, passed the spacing check and then looped
+// for hours drawing the line.
+TEST(HostileScene, OverflowingLineWidthIsRefused) {
+    FieldSpec spec;
+    spec.kind = FieldKind::lines;
+    spec.size = 64;
+    spec.count = 1;
+    spec.line_width = INT_MAX;
+    const Status s = validate_field_spec(spec);
+    ASSERT_FALSE(s.ok());
+    EXPECT_TRUE(contains(s.error().message, "count * (line_width + 1) must be ≤ size")) << s.error().message;
+    EXPECT_FALSE(make_height_field(spec).ok());
+    const std::string message =
+        scene_error(with_material(R"("height": {"procedural": "lines", "size": 64, "line_width": 2147483647})"));
+    EXPECT_TRUE(contains(message, "hostile.json: materials[0].height: field 'lines'")) << message;
+}
+
+TEST(HostileScene, FieldTextLengthIsBounded) {
+    const std::string message = scene_error(
+        with_material(R"("height": {"procedural": "text", "text": ")" + std::string(100000, 'A') + R"("})"));
+    EXPECT_TRUE(contains(message, "text must be at most 64 characters, got 100000")) << message;
+}
+
+TEST(HostileScene, LightsPastTheFourthAreRefusedNotDropped) {
+    std::string lights;
+    for (int i = 0; i < 5; ++i) lights += std::string(i ? ", " : "") + R"({"direction": [0, 0, -1]})";
+    const std::string message = scene_error(R"({"lights": [)" + lights + R"(], "objects": [{}]})");
+    EXPECT_TRUE(contains(message, "hostile.json: lights[4]: at most 4 lights are drawn, got 5")) << message;
+}
+
+// Values that are finite but overflow floats in the renderer's products
+// (a wrong image with exit 0) are refused at the JSON path.
+TEST(HostileScene, ValuesTheRendererCannotHonourAreRefused) {
+    EXPECT_TRUE(contains(scene_error(with_material(R"("uv": {"scale": 1e20})")), "materials[0].uv.scale:"));
+    EXPECT_TRUE(contains(scene_error(with_material(R"("uv": {"scale": [1, 1e-20]})")), "materials[0].uv.scale:"));
+    EXPECT_TRUE(contains(scene_error(with_material(R"("uv": {"offset": [1e30, 0]})")), "materials[0].uv.offset:"));
+    EXPECT_TRUE(contains(scene_error(with_material(R"("height_scale": 1e30)")), "materials[0].height_scale:"));
+    EXPECT_TRUE(contains(scene_error(with_material("", R"(, "transform": {"scale": 1e-20})")),
+                         "objects[0].transform.scale:"));
+    EXPECT_TRUE(contains(scene_error(with_material("", R"(, "transform": {"translate": [1e30, 0, 0]})")),
+                         "objects[0].transform.translate:"));
+    EXPECT_TRUE(contains(scene_error(with_material("", R"(, "mesh": {"size": 1e30})")), "objects[0].mesh.size:"));
+    EXPECT_TRUE(contains(scene_error(R"({"camera": {"position": [0, -1e30, 1]}, "objects": [{}]})"),
+                         "camera.position:"));
+    EXPECT_TRUE(contains(scene_error(R"({"lights": [{"color": [1e30, 1, 1]}], "objects": [{}]})"), "lights[0].color:"));
+    EXPECT_TRUE(contains(scene_error(R"({"lights": [{"color": [500, 1, 1], "intensity": 500}], "objects": [{}]})"),
+                         "lights[0].intensity: color * intensity must be at most 1000"));
+    EXPECT_TRUE(contains(scene_error(R"({"lights": [{"direction": [1e-30, 0, 0]}], "objects": [{}]})"),
+                         "lights[0].direction:"));
+    // The ranges' ends are accepted.
+    EXPECT_EQ(scene_error(with_material(R"("uv": {"scale": [1024, -0.0009765625]})", R"(, "transform": {"scale": 1e-4})")),
+              "(parsed)");
+}
+
+// A 10 MB unknown key made the did-you-mean search quadratic (seconds) and
+// was echoed whole to stderr.
+TEST(HostileScene, HugeUnknownKeyIsEchoedBoundedAndFast) {
+    const std::string key(10'000'000, 'k');
+    const std::string message = scene_error(R"({")" + key + R"(": 1, "objects": [{}]})");
+    EXPECT_TRUE(contains(message, "unknown field 'kkkk")) << message.substr(0, 200);
+    EXPECT_TRUE(contains(message, "... (10000000 bytes)")) << message.substr(0, 200);
+    EXPECT_LT(message.size(), 400u);
+    // Long names are refused too, so no later message quotes them whole.
+    const std::string name = scene_error(with_material("").replace(with_material("").find(R"("m")"), 3,
+                                                                    "\"" + std::string(1000, 'n') + "\""));
+    EXPECT_TRUE(contains(name, "materials[0].name: must be at most 64 bytes")) << name.substr(0, 200);
+}
+
+// A displaced plane gets one vertex per texel corner: at the largest field
+// that is 16M vertices (800 MB); the budget refuses it from the sizes.
+TEST(HostileScene, DisplacedPlaneOverTheVertexBudgetIsRefusedFromSizes) {
+    const std::string message = scene_error(with_material(R"("height": {"procedural": "bricks", "size": 4096})",
+                                                          R"(, "mesh": {"displaced": true})"));
+    EXPECT_TRUE(contains(message, "hostile.json: objects[0].mesh: the scene's meshes pass the limit of 4194304 vertices"))
+        << message;
+    HeightField sized_only;  // make_displaced_plane checks before it reads a texel
+    sized_only.width = sized_only.height = 4096;
+    Result<Mesh> mesh = make_displaced_plane(2.0f, sized_only, 0.1f, 1.0f, 2.0f);
+    ASSERT_FALSE(mesh.ok());
+    EXPECT_TRUE(contains(mesh.error().message, "over the limit")) << mesh.error().message;
+}
+
+TEST(HostileScene, TexturesOverTheSceneBudgetAreRefusedFromSizes) {
+    std::string materials;
+    for (int i = 0; i < 3; ++i)
+        materials += std::string(i ? ", " : "") + R"({"name": "m)" + std::to_string(i) +
+                     R"(", "height": {"procedural": "flat", "size": 4096}, "normal": {"procedural": "flat", "size": 4096}})";
+    const std::string message = scene_error(R"({"materials": [)" + materials + R"(], "objects": [{"material": "m0"}]})");
+    EXPECT_TRUE(contains(message, "hostile.json: materials[1].normal (material 'm1'): the scene's textures pass the limit"))
+        << message;
+}
+
+TEST(HostileScene, ParsedCountsAreBounded) {
+    std::string objects;
+    for (int i = 0; i <= kMaxObjects; ++i) objects += std::string(i ? "," : "") + "{}";
+    EXPECT_TRUE(contains(scene_error(R"({"objects": [)" + objects + "]}"), "objects: at most 1024 objects"));
+    EXPECT_TRUE(contains(scene_error(std::string(kMaxSceneFileBytes + 1, ' ')), "larger than the limit"));
+}
+
+// --- The library's edge ----------------------------------------------------------------
+
+TEST(OutOfMemory, BecomesAnErrorAtTheEdge) {
+    const Status s = out_of_memory_is_an_error("loading scene 'x'", []() -> Status { throw std::bad_alloc(); });
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().message, "loading scene 'x': out of memory");
+    const Result<int> r = out_of_memory_is_an_error("y", []() -> Result<int> {
+        std::vector<int> v;
+        v.reserve(v.max_size() + 1);  // std::length_error
+        return 1;
+    });
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(contains(r.error().message, "y: out of memory"));
+}
+
+TEST(Echo, BoundsAndEscapes) {
+    EXPECT_EQ(echo("plain"), "plain");
+    EXPECT_EQ(echo("a\nb\x01"), "a\\x0ab\\x01");
+    const std::string cut = echo(std::string(1000, 'x'));
+    EXPECT_EQ(cut, std::string(kMaxEchoBytes, 'x') + "... (1000 bytes)");
+}
+
+}  // namespace
+}  // namespace px
