@@ -17,6 +17,9 @@ expect_error() {
     local stderr
     stderr=$("$parallax" "$@" 2>&1 >/dev/null)
     local status=$?
+    if grep -q 'Sanitizer' <<<"$stderr"; then
+        echo "FAIL: $description: a sanitizer report:"; echo "$stderr" | head -20; failures=$((failures + 1)); return
+    fi
     if [ "$status" = 0 ]; then
         echo "FAIL: $description: exit status 0"; failures=$((failures + 1)); return
     fi

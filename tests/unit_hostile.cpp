@@ -421,3 +421,65 @@ TEST(Echo, BoundsAndEscapes) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// The fuzz targets' seed corpora are inputs the library accepts: every
+// image seed decodes (each PNG colour type and depth, interlaced, JPEG,
+// plain, RLE and colour-mapped TGA), every scene seed parses.
+TEST(FuzzSeeds, ImagesDecode) {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(std::string(PX_SOURCE_DIR) + "/tests/fuzz/corpus/image")) {
+        Result<Image> image = load_image(e.path().string(), 4);
+        EXPECT_TRUE(image.ok()) << image.error().message;
+        if (image) EXPECT_EQ(image->width, e.path().extension() == ".jpg" ? 8 : 4) << e.path();
+        ++n;
+    }
+    EXPECT_GE(n, 10);
+}
+
+TEST(FuzzSeeds, ScenesParse) {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(std::string(PX_SOURCE_DIR) + "/tests/fuzz/corpus/scene")) {
+        std::ifstream in(e.path());
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        Result<SceneDesc> scene = parse_scene(text, e.path().filename().string());
+        EXPECT_TRUE(scene.ok()) << scene.error().message;
+        ++n;
+    }
+    EXPECT_GE(n, 5);
+}
+
+}  // namespace
+}  // namespace px
+
+namespace px {
+namespace {
+
+// What the fuzz targets found, kept as inputs (tests/fuzz/findings/).
+std::string finding(const std::string& name) { return std::string(PX_SOURCE_DIR) + "/tests/fuzz/findings/" + name; }
+
+// A DHT table declaring more than 256 codes: stb_image 2.27 writes one past its
+// code-size array (UBSan: index 257 out of bounds for stbi_uc[257]).
+TEST(FuzzFindings, JpegHuffmanTableWithTooManyCodesIsRefused) {
+    Result<Image> image = load_image(finding("image_jpeg_dht_257_codes.jpg"));
+    ASSERT_FALSE(image.ok());
+    EXPECT_TRUE(contains(image.error().message, "Huffman table (DHT)")) << image.error().message;
+    EXPECT_TRUE(contains(image.error().message, "codes; at most 256 exist")) << image.error().message;
+}
+
+// An unterminated comment: nlohmann's message quoted the whole rest of
+// the file as the token it had read ("last read: '...'").
+TEST(FuzzFindings, MalformedJsonMessageQuotesABoundedToken) {
+    std::ifstream in(finding("scene_unterminated_comment_echoed.json"), std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(text.size(), 2000u);
+    Result<SceneDesc> scene = parse_scene(text, "f.json");
+    ASSERT_FALSE(scene.ok());
+    EXPECT_TRUE(contains(scene.error().message, "invalid comment")) << scene.error().message;
+    EXPECT_LT(scene.error().message.size(), 400u) << scene.error().message;
+}
+
+}  // namespace
+}  // namespace px

@@ -260,6 +260,59 @@ Result<PngLayout> check_png(const std::uint8_t* bytes, std::size_t size) {
     return png;
 }
 
+// --- JPEG structure -------------------------------------------------------------
+// JPEG (ITU T.81, Annex B): markers 0xFF xx; most carry a 2-byte length;
+// entropy-coded data follows each SOS until the next marker that is not a
+// restart (RSTn) or a stuffed 0xFF 0x00. Checked here: every segment lies
+// inside the file, and every Huffman table (DHT) declares at most 256 codes,
+// which Debian's stb_image 2.27 does not check before writing its tables
+// (found by the image fuzz target: a write one past the code-size array).
+
+bool is_jpeg(const std::uint8_t* bytes, std::size_t size) {
+    return size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+}
+
+Status check_jpeg(const std::uint8_t* bytes, std::size_t size) {
+    std::size_t at = 2;
+    while (at + 1 < size) {
+        const std::string where = " at byte " + std::to_string(at);
+        if (bytes[at] != 0xFF) return make_error("expected a marker" + where);
+        const std::uint8_t marker = bytes[at + 1];
+        if (marker == 0xFF) {  // fill byte before a marker
+            ++at;
+            continue;
+        }
+        if (marker == 0xD9) return {};  // EOI
+        if ((marker >= 0xD0 && marker <= 0xD7) || marker == 0x01) {
+            at += 2;
+            continue;
+        }
+        if (size - at < 4) return make_error("truncated segment" + where);
+        const std::size_t length = (std::size_t{bytes[at + 2]} << 8) | bytes[at + 3];
+        if (length < 2 || length > size - at - 2) return make_error("a segment" + where + " runs past the end of the file");
+        const std::size_t end = at + 2 + length;
+        if (marker == 0xC4) {
+            for (std::size_t p = at + 4; p < end;) {
+                if (end - p < 17) return make_error("a truncated Huffman table (DHT)" + where);
+                std::size_t codes = 0;
+                for (int i = 1; i <= 16; ++i) codes += bytes[p + i];
+                if (codes > 256)
+                    return make_error("a Huffman table (DHT)" + where + " declares " + std::to_string(codes) +
+                                      " codes; at most 256 exist");
+                if (codes > end - p - 17) return make_error("a Huffman table (DHT)" + where + " runs past its segment");
+                p += 17 + codes;
+            }
+        }
+        at = end;
+        if (marker == 0xDA) {  // skip the entropy-coded data
+            while (at + 1 < size &&
+                   !(bytes[at] == 0xFF && bytes[at + 1] != 0x00 && !(bytes[at + 1] >= 0xD0 && bytes[at + 1] <= 0xD7)))
+                ++at;
+        }
+    }
+    return {};  // no EOI: stb decodes what is there, as most readers do
+}
+
 // The decoder's cap for an image of the declared size: its output at up to
 // 16 bits and 4 channels, twice over for the conversions, the inflated rows
 // (which stb grows by doubling), and the compressed bytes it gathers.
@@ -344,6 +397,8 @@ Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const st
         if (!layout) return make_error(who + ": not a valid PNG: " + layout.error().message);
         png = *layout;
     }
+    if (is_jpeg(bytes, size))
+        if (Status jpeg = check_jpeg(bytes, size); !jpeg) return make_error(who + ": not a valid JPEG: " + jpeg.error().message);
     Result<ImageInfo> info = header_info(bytes, size, png ? &*png : nullptr);
     if (!info) return make_error(who + ": " + info.error().message);
 

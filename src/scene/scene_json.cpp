@@ -122,7 +122,17 @@ std::string parse_error_reason(const json::parse_error& e) {
     const std::string what = e.what();
     const std::size_t at = what.find("parse error");
     const std::size_t colon = at == std::string::npos ? std::string::npos : what.find(": ", at);
-    return colon == std::string::npos ? what : what.substr(colon + 2);
+    std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
+    // "...; last read: '<the token so far>'" quotes the whole token, which an
+    // unterminated string or comment makes as long as the file: keep its start.
+    const std::string marker = "; last read: '";
+    const std::size_t last = reason.find(marker);
+    if (last != std::string::npos) {
+        std::string token = reason.substr(last + marker.size());
+        if (!token.empty() && token.back() == '\'') token.pop_back();
+        reason = reason.substr(0, last) + marker + echo(token, 40) + "'";
+    }
+    return echo(reason, 400);
 }
 
 // nlohmann keeps the last of repeated keys silently; a repeated
@@ -595,7 +605,7 @@ Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::stri
         const std::size_t open = reason.find('\''), close = reason.rfind('\'');
         const std::size_t pos = open < close ? json_text.find(reason.substr(open + 1, close - open - 1))
                                              : std::string::npos;
-        return make_error((pos == std::string::npos ? origin : at(pos + 1)) + ": malformed JSON: " + reason);
+        return make_error((pos == std::string::npos ? origin : at(pos + 1)) + ": malformed JSON: " + echo(reason, 400));
     }
     if (!duplicates.message().empty()) return make_error(origin + ": " + duplicates.message());
     Reader r(origin);
