@@ -62,6 +62,7 @@ int run(BenchArgs a) {
     if (!a.techniques.empty()) o.techniques = a.techniques;
     if (!a.samples.empty()) o.samples = a.samples;
     if (!a.angles.empty()) o.angles = a.angles;
+    if (a.frames < 0 || a.frames > 1000) return fail("--frames must be within 1..1000, got " + std::to_string(a.frames));
     if (a.frames > 0) o.frames = a.frames;
     int width = 0, height = 0;
     if (!parse_size(a.size, width, height))

@@ -46,7 +46,7 @@ int run_render(const RenderArgs& a) {
     int width = 0, height = 0;
     if (!parse_size(a.size, width, height))
         return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
-    if (a.frames < 1) return fail("--frames must be at least 1");
+    if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
 
     Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene);
     if (!scene) return fail(scene.error().message);

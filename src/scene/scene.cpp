@@ -73,12 +73,12 @@ bool magnitudes_within(const glm::vec<N, float, glm::defaultp>& v, float lo, flo
 bool in_range(float x, float lo, float hi) { return x >= lo && x <= hi; }  // NaN fails
 
 // Names are quoted in every message about the thing they name: short and printable.
-void check_name(Checker& c, const std::string& name, const std::string& path) {
+void check_name(Checker& c, const std::string& name, const std::string& path, std::size_t max_bytes = kMaxEchoBytes) {
     bool printable = true;
     for (const char ch : name)
         if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) printable = false;
-    c.require(name.size() <= kMaxEchoBytes, path,
-              "must be at most " + std::to_string(kMaxEchoBytes) + " bytes, got " + std::to_string(name.size()));
+    c.require(name.size() <= max_bytes, path,
+              "must be at most " + std::to_string(max_bytes) + " bytes, got " + std::to_string(name.size()));
     c.require(printable, path, "must not contain control characters");
 }
 
@@ -248,6 +248,7 @@ const MaterialDesc* SceneDesc::find_material(const std::string& material_name) c
 
 Status validate_scene(const SceneDesc& scene) {
     Checker c;
+    check_name(c, scene.name, "name", 255);  // a file's stem is the default: up to 255 bytes
     check_camera(c, scene.camera);
     c.require(within(scene.ambient, 0.0f, kMaxRadiance), "ambient",
               "components must be within [0, " + num(kMaxRadiance) + "], got " + num(scene.ambient));
