@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -305,8 +306,16 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
                 render_pixel(f, x, y, out.surface.samples[static_cast<size_t>(y) * width + x], out.color.texel(x, y));
     };
     std::vector<std::thread> pool;
-    for (int i = 1; i < threads; ++i) pool.emplace_back(work, i);
+    pool.reserve(static_cast<size_t>(threads));
+    int started = 1;
+    try {
+        for (; started < threads; ++started) pool.emplace_back(work, started);
+    } catch (const std::system_error&) {
+        // No more threads to be had: this thread takes the rows of the ones
+        // that did not start (the image does not depend on the split).
+    }
     work(0);
+    for (int i = started; i < threads; ++i) work(i);
     for (std::thread& t : pool) t.join();
     return out;
 }
