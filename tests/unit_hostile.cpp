@@ -195,6 +195,24 @@ TEST(HostileImage, StructuralDamageIsNamed) {
     EXPECT_FALSE(decode(junk).ok());
 }
 
+// TGA has no signature: bytes that are no PNG or JPEG are not guessed to be
+// one (stb reads most headers as some TGA and decodes noise), unless the
+// file says it is a TGA by its name.
+TEST(HostileImage, UnsignedBytesAreNotGuessedToBeTga) {
+    // A valid 2x1 24-bit TGA header and pixels.
+    const std::vector<std::uint8_t> tga = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 1, 0, 24, 0,
+                                           10, 20, 30, 40, 50, 60};
+    Result<Image> as_png = decode_image(tga.data(), tga.size(), "texture.png");
+    ASSERT_FALSE(as_png.ok());
+    EXPECT_TRUE(contains(as_png.error().message, "not a PNG or JPEG file")) << as_png.error().message;
+    Result<Image> as_tga = decode_image(tga.data(), tga.size(), "texture.TGA");
+    ASSERT_TRUE(as_tga.ok()) << as_tga.error().message;
+    EXPECT_EQ(as_tga->width, 2);
+    EXPECT_EQ(as_tga->texel(1, 0)[0], 60);  // BGR on disk
+    const std::string text = "{\"this is\": \"a scene file saved as .png\"}";
+    EXPECT_FALSE(decode_image(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), "a.png").ok());
+}
+
 class HostileFiles : public ::testing::Test {
 protected:
     void SetUp() override {

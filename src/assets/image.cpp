@@ -268,6 +268,13 @@ Result<PngLayout> check_png(const std::uint8_t* bytes, std::size_t size) {
 // which Debian's stb_image 2.27 does not check before writing its tables
 // (found by the image fuzz target: a write one past the code-size array).
 
+bool named_tga(const std::string& name) {
+    if (name.size() < 4) return false;
+    std::string ext = name.substr(name.size() - 4);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".tga";
+}
+
 bool is_jpeg(const std::uint8_t* bytes, std::size_t size) {
     return size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
 }
@@ -397,8 +404,13 @@ Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const st
         if (!layout) return make_error(who + ": not a valid PNG: " + layout.error().message);
         png = *layout;
     }
-    if (is_jpeg(bytes, size))
+    if (is_jpeg(bytes, size)) {
         if (Status jpeg = check_jpeg(bytes, size); !jpeg) return make_error(who + ": not a valid JPEG: " + jpeg.error().message);
+    } else if (!png && !named_tga(name)) {
+        // TGA has no signature: stb would take almost any bytes for one and
+        // decode noise. So a file is read as TGA only when it says it is one.
+        return make_error(who + ": not a PNG or JPEG file (no signature), and not named *.tga");
+    }
     Result<ImageInfo> info = header_info(bytes, size, png ? &*png : nullptr);
     if (!info) return make_error(who + ": " + info.error().message);
 
@@ -447,6 +459,8 @@ Result<ImageInfo> read_image_info(const std::string& path) {
         if (!layout) return make_error(echo_path(path) + ": not a valid PNG: " + layout.error().message);
         png = *layout;
     }
+    if (!png && !is_jpeg(bytes->data(), bytes->size()) && !named_tga(path))
+        return make_error(echo_path(path) + ": not a PNG or JPEG file (no signature), and not named *.tga");
     Result<ImageInfo> info = header_info(bytes->data(), bytes->size(), png ? &*png : nullptr);
     if (!info) return make_error(echo_path(path) + ": " + info.error().message);
     return info;

@@ -30,7 +30,10 @@ struct ImageInfo {
     int height = 0;
 };
 
-// Loads PNG, JPEG or TGA as `channels` channels. Before anything is decoded:
+// Loads PNG, JPEG or TGA as `channels` channels. PNG and JPEG are known by
+// their signatures; TGA has none, so only a file named *.tga is read as one
+// (anything else is refused rather than decoded as noise). Before anything
+// is decoded:
 // the file must be a regular file of at most kMaxImageFileBytes, its header
 // must declare at most kMaxTextureSize texels per side, and a PNG's chunk
 // structure must be sound (IHDR first, valid depth and colour type, CRCs,

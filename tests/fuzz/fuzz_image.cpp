@@ -12,7 +12,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // One channel count per input, chosen by its first byte, so each
     // conversion path sees the same structures.
     const int channels = size > 0 ? 1 + data[0] % 4 : 4;
-    px::Result<px::Image> image = px::decode_image(data, size, "fuzz.png", channels);
+    // TGA has no signature: it is read only from files named *.tga.
+    const char* name = size > 0 && (data[0] & 4) ? "fuzz.tga" : "fuzz.png";
+    px::Result<px::Image> image = px::decode_image(data, size, name, channels);
     if (image) {
         if (image->width < 1 || image->height < 1 || image->width > px::kMaxTextureSize ||
             image->height > px::kMaxTextureSize || image->channels != channels ||
