@@ -501,3 +501,31 @@ TEST(FuzzFindings, MalformedJsonMessageQuotesABoundedToken) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// Corrupt entropy-coded data: stb_image 2.27 shifted by 33 bits on it
+// (UBSan). JPEG now goes through libjpeg-turbo, whose warnings about
+// corrupt data refuse the file rather than fill the image with grey.
+TEST(FuzzFindings, JpegWithCorruptEntropyDataIsRefused) {
+    Result<Image> image = load_image(finding("image_jpeg_corrupt_entropy_data.jpg"));
+    ASSERT_FALSE(image.ok());
+    EXPECT_TRUE(contains(image.error().message, "image_jpeg_corrupt_entropy_data.jpg: cannot decode JPEG: "))
+        << image.error().message;
+}
+
+// And a truncated JPEG: the same refusal, where a lenient decoder would
+// return the top of the image over grey.
+TEST(HostileImage, TruncatedJpegIsRefused) {
+    std::ifstream in(std::string(PX_SOURCE_DIR) + "/tests/fuzz/corpus/image/rgb8.jpg", std::ios::binary);
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_TRUE(decode_image(bytes.data(), bytes.size(), "whole.jpg").ok());
+    bytes.resize(bytes.size() - 40);
+    Result<Image> cut = decode_image(bytes.data(), bytes.size(), "cut.jpg");
+    ASSERT_FALSE(cut.ok());
+    EXPECT_TRUE(contains(cut.error().message, "cut.jpg: cannot decode JPEG")) << cut.error().message;
+}
+
+}  // namespace
+}  // namespace px

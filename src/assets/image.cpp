@@ -5,6 +5,7 @@
 #include "core/text.h"
 
 #include <array>
+#include <csetjmp>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -32,11 +33,10 @@ void stb_free(void* p);
 // libstb-dev ships headers only as far as CMake is concerned). stb's global
 // flip flags (stbi_set_flip_vertically_on_load, stbi_flip_vertically_on_write)
 // are never touched: they are process-wide state, so we flip explicitly below.
-// The formats the scene format documents (docs/scene-format.md): PNG, JPEG
-// and TGA. The other decoders stb carries (BMP, GIF, PSD, HDR, PIC, PNM)
+// stb decodes the PNG and TGA files of the scene format
+// (docs/scene-format.md); JPEG goes to libjpeg-turbo (below). The other decoders stb carries (BMP, GIF, PSD, HDR, PIC, PNM)
 // would only grow every host app's binary and the attack surface.
 #define STBI_ONLY_PNG
-#define STBI_ONLY_JPEG
 #define STBI_ONLY_TGA
 #define STBI_NO_LINEAR
 #define STBI_NO_STDIO
@@ -47,6 +47,11 @@ void stb_free(void* p);
 #include <stb/stb_image_write.h>
 
 static_assert(STBI_MAX_DIMENSIONS == px::kMaxTextureSize, "stb's own size limit is the library's");
+
+// libjpeg reports errors through a callback that must not return: it
+// longjmps back into the one C-style function below that called libjpeg.
+// No C++ object lives in the frames it jumps across.
+#include <jpeglib.h>
 
 namespace px {
 
@@ -320,10 +325,139 @@ Status check_jpeg(const std::uint8_t* bytes, std::size_t size) {
     return {};  // no EOI: stb decodes what is there, as most readers do
 }
 
+std::size_t decode_budget_bytes(int width, int height, std::size_t file_bytes);
+
+// --- JPEG decoding (libjpeg-turbo) ------------------------------------------------
+
+struct JpegContext {
+    jpeg_decompress_struct info{};
+    jpeg_error_mgr errors{};
+    jpeg_progress_mgr progress{};
+    std::jmp_buf jump{};
+    char message[JMSG_LENGTH_MAX] = {0};
+    bool created = false;
+};
+
+// A progressive JPEG may hold any number of scans, each a pass over the
+// whole image: cap them, as libjpeg-turbo's documentation advises for
+// untrusted input.
+constexpr long kMaxJpegScans = 256;
+
+extern "C" void jpeg_fail(j_common_ptr common) {
+    auto* ctx = reinterpret_cast<JpegContext*>(common->client_data);
+    (*common->err->format_message)(common, ctx->message);
+    std::longjmp(ctx->jump, 1);
+}
+
+// libjpeg's warnings (level -1) say the data is corrupt ("premature end of
+// data segment", "extraneous bytes"); it would go on and fill the rest with
+// grey. A damaged texture is refused instead: never a silently wrong image.
+// Trace messages (level >= 0) stay silent.
+extern "C" void jpeg_on_message(j_common_ptr common, int level) {
+    if (level < 0) jpeg_fail(common);
+}
+
+extern "C" void jpeg_progress(j_common_ptr common) {
+    auto* d = reinterpret_cast<j_decompress_ptr>(common);
+    if (d->input_scan_number > kMaxJpegScans) {
+        auto* ctx = reinterpret_cast<JpegContext*>(common->client_data);
+        std::snprintf(ctx->message, sizeof ctx->message, "more than %ld progressive scans", kMaxJpegScans);
+        std::longjmp(ctx->jump, 1);
+    }
+}
+
+// Reads the header and sets up the output colour space (grey for one
+// channel, RGB otherwise). Returns false with ctx.message on an error.
+bool jpeg_begin(JpegContext& ctx, const std::uint8_t* bytes, std::size_t size, bool grey, std::size_t memory) {
+    ctx.info.err = jpeg_std_error(&ctx.errors);
+    ctx.errors.error_exit = jpeg_fail;
+    ctx.errors.emit_message = jpeg_on_message;
+    ctx.info.client_data = &ctx;
+    if (setjmp(ctx.jump)) return false;
+    jpeg_create_decompress(&ctx.info);
+    ctx.created = true;
+    ctx.info.mem->max_memory_to_use = static_cast<long>(memory);
+    ctx.progress.progress_monitor = jpeg_progress;
+    ctx.info.progress = &ctx.progress;
+    jpeg_mem_src(&ctx.info, bytes, static_cast<unsigned long>(size));
+    jpeg_read_header(&ctx.info, TRUE);
+    ctx.info.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
+    return true;
+}
+
+bool jpeg_pixels(JpegContext& ctx, std::uint8_t* out, std::size_t stride) {
+    if (setjmp(ctx.jump)) return false;
+    jpeg_start_decompress(&ctx.info);
+    while (ctx.info.output_scanline < ctx.info.output_height) {
+        JSAMPROW row = out + static_cast<std::size_t>(ctx.info.output_scanline) * stride;
+        jpeg_read_scanlines(&ctx.info, &row, 1);
+    }
+    jpeg_finish_decompress(&ctx.info);
+    return true;
+}
+
+struct JpegGuard {
+    JpegContext& ctx;
+    ~JpegGuard() {
+        if (ctx.created) jpeg_destroy_decompress(&ctx.info);
+    }
+};
+
+Result<ImageInfo> jpeg_size_checked(JpegContext& ctx) {
+    const JDIMENSION w = ctx.info.image_width, h = ctx.info.image_height;
+    if (w < 1 || h < 1) return make_error("the header declares an empty image");
+    if (w > static_cast<JDIMENSION>(kMaxTextureSize) || h > static_cast<JDIMENSION>(kMaxTextureSize))
+        return make_error("the header declares " + std::to_string(w) + "x" + std::to_string(h) +
+                          ", over the limit of " + std::to_string(kMaxTextureSize) + " texels per side");
+    return ImageInfo{static_cast<int>(w), static_cast<int>(h)};
+}
+
+// Rows come back top first, `channels` each (grey or RGB expanded).
+Result<std::vector<std::uint8_t>> decode_jpeg(const std::uint8_t* bytes, std::size_t size, int channels,
+                                              ImageInfo& info) {
+    auto ctx = std::make_unique<JpegContext>();
+    JpegGuard guard{*ctx};
+    const bool grey = channels <= 2;
+    if (!jpeg_begin(*ctx, bytes, size, grey, decode_budget_bytes(kMaxTextureSize, kMaxTextureSize, size)))
+        return make_error(std::string("cannot decode JPEG: ") + ctx->message);
+    Result<ImageInfo> declared = jpeg_size_checked(*ctx);
+    if (!declared) return declared.error();
+    info = *declared;
+    const int decoded_channels = grey ? 1 : 3;
+    std::vector<std::uint8_t> decoded(static_cast<std::size_t>(info.width) * info.height * decoded_channels);
+    if (!jpeg_pixels(*ctx, decoded.data(), static_cast<std::size_t>(info.width) * decoded_channels))
+        return make_error(std::string("cannot decode JPEG: ") + ctx->message);
+    if (decoded_channels == channels) return decoded;
+    std::vector<std::uint8_t> out(static_cast<std::size_t>(info.width) * info.height * channels);
+    const std::size_t texels = static_cast<std::size_t>(info.width) * info.height;
+    for (std::size_t i = 0; i < texels; ++i) {
+        const std::uint8_t* s = &decoded[i * decoded_channels];
+        std::uint8_t* d = &out[i * channels];
+        if (channels == 2) {
+            d[0] = s[0];
+            d[1] = 255;
+        } else {  // 4: RGB plus opaque alpha
+            d[0] = s[0];
+            d[1] = s[1];
+            d[2] = s[2];
+            d[3] = 255;
+        }
+    }
+    return out;
+}
+
+Result<ImageInfo> jpeg_info(const std::uint8_t* bytes, std::size_t size) {
+    auto ctx = std::make_unique<JpegContext>();
+    JpegGuard guard{*ctx};
+    if (!jpeg_begin(*ctx, bytes, size, false, std::size_t{1} << 20))
+        return make_error(std::string("cannot read the JPEG header: ") + ctx->message);
+    return jpeg_size_checked(*ctx);
+}
+
 // The decoder's cap for an image of the declared size: its output at up to
 // 16 bits and 4 channels, twice over for the conversions, the inflated rows
 // (which stb grows by doubling), and the compressed bytes it gathers.
-std::size_t decode_budget(int width, int height, std::size_t file_bytes) {
+std::size_t decode_budget_bytes(int width, int height, std::size_t file_bytes) {
     const std::size_t texels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
     return texels * 8 * 4 + 2 * file_bytes + (std::size_t{1} << 20);
 }
@@ -354,7 +488,7 @@ Result<ImageInfo> header_info(const std::uint8_t* bytes, std::size_t size, const
 // Decodes with stb under the budget; rows come back top first.
 Result<std::unique_ptr<stbi_uc, StbiFree>> stb_decode(const std::uint8_t* bytes, std::size_t size,
                                                       const ImageInfo& info, int channels) {
-    DecodeBudget budget(decode_budget(info.width, info.height, size));
+    DecodeBudget budget(decode_budget_bytes(info.width, info.height, size));
     int w = 0, h = 0, file_channels = 0;
     std::unique_ptr<stbi_uc, StbiFree> data(
         stbi_load_from_memory(bytes, static_cast<int>(size), &w, &h, &file_channels, channels));
@@ -411,6 +545,19 @@ Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const st
         // decode noise. So a file is read as TGA only when it says it is one.
         return make_error(who + ": not a PNG or JPEG file (no signature), and not named *.tga");
     }
+    if (is_jpeg(bytes, size)) {
+        ImageInfo info;
+        Result<std::vector<std::uint8_t>> rows = decode_jpeg(bytes, size, channels, info);
+        if (!rows) return make_error(who + ": " + rows.error().message);
+        Image image;
+        image.width = info.width;
+        image.height = info.height;
+        image.channels = channels;
+        const size_t stride = row_bytes(image.width, channels);
+        image.pixels.resize(stride * static_cast<size_t>(image.height));
+        copy_rows_flipped(rows->data(), image.pixels.data(), image.height, stride);
+        return image;
+    }
     Result<ImageInfo> info = header_info(bytes, size, png ? &*png : nullptr);
     if (!info) return make_error(who + ": " + info.error().message);
 
@@ -459,7 +606,14 @@ Result<ImageInfo> read_image_info(const std::string& path) {
         if (!layout) return make_error(echo_path(path) + ": not a valid PNG: " + layout.error().message);
         png = *layout;
     }
-    if (!png && !is_jpeg(bytes->data(), bytes->size()) && !named_tga(path))
+    if (is_jpeg(bytes->data(), bytes->size())) {
+        if (Status jpeg = check_jpeg(bytes->data(), bytes->size()); !jpeg)
+            return make_error(echo_path(path) + ": not a valid JPEG: " + jpeg.error().message);
+        Result<ImageInfo> info = jpeg_info(bytes->data(), bytes->size());
+        if (!info) return make_error(echo_path(path) + ": " + info.error().message);
+        return info;
+    }
+    if (!png && !named_tga(path))
         return make_error(echo_path(path) + ": not a PNG or JPEG file (no signature), and not named *.tga");
     Result<ImageInfo> info = header_info(bytes->data(), bytes->size(), png ? &*png : nullptr);
     if (!info) return make_error(echo_path(path) + ": " + info.error().message);
