@@ -101,6 +101,17 @@ Result<std::unique_ptr<HeadlessContext>> HeadlessContext::create(const ContextOp
     if (options.es_major != 2 && options.es_major != 3)
         return make_error("OpenGL ES " + std::to_string(options.es_major) + " was asked for; use 2 or 3");
 
+    // Mesa 22.3's llvmpipe keys its on-disk shader cache without the SIMD
+    // width or CPU features: a shader cached by a default (256-bit) run and
+    // loaded by a run with LP_NATIVE_VECTOR_WIDTH=128 corrupts the heap
+    // (malloc aborts in 5 runs of 6, found by the golden tests). So a run
+    // on such a configuration without a cache folder of its own compiles
+    // without the cache. Mesa reads these variables when the driver loads:
+    // before dlopen. A value the caller set is never overwritten.
+    if ((std::getenv("LP_NATIVE_VECTOR_WIDTH") || std::getenv("GALLIUM_OVERRIDE_CPU_CAPS")) &&
+        !std::getenv("MESA_SHADER_CACHE_DIR"))
+        ::setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+
     auto egl = std::make_unique<Egl>();
     egl->library = dlopen("libEGL.so.1", RTLD_NOW | RTLD_GLOBAL);
     if (!egl->library) return make_error(std::string("cannot load libEGL.so.1 (") + dlerror() + "): " + kInstallHint);

@@ -23,7 +23,10 @@ public:
     // Opens libEGL, a display (EGL_PLATFORM_SURFACELESS_MESA, then
     // EGL_EXT_platform_device, then the default display), creates the context
     // and makes it current with no surface. Every failure names the EGL error
-    // and what to install or try.
+    // and what to install or try. With LP_NATIVE_VECTOR_WIDTH or
+    // GALLIUM_OVERRIDE_CPU_CAPS set and no MESA_SHADER_CACHE_DIR, it sets
+    // MESA_SHADER_CACHE_DISABLE=true first (unless already set): Mesa 22.3
+    // corrupts its heap loading a shader cached under another configuration.
     static Result<std::unique_ptr<HeadlessContext>> create(const ContextOptions& options);
     ~HeadlessContext();
     HeadlessContext(const HeadlessContext&) = delete;

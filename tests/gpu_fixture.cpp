@@ -8,15 +8,8 @@ namespace px::test {
 std::unique_ptr<platform::HeadlessContext> GpuEnvironment::context_;
 
 void GpuEnvironment::SetUp() {
-    // Mesa 22.3's llvmpipe keys its on-disk shader cache without the SIMD
-    // width: a shader cached by a 256-bit run and loaded by a run with
-    // LP_NATIVE_VECTOR_WIDTH=128 corrupts the heap (malloc aborts in 5 runs of
-    // 6 here). Unless the caller gave this configuration a cache of its own
-    // (the ctest entries do), a run on another llvmpipe configuration
-    // compiles without the cache.
-    if ((std::getenv("LP_NATIVE_VECTOR_WIDTH") || std::getenv("GALLIUM_OVERRIDE_CPU_CAPS")) &&
-        !std::getenv("MESA_SHADER_CACHE_DIR"))
-        setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+    // (HeadlessContext::create keeps Mesa's shader cache out of runs on
+    // another llvmpipe configuration; see platform/headless_context.cpp.)
     platform::ContextOptions options;
     options.es_major = test_es_major();
     auto context = platform::HeadlessContext::create(options);
