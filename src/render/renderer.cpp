@@ -363,7 +363,7 @@ Status Renderer::load_checked(const SceneDesc& scene) {
         // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
         if (technique_info(g.plan.key.technique).options & kOptSteps) {
             Result<MaxMipmap> pyramid = build_max_mipmap(g.field);
-            if (!pyramid) return with_context(what, pyramid.error());
+            if (!pyramid) return with_context(what + " height (" + source_label(m.height) + ")", pyramid.error());
             Result<Texture> max_map = upload_max_mipmap(*pyramid, caps_, what + " max pyramid of the height (" + source_label(m.height) + ")");
             if (!max_map) return max_map.error();
             g.max_map = std::move(*max_map);
