@@ -144,6 +144,17 @@ TEST(HostileImage, HugeDeclaredSizeRefusedFromTheHeader) {
     EXPECT_TRUE(contains(image.error().message, std::to_string(kMaxTextureSize))) << image.error().message;
 }
 
+// A host can lower the size limit to its device's GL_MAX_TEXTURE_SIZE.
+TEST(HostileImage, MaxSideLowersTheLimit) {
+    const std::vector<std::uint8_t> png = grey_png(4, 3, 3 * (1 + 4));
+    EXPECT_TRUE(decode_image(png.data(), png.size(), "a.png", 4, 4).ok());
+    Result<Image> small = decode_image(png.data(), png.size(), "a.png", 4, 2);
+    ASSERT_FALSE(small.ok());
+    EXPECT_TRUE(contains(small.error().message, "4x3, over the limit of 2 texels per side")) << small.error().message;
+    EXPECT_FALSE(decode_image(png.data(), png.size(), "a.png", 4, 0).ok());
+    EXPECT_FALSE(decode_image(png.data(), png.size(), "a.png", 4, kMaxTextureSize + 1).ok());
+}
+
 // A small image whose data inflates far past its declared size (a deflate
 // bomb) is stopped by the decoder's memory cap.
 TEST(HostileImage, DataExpandingPastTheHeaderIsRefused) {

@@ -102,6 +102,18 @@ void stb_free(void* p) {
 
 namespace {
 
+// The largest side this decode accepts (decode_image's max_side; at most
+// kMaxTextureSize), for the header checks below.
+thread_local int t_max_side = kMaxTextureSize;
+
+class MaxSide {
+public:
+    explicit MaxSide(int side) { t_max_side = side; }
+    ~MaxSide() { t_max_side = kMaxTextureSize; }
+    MaxSide(const MaxSide&) = delete;
+    MaxSide& operator=(const MaxSide&) = delete;
+};
+
 size_t row_bytes(int width, int channels) { return static_cast<size_t>(width) * channels; }
 
 // Copies `height` rows of `stride` bytes from src to dst in reverse order:
@@ -406,9 +418,9 @@ struct JpegGuard {
 Result<ImageInfo> jpeg_size_checked(JpegContext& ctx) {
     const JDIMENSION w = ctx.info.image_width, h = ctx.info.image_height;
     if (w < 1 || h < 1) return make_error("the header declares an empty image");
-    if (w > static_cast<JDIMENSION>(kMaxTextureSize) || h > static_cast<JDIMENSION>(kMaxTextureSize))
+    if (w > static_cast<JDIMENSION>(t_max_side) || h > static_cast<JDIMENSION>(t_max_side))
         return make_error("the header declares " + std::to_string(w) + "x" + std::to_string(h) +
-                          ", over the limit of " + std::to_string(kMaxTextureSize) + " texels per side");
+                          ", over the limit of " + std::to_string(t_max_side) + " texels per side");
     return ImageInfo{static_cast<int>(w), static_cast<int>(h)};
 }
 
@@ -465,10 +477,10 @@ std::size_t decode_budget_bytes(int width, int height, std::size_t file_bytes) {
 Result<ImageInfo> header_info(const std::uint8_t* bytes, std::size_t size, const PngLayout* png) {
     ImageInfo info;
     if (png) {
-        if (png->width > static_cast<std::uint32_t>(kMaxTextureSize) ||
-            png->height > static_cast<std::uint32_t>(kMaxTextureSize))
+        if (png->width > static_cast<std::uint32_t>(t_max_side) ||
+            png->height > static_cast<std::uint32_t>(t_max_side))
             return make_error("the header declares " + std::to_string(png->width) + "x" + std::to_string(png->height) +
-                              ", over the limit of " + std::to_string(kMaxTextureSize) + " texels per side");
+                              ", over the limit of " + std::to_string(t_max_side) + " texels per side");
         info.width = static_cast<int>(png->width);
         info.height = static_cast<int>(png->height);
         return info;
@@ -479,9 +491,9 @@ Result<ImageInfo> header_info(const std::uint8_t* bytes, std::size_t size, const
     if (!stbi_info_from_memory(bytes, static_cast<int>(size), &info.width, &info.height, &channels))
         return make_error("not a PNG, JPEG or TGA image (" + stb_reason() + ")");
     if (info.width < 1 || info.height < 1) return make_error("the header declares an empty image");
-    if (info.width > kMaxTextureSize || info.height > kMaxTextureSize)
+    if (info.width > t_max_side || info.height > t_max_side)
         return make_error("the header declares " + std::to_string(info.width) + "x" + std::to_string(info.height) +
-                          ", over the limit of " + std::to_string(kMaxTextureSize) + " texels per side");
+                          ", over the limit of " + std::to_string(t_max_side) + " texels per side");
     return info;
 }
 
@@ -524,8 +536,13 @@ std::vector<std::uint8_t> with_full_palette(const std::uint8_t* bytes, std::size
 
 }  // namespace
 
-Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels) {
+Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels,
+                           int max_side) {
     const std::string who = echo_path(name);
+    if (max_side < 1 || max_side > kMaxTextureSize)
+        return make_error(who + ": max_side must be within 1.." + std::to_string(kMaxTextureSize) + ", got " +
+                          std::to_string(max_side));
+    const MaxSide side(max_side);
     if (channels < 1 || channels > 4)
         return make_error(who + ": cannot load image: channels must be 1..4, got " + std::to_string(channels));
     if (size > kMaxImageFileBytes)

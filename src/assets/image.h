@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/limits.h"
 #include "core/result.h"
 
 namespace px {
@@ -43,8 +44,11 @@ struct ImageInfo {
 // fill them with whatever memory held). Errors name the file and the reason.
 Result<Image> load_image(const std::string& path, int channels = 4);
 
-// The same from bytes in memory; `name` is what errors call them.
-Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels = 4);
+// The same from bytes in memory; `name` is what errors call them (and a
+// name ending in .tga lets them be read as TGA). max_side (1..kMaxTextureSize)
+// lowers the size limit, e.g. to a device's GL_MAX_TEXTURE_SIZE.
+Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels = 4,
+                           int max_side = kMaxTextureSize);
 
 // The header's size, with the same file and header checks as load_image.
 Result<ImageInfo> read_image_info(const std::string& path);
