@@ -536,75 +536,104 @@ std::vector<std::uint8_t> with_full_palette(const std::uint8_t* bytes, std::size
 
 }  // namespace
 
+namespace {
+
+enum class Format { png, jpeg, tga };
+
+// What every reader learns before it decodes: the format, a PNG's layout,
+// and the declared size, after the size, structure and header checks.
+struct Inspected {
+    Format format = Format::tga;
+    std::optional<PngLayout> png;
+    ImageInfo info;
+};
+
+Result<Inspected> inspect(const std::uint8_t* bytes, std::size_t size, const std::string& name) {
+    if (size > kMaxImageFileBytes)
+        return make_error("the image is larger than the limit of " + std::to_string(kMaxImageFileBytes >> 20) + " MiB");
+    if (size == 0) return make_error("the image file is empty");
+    Inspected in;
+    if (is_png(bytes, size)) {
+        Result<PngLayout> layout = check_png(bytes, size);
+        if (!layout) return make_error("not a valid PNG: " + layout.error().message);
+        in.format = Format::png;
+        in.png = *layout;
+    } else if (is_jpeg(bytes, size)) {
+        if (Status jpeg = check_jpeg(bytes, size); !jpeg) return make_error("not a valid JPEG: " + jpeg.error().message);
+        in.format = Format::jpeg;
+        Result<ImageInfo> info = jpeg_info(bytes, size);
+        if (!info) return info.error();
+        in.info = *info;
+        return in;
+    } else if (!named_tga(name)) {
+        // TGA has no signature: stb would take almost any bytes for one and
+        // decode noise. So a file is read as TGA only when it says it is one.
+        return make_error("not a PNG or JPEG file (no signature), and not named *.tga");
+    }
+    Result<ImageInfo> info = header_info(bytes, size, in.png ? &*in.png : nullptr);
+    if (!info) return info.error();
+    in.info = *info;
+    return in;
+}
+
+// An Image from decoded rows, top row first.
+Image from_rows_top_down(const std::uint8_t* rows, const ImageInfo& info, int channels) {
+    Image image;
+    image.width = info.width;
+    image.height = info.height;
+    image.channels = channels;
+    const size_t stride = row_bytes(image.width, channels);
+    image.pixels.resize(stride * static_cast<size_t>(image.height));
+    copy_rows_flipped(rows, image.pixels.data(), image.height, stride);
+    return image;
+}
+
+// stb's decode of a PNG or TGA. A short palette: stb reads an out-of-range
+// index's entry from memory it never wrote, so the PNG is decoded again with
+// its palette padded two ways; pixels that differ use an index past the
+// file's PLTE.
+Result<Image> decode_with_stb(const std::uint8_t* bytes, std::size_t size, const Inspected& in, int channels) {
+    const std::optional<PngLayout>& png = in.png;
+    if (!(png && png->color_type == 3 && png->plte_entries < (1u << png->bit_depth))) {
+        Result<std::unique_ptr<stbi_uc, StbiFree>> data = stb_decode(bytes, size, in.info, channels);
+        if (!data) return data.error();
+        return from_rows_top_down(data->get(), in.info, channels);
+    }
+    const std::size_t count = static_cast<std::size_t>(in.info.width) * in.info.height * channels;
+    std::unique_ptr<stbi_uc, StbiFree> padded[2];
+    for (int k = 0; k < 2; ++k) {
+        const std::vector<std::uint8_t> copy = with_full_palette(bytes, size, *png, k == 0 ? 0x00 : 0xFF);
+        Result<std::unique_ptr<stbi_uc, StbiFree>> d = stb_decode(copy.data(), copy.size(), in.info, channels);
+        if (!d) return d.error();
+        padded[k] = std::move(*d);
+    }
+    if (std::memcmp(padded[0].get(), padded[1].get(), count) != 0)
+        return make_error("pixels use palette indices past the " + std::to_string(png->plte_entries) +
+                          " entries of its PLTE chunk");
+    return from_rows_top_down(padded[0].get(), in.info, channels);
+}
+
+}  // namespace
+
 Result<Image> decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name, int channels,
                            int max_side) {
     const std::string who = echo_path(name);
     if (max_side < 1 || max_side > kMaxTextureSize)
         return make_error(who + ": max_side must be within 1.." + std::to_string(kMaxTextureSize) + ", got " +
                           std::to_string(max_side));
-    const MaxSide side(max_side);
     if (channels < 1 || channels > 4)
         return make_error(who + ": cannot load image: channels must be 1..4, got " + std::to_string(channels));
-    if (size > kMaxImageFileBytes)
-        return make_error(who + ": the image is larger than the limit of " + std::to_string(kMaxImageFileBytes >> 20) +
-                          " MiB");
-    if (size == 0) return make_error(who + ": the image file is empty");
-    std::optional<PngLayout> png;
-    if (is_png(bytes, size)) {
-        Result<PngLayout> layout = check_png(bytes, size);
-        if (!layout) return make_error(who + ": not a valid PNG: " + layout.error().message);
-        png = *layout;
-    }
-    if (is_jpeg(bytes, size)) {
-        if (Status jpeg = check_jpeg(bytes, size); !jpeg) return make_error(who + ": not a valid JPEG: " + jpeg.error().message);
-    } else if (!png && !named_tga(name)) {
-        // TGA has no signature: stb would take almost any bytes for one and
-        // decode noise. So a file is read as TGA only when it says it is one.
-        return make_error(who + ": not a PNG or JPEG file (no signature), and not named *.tga");
-    }
-    if (is_jpeg(bytes, size)) {
+    const MaxSide side(max_side);
+    Result<Inspected> in = inspect(bytes, size, name);
+    if (!in) return with_context(who, in.error());
+    if (in->format == Format::jpeg) {
         ImageInfo info;
         Result<std::vector<std::uint8_t>> rows = decode_jpeg(bytes, size, channels, info);
-        if (!rows) return make_error(who + ": " + rows.error().message);
-        Image image;
-        image.width = info.width;
-        image.height = info.height;
-        image.channels = channels;
-        const size_t stride = row_bytes(image.width, channels);
-        image.pixels.resize(stride * static_cast<size_t>(image.height));
-        copy_rows_flipped(rows->data(), image.pixels.data(), image.height, stride);
-        return image;
+        if (!rows) return with_context(who, rows.error());
+        return from_rows_top_down(rows->data(), info, channels);
     }
-    Result<ImageInfo> info = header_info(bytes, size, png ? &*png : nullptr);
-    if (!info) return make_error(who + ": " + info.error().message);
-
-    Result<std::unique_ptr<stbi_uc, StbiFree>> data = stb_decode(bytes, size, *info, channels);
-    if (!data) return make_error(who + ": " + data.error().message);
-    // A short palette: stb reads an out-of-range index's entry from memory it
-    // never wrote. Decode again with the palette padded two ways; pixels
-    // that differ use an index past the file's PLTE.
-    if (png && png->color_type == 3 && png->plte_entries < (1u << png->bit_depth)) {
-        const std::size_t count = static_cast<std::size_t>(info->width) * info->height * channels;
-        std::unique_ptr<stbi_uc, StbiFree> padded[2];
-        for (int k = 0; k < 2; ++k) {
-            const std::vector<std::uint8_t> copy = with_full_palette(bytes, size, *png, k == 0 ? 0x00 : 0xFF);
-            Result<std::unique_ptr<stbi_uc, StbiFree>> d = stb_decode(copy.data(), copy.size(), *info, channels);
-            if (!d) return make_error(who + ": " + d.error().message);
-            padded[k] = std::move(*d);
-        }
-        if (std::memcmp(padded[0].get(), padded[1].get(), count) != 0)
-            return make_error(who + ": pixels use palette indices past the " + std::to_string(png->plte_entries) +
-                              " entries of its PLTE chunk");
-        *data = std::move(padded[0]);
-    }
-
-    Image image;
-    image.width = info->width;
-    image.height = info->height;
-    image.channels = channels;
-    const size_t stride = row_bytes(image.width, channels);
-    image.pixels.resize(stride * static_cast<size_t>(image.height));
-    copy_rows_flipped(data->get(), image.pixels.data(), image.height, stride);
+    Result<Image> image = decode_with_stb(bytes, size, *in, channels);
+    if (!image) return with_context(who, image.error());
     return image;
 }
 
@@ -617,24 +646,9 @@ Result<Image> load_image(const std::string& path, int channels) {
 Result<ImageInfo> read_image_info(const std::string& path) {
     Result<std::vector<std::uint8_t>> bytes = read_file_bounded(path, kMaxImageFileBytes, "image");
     if (!bytes) return bytes.error();
-    std::optional<PngLayout> png;
-    if (is_png(bytes->data(), bytes->size())) {
-        Result<PngLayout> layout = check_png(bytes->data(), bytes->size());
-        if (!layout) return make_error(echo_path(path) + ": not a valid PNG: " + layout.error().message);
-        png = *layout;
-    }
-    if (is_jpeg(bytes->data(), bytes->size())) {
-        if (Status jpeg = check_jpeg(bytes->data(), bytes->size()); !jpeg)
-            return make_error(echo_path(path) + ": not a valid JPEG: " + jpeg.error().message);
-        Result<ImageInfo> info = jpeg_info(bytes->data(), bytes->size());
-        if (!info) return make_error(echo_path(path) + ": " + info.error().message);
-        return info;
-    }
-    if (!png && !named_tga(path))
-        return make_error(echo_path(path) + ": not a PNG or JPEG file (no signature), and not named *.tga");
-    Result<ImageInfo> info = header_info(bytes->data(), bytes->size(), png ? &*png : nullptr);
-    if (!info) return make_error(echo_path(path) + ": " + info.error().message);
-    return info;
+    Result<Inspected> in = inspect(bytes->data(), bytes->size(), path);
+    if (!in) return with_context(echo_path(path), in.error());
+    return in->info;
 }
 
 Status write_png(const std::string& path, const Image& image) {
