@@ -38,22 +38,10 @@ private:
 };
 
 template <glm::length_t N>
-bool finite(const glm::vec<N, float, glm::defaultp>& v) {
-    for (glm::length_t i = 0; i < N; ++i)
-        if (!std::isfinite(v[i])) return false;
-    return true;
-}
-
-template <glm::length_t N>
 bool within(const glm::vec<N, float, glm::defaultp>& v, float lo, float hi) {
     for (glm::length_t i = 0; i < N; ++i)
         if (!(v[i] >= lo && v[i] <= hi)) return false;  // NaN fails too
     return true;
-}
-
-template <glm::length_t N>
-bool non_negative(const glm::vec<N, float, glm::defaultp>& v) {
-    return finite(v) && within(v, 0.0f, std::numeric_limits<float>::max());
 }
 
 // Every component's magnitude at most `hi` (NaN fails).
@@ -80,13 +68,6 @@ void check_name(Checker& c, const std::string& name, const std::string& path, st
     c.require(name.size() <= max_bytes, path,
               "must be at most " + std::to_string(max_bytes) + " bytes, got " + std::to_string(name.size()));
     c.require(printable, path, "must not contain control characters");
-}
-
-template <glm::length_t N>
-bool no_zero(const glm::vec<N, float, glm::defaultp>& v) {
-    for (glm::length_t i = 0; i < N; ++i)
-        if (v[i] == 0.0f) return false;
-    return true;
 }
 
 
@@ -120,7 +101,8 @@ void check_camera(Checker& c, const CameraDesc& cam) {
     const std::string coordinate = "components must be within ±" + num(kMaxCoordinate) + ", got ";
     c.require(bounded(cam.position, kMaxCoordinate), "camera.position", coordinate + num(cam.position));
     c.require(bounded(cam.target, kMaxCoordinate), "camera.target", coordinate + num(cam.target));
-    c.require(finite(cam.up), "camera.up", "must be finite, got " + num(cam.up));
+    c.require(bounded(cam.up, kMaxCoordinate), "camera.up",
+              "components must be within ±" + num(kMaxCoordinate) + ", got " + num(cam.up));
     // Past these the projection's tan(fov/2) and far/near overflow or lose
     // every bit of depth precision.
     c.require(in_range(cam.fov_y_deg, 1.0f, 170.0f), "camera.fov_y_deg",
