@@ -377,7 +377,7 @@ TEST(HostileScene, ValuesTheRendererCannotHonourAreRefused) {
     EXPECT_TRUE(contains(scene_error(R"({"lights": [{"direction": [1e-30, 0, 0]}], "objects": [{}]})"),
                          "lights[0].direction:"));
     // The ranges' ends are accepted.
-    EXPECT_EQ(scene_error(with_material(R"("uv": {"scale": [1024, -0.0009765625]})", R"(, "transform": {"scale": 1e-4})")),
+    EXPECT_EQ(scene_error(with_material(R"("uv": {"scale": [16384, -0.00006103515625]})", R"(, "transform": {"scale": 1e-4})")),
               "(parsed)");
 }
 

@@ -430,7 +430,7 @@ TEST(SceneErrors, MaterialRanges) {
     EXPECT_TRUE(contains(parse_error(material_doc(R"("height_scale": -0.01)")),
                          "materials[0].height_scale: must be within [0, 4] tiles, got -0.01"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("uv": {"scale": [1, 0]})")),
-                         "materials[0].uv.scale: components must be non-zero with magnitudes within [1/1024, 1024]"));
+                         "materials[0].uv.scale: components must be non-zero with magnitudes within [1/16384, 16384]"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("uv": {"scale": 0})")), "materials[0].uv.scale"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("albedo": {"color": [1.5, 0, 0]})")),
                          "materials[0].albedo.color: components must be within [0, 1]"));

@@ -9,6 +9,7 @@ namespace px::tools {
 void add_render_command(CLI::App& app);
 void add_shaders_command(CLI::App& app);
 void add_bench_command(CLI::App& app, int argc, char** argv);
+void add_stability_command(CLI::App& app, int argc, char** argv);
 
 void set_exit_status(int status);
 int exit_status();

@@ -46,9 +46,15 @@ inline constexpr int kMaxFieldTextLength = 64;
 inline constexpr float kMaxCoordinate = 1e5f;   // positions, translations
 inline constexpr float kMaxExtent = 1e4f;       // mesh sizes and radii, object scales
 inline constexpr float kMinExtent = 1e-4f;
-inline constexpr float kMaxUvScale = 1024.0f;   // tiles per mesh uv unit
-inline constexpr float kMinUvScale = 1.0f / 1024.0f;
-inline constexpr float kMaxUvOffset = 1024.0f;
+// Tiles per mesh uv unit: uvs then reach 2^14, where fp32 keeps 2^-9 of a
+// tile (half a texel of a 256-texel map); the stability catalogue measures
+// what that costs (docs/stability.md).
+inline constexpr float kMaxUvScale = 16384.0f;
+inline constexpr float kMinUvScale = 1.0f / 16384.0f;
+// The renderer uploads only the offset's fraction (textures repeat, so a
+// whole-tile shift changes nothing), so large offsets cost no precision on
+// the GPU; the bound keeps the value itself meaningful in fp32 (1/128 tile).
+inline constexpr float kMaxUvOffset = 1e5f;
 inline constexpr float kMaxAngleDeg = 3600.0f;  // rotations: ten turns either way
 inline constexpr float kMaxRadiance = 1000.0f;  // light colour * intensity, ambient
 inline constexpr float kMaxHeightScale = 4.0f;  // relief depth in tiles

@@ -107,7 +107,8 @@ double light_visibility(const Frame& f, const MaterialData& m, const ReliefHit& 
     return 1.0;
 }
 
-void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint8_t* rgba) {
+void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint8_t* rgba, glm::dvec3& view_out,
+                  glm::dvec2& entry_out) {
     // The pixel centre's ray from the near to the far plane: s in [0, 1]
     // is exactly the depth range the GPU keeps (near/far clipping).
     const glm::dvec2 ndc((x + 0.5) / f.width * 2.0 - 1.0, (y + 0.5) / f.height * 2.0 - 1.0);
@@ -176,6 +177,8 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
     rgba[3] = 255;
 
     sample.covered = m.reads_height;
+    view_out = view_ts;
+    entry_out = uv;
     sample.uv = hit.uv;
     sample.height = hit.height;
     sample.visibility = first_visibility;
@@ -246,6 +249,8 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         if (m.reads_height && out.texture_width == 0) {
             out.texture_width = m.traced.width;
             out.texture_height = m.traced.height;
+            out.height_scale = m.height_scale;
+            out.polygon_height = m.polygon_height;
         }
 
         PlaneData p;
@@ -296,6 +301,8 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
     out.color.height = height;
     out.color.channels = 4;
     out.color.pixels.assign(static_cast<size_t>(width) * height * 4, 0);
+    out.view_ts.assign(static_cast<size_t>(width) * height, glm::dvec3(0.0));
+    out.entry_uv.assign(static_cast<size_t>(width) * height, glm::dvec2(0.0));
 
     // Rows interleaved over threads; each pixel depends on nothing but the
     // frame, so the image is the same for any thread count.
@@ -303,7 +310,10 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
     auto work = [&](int first) {
         for (int y = first; y < height; y += threads)
             for (int x = 0; x < width; ++x)
-                render_pixel(f, x, y, out.surface.samples[static_cast<size_t>(y) * width + x], out.color.texel(x, y));
+            {
+                const size_t i = static_cast<size_t>(y) * width + x;
+                render_pixel(f, x, y, out.surface.samples[i], out.color.texel(x, y), out.view_ts[i], out.entry_uv[i]);
+            }
     };
     std::vector<std::thread> pool;
     pool.reserve(static_cast<size_t>(threads));

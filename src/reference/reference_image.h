@@ -27,6 +27,17 @@ struct ReferenceImage {
     // compare_surfaces().
     int texture_width = 0;
     int texture_height = 0;
+    // Per pixel (row 0 = bottom), where `surface` is covered: the unit vector
+    // toward the eye in the material's texture frame (x along u, y along v, z
+    // along the normal; not height-scaled) at the point the camera ray meets
+    // the polygon, and the uv there. What a technique's offset bound and
+    // error bound are computed from (profiling/stability.h).
+    std::vector<glm::dvec3> view_ts;
+    std::vector<glm::dvec2> entry_uv;
+    // The traced material's relief depth (tile units) and polygon height
+    // (0 bottom, 1 top) of the first height-reading plane.
+    double height_scale = 0.0;
+    double polygon_height = 1.0;
 };
 
 // Scope: objects whose mesh is a plane (the accuracy scenes); any other mesh

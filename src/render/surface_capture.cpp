@@ -1,5 +1,6 @@
 #include "render/surface_capture.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@ namespace {
 // highp (shaders_es/chunks/debug_output.glsl). 0: nothing drawn.
 constexpr std::uint8_t kDrawnHighp = 255;
 constexpr std::uint8_t kDrawnMediump = 128;
+// A drawn pixel where the shader computed NaN or Inf (packing would hide it).
+constexpr std::uint8_t kNonFinite = 64;
 
 double unpack(const std::uint8_t* p, int bytes, double levels) {
     double e = 0.0;
@@ -53,7 +56,8 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
         if (!read) return read.error();
         for (size_t i = 0; i < count; ++i) {
             SurfaceSample& s = out.samples[i];
-            s.covered = pixels[4 * i + 3] >= 0.0f;  // cleared to -1
+            // Cleared to -1, which no visibility (0..1) takes; a NaN there is drawn.
+            s.covered = pixels[4 * i + 3] != -1.0f;
             s.uv = {pixels[4 * i + 0], pixels[4 * i + 1]};
             s.height = pixels[4 * i + 2];
             s.visibility = pixels[4 * i + 3];
@@ -73,11 +77,19 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
         for (size_t i = 0; i < count; ++i) {
             SurfaceSample& s = out.samples[i];
             const std::uint8_t* p = &pixels[4 * i];
+            if (p[3] == kNonFinite) {  // in any pass: the value is unknown, and not finite
+                s.covered = true;
+                drawn_mark[i] = kNonFinite;
+                s.uv = glm::dvec2(std::numeric_limits<double>::quiet_NaN());
+                s.height = s.visibility = std::numeric_limits<double>::quiet_NaN();
+                continue;
+            }
+            if (drawn_mark[i] == kNonFinite) continue;
             if (pass == 2) {
                 if (p[3] != 0 && p[3] != kDrawnHighp && p[3] != kDrawnMediump)
                     return make_error("debug outputs: pixel " + std::to_string(i % static_cast<size_t>(width)) + "," +
                                       std::to_string(i / static_cast<size_t>(width)) + " has alpha " +
-                                      std::to_string(p[3]) + ", which marks no packing (0, 128 or 255)");
+                                      std::to_string(p[3]) + ", which marks no packing (0, 64, 128 or 255)");
                 drawn_mark[i] = p[3];
                 s.covered = p[3] != 0;
                 if (p[3] != 0) {

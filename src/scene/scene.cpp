@@ -153,7 +153,7 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
     // Texture coordinates run in fp32 (mediump on some paths): past these
     // a texel's position is lost to rounding.
     c.require(magnitudes_within(m.uv.scale, kMinUvScale, kMaxUvScale), path + ".uv.scale",
-              "components must be non-zero with magnitudes within [1/1024, 1024], got " + num(m.uv.scale));
+              "components must be non-zero with magnitudes within [1/16384, 16384], got " + num(m.uv.scale));
     c.require(bounded(m.uv.offset, kMaxUvOffset), path + ".uv.offset",
               "components must be within ±" + num(kMaxUvOffset) + ", got " + num(m.uv.offset));
     c.require(in_range(m.uv.rotation_deg, -kMaxAngleDeg, kMaxAngleDeg), path + ".uv.rotation_deg",

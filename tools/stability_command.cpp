@@ -1,0 +1,152 @@
+// parallax stability [--cases PATTERN] [--precision native,fp32,fp16,lowp,nohighp|all]
+//                    [--es 2|3|both] [--full] [--size N] [--format table|md|json] [--out FILE]
+//                    [--catalogue FILE]
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "core/files.h"
+#include "platform/headless_context.h"
+#include "profiling/stability.h"
+#include "stability_precision.h"
+
+namespace px::tools {
+
+namespace {
+
+struct StabilityArgs {
+    std::string cases;
+    std::vector<std::string> precisions{"all"};
+    std::string es = "both";
+    bool full = false;
+    int size = 0;
+    std::string format = "table";
+    std::string out;
+    std::string catalogue;
+    std::string command;
+};
+
+void show_progress(int done, int total, const std::string& what) {
+    static const bool terminal = isatty(STDERR_FILENO) != 0;
+    if (terminal) {
+        const int width = 30;
+        const int filled = total > 0 ? done * width / total : width;
+        std::fprintf(stderr, "\r[%s%s] %d/%d %-50.50s", std::string(static_cast<size_t>(filled), '#').c_str(),
+                     std::string(static_cast<size_t>(width - filled), '.').c_str(), done, total, what.c_str());
+        if (done == total) std::fprintf(stderr, "\n");
+    } else if (total > 0 && (done * 10 / total != (done - 1) * 10 / total || done == total)) {
+        std::fprintf(stderr, "stability: %d/%d (%s)\n", done, total, what.c_str());
+    }
+    std::fflush(stderr);
+}
+
+int run(const StabilityArgs& a) {
+    // The precisions: native (this driver, declarations in force) and the
+    // emulated profiles (the shaders rewritten with rounding, run on ES 3.0).
+    std::vector<std::string> precisions;
+    for (const std::string& p : a.precisions) {
+        if (p == "all") {
+            for (const char* q : {"native", "fp32", "fp16", "lowp", "nohighp"})
+                if (std::find(precisions.begin(), precisions.end(), q) == precisions.end()) precisions.push_back(q);
+            continue;
+        }
+        if (p != "native" && !is_emulated_precision(p))
+            return fail("--precision '" + p + "': expected native, fp32, fp16, lowp, nohighp or all");
+        if (std::find(precisions.begin(), precisions.end(), p) == precisions.end()) precisions.push_back(p);
+    }
+    if (a.es != "2" && a.es != "3" && a.es != "both") return fail("--es '" + a.es + "': expected 2, 3 or both");
+    if (a.format != "table" && a.format != "md" && a.format != "json")
+        return fail("--format '" + a.format + "': expected table, md or json");
+    if (a.size != 0 && (a.size < 16 || a.size > 1024)) return fail("--size must be within 16..1024");
+
+    std::string text = profiling::embedded_catalogue_text();
+    std::string origin = "built-in catalogue (tests/stability/catalogue.jsonc)";
+    if (!a.catalogue.empty()) {
+        Result<std::vector<std::uint8_t>> read = read_file_bounded(a.catalogue, 16u << 20, "catalogue");
+        if (!read) return fail(read.error().message);
+        text.assign(read->begin(), read->end());
+        origin = a.catalogue;
+    }
+    Result<profiling::Catalogue> catalogue = profiling::parse_catalogue(text, origin);
+    if (!catalogue) return fail(catalogue.error().message);
+
+    profiling::StabilityOptions o;
+    o.cases_pattern = a.cases;
+    o.full = a.full;
+    o.image_size = a.size ? a.size : (a.full ? 256 : 128);
+    std::error_code ec;
+    const std::filesystem::path scratch = std::filesystem::temp_directory_path(ec) /
+                                          ("parallax-stability-" + std::to_string(getpid()));
+    o.scratch_dir = scratch.string();
+    o.renderer_options = make_renderer_factory(platform::HeadlessContext::proc_loader());
+
+    std::vector<profiling::StabilityRow> rows;
+    for (int es : {3, 2}) {
+        if (a.es != "both" && a.es != std::to_string(es)) continue;
+        // Emulated profiles run on the ES 3.0 context only.
+        o.precisions.clear();
+        for (const std::string& p : precisions)
+            if (p == "native" || es == 3) o.precisions.push_back(p);
+        if (o.precisions.empty()) continue;
+        platform::ContextOptions co;
+        co.es_major = es;
+        auto context = platform::HeadlessContext::create(co);
+        if (!context) return fail(context.error().message);
+        auto result = profiling::run_stability(*catalogue, o, show_progress);
+        if (!result) {
+            std::filesystem::remove_all(scratch, ec);
+            return fail(result.error().message);
+        }
+        rows.insert(rows.end(), result->begin(), result->end());
+    }
+    std::filesystem::remove_all(scratch, ec);
+
+    std::string report = a.format == "json" ? profiling::format_json(rows)
+                         : a.format == "md" ? profiling::format_markdown(rows, a.command)
+                                            : profiling::format_table(rows);
+    std::fputs(report.c_str(), stdout);
+    if (!a.out.empty()) {
+        Status written = write_file_atomically(a.out, report);
+        if (!written) return fail(written.error().message);
+    }
+    long failed = 0, limits = 0, passed = 0;
+    for (const profiling::StabilityRow& r : rows) {
+        if (r.verdict == "fail") ++failed;
+        else if (r.verdict == "limit") ++limits;
+        else if (r.verdict == "pass") ++passed;
+    }
+    std::fprintf(stderr, "stability: %zu rows: %ld pass, %ld documented limits, %ld fail\n", rows.size(), passed,
+                 limits, failed);
+    return failed ? 1 : 0;
+}
+
+}  // namespace
+
+void add_stability_command(CLI::App& app, int argc, char** argv) {
+    auto args = std::make_shared<StabilityArgs>();
+    std::ostringstream command;
+    for (int i = 0; i < argc; ++i) command << (i ? " " : "") << (i == 0 ? "parallax" : argv[i]);
+    args->command = command.str();
+    CLI::App* cmd = app.add_subcommand("stability", "Run the hard-case catalogue; exit 1 when a case fails");
+    cmd->add_option("--cases", args->cases, "Case names: a substring, or a glob with * and ?");
+    cmd->add_option("--precision", args->precisions, "native, fp32, fp16, lowp, nohighp or all (default all)")
+        ->delimiter(',');
+    cmd->add_option("--es", args->es, "OpenGL ES contexts: 2, 3 or both")->capture_default_str();
+    cmd->add_flag("--full", args->full, "Every sweep frame and the full-only cases, at 256 pixels");
+    cmd->add_option("--size", args->size, "Image side in pixels (default 128; 256 with --full)");
+    cmd->add_option("--format", args->format, "table, md or json")->capture_default_str();
+    cmd->add_option("--out", args->out, "Also write the report to this file");
+    cmd->add_option("--catalogue", args->catalogue, "A catalogue file instead of the built-in one");
+    cmd->callback([args]() { set_exit_status(run(*args)); });
+}
+
+}  // namespace px::tools
