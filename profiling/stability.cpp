@@ -10,253 +10,16 @@
 #include <set>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
 #include "core/limits.h"
 #include "core/text.h"
 #include "gl/gl.h"
 #include "reference/reference_image.h"
 #include "render/surface_capture.h"
+#include "scene/material_images.h"
 
 namespace px::profiling {
 
 namespace {
-
-using nlohmann::json;
-
-// --- Reading the catalogue --------------------------------------------------
-
-// Reads one JSON object, naming the JSON path in every error and refusing
-// keys it does not know (a misspelt key must not be silently ignored).
-class Reader {
-public:
-    Reader(const json& j, std::string path, std::string origin, std::string* error)
-        : j_(j), path_(std::move(path)), origin_(std::move(origin)), error_(error) {
-        if (!j_.is_object()) fail("must be an object");
-    }
-    bool ok() const { return error_->empty(); }
-    const std::string& path() const { return path_; }
-    void fail(const std::string& what, const std::string& key = "") {
-        if (!error_->empty()) return;
-        *error_ = origin_ + ": " + path_ + (key.empty() ? "" : "." + key) + ": " + what;
-    }
-    const json* get(const char* key) {
-        seen_.insert(key);
-        if (!j_.is_object()) return nullptr;
-        auto it = j_.find(key);
-        return it == j_.end() ? nullptr : &*it;
-    }
-    template <typename T>
-    void number(const char* key, T& out, double lo, double hi) {
-        const json* v = get(key);
-        if (!v) return;
-        if (!v->is_number()) return fail("must be a number", key);
-        const double d = v->get<double>();
-        if (!(d >= lo && d <= hi)) return fail("must be within " + num(lo) + ".." + num(hi) + ", got " + num(d), key);
-        if constexpr (std::is_integral_v<T>) {
-            if (d != std::floor(d)) return fail("must be a whole number, got " + num(d), key);
-        }
-        out = static_cast<T>(d);
-    }
-    void text(const char* key, std::string& out) {
-        const json* v = get(key);
-        if (!v) return;
-        if (!v->is_string()) return fail("must be a string", key);
-        out = v->get<std::string>();
-    }
-    void boolean(const char* key, bool& out) {
-        const json* v = get(key);
-        if (!v) return;
-        if (!v->is_boolean()) return fail("must be true or false", key);
-        out = v->get<bool>();
-    }
-    template <int N>
-    void vec(const char* key, glm::vec<N, float>& out, double bound) {
-        const json* v = get(key);
-        if (!v) return;
-        if (!v->is_array() || v->size() != N) return fail("must be an array of " + std::to_string(N) + " numbers", key);
-        for (int i = 0; i < N; ++i) {
-            const json& e = (*v)[static_cast<size_t>(i)];
-            if (!e.is_number() || !(std::fabs(e.get<double>()) <= bound))
-                return fail("components must be numbers within ±" + num(bound), key);
-            out[i] = e.get<float>();
-        }
-    }
-    void finish() {
-        if (!ok() || !j_.is_object()) return;
-        for (auto it = j_.begin(); it != j_.end(); ++it)
-            if (!seen_.count(it.key())) return fail("unknown key '" + echo(it.key()) + "'");
-    }
-    Reader child(const char* key) {
-        const json* v = get(key);
-        static const json empty = json::object();
-        return Reader(v ? *v : empty, path_ + "." + key, origin_, error_);
-    }
-    bool has(const char* key) const { return j_.is_object() && j_.contains(key); }
-
-    static std::string num(double d) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%g", d);
-        return b;
-    }
-
-private:
-    const json& j_;
-    std::string path_, origin_;
-    std::string* error_;
-    std::set<std::string> seen_;
-};
-
-Result<BoundKind> parse_bound_kind(const std::string& s) {
-    static const std::map<std::string, BoundKind> kinds = {
-        {"zero", BoundKind::zero},     {"limited", BoundKind::limited},           {"parallax", BoundKind::parallax},
-        {"step", BoundKind::step},     {"refined_step", BoundKind::refined_step}, {"exact", BoundKind::exact}};
-    auto it = kinds.find(s);
-    if (it == kinds.end())
-        return make_error("unknown bound '" + echo(s) + "' (known: zero, limited, parallax, step, refined_step, exact)");
-    return it->second;
-}
-
-void read_field(Reader r, FieldSpec& f) {
-    std::string kind;
-    r.text("kind", kind);
-    if (!kind.empty()) {
-        Result<FieldKind> k = parse_field_kind(kind);
-        if (!k) return r.fail(k.error().message, "kind");
-        f.kind = *k;
-    }
-    r.number("size", f.size, 1, kMaxTextureSize);
-    r.number("level", f.level, 0, 1);
-    r.number("count", f.count, 1, 256);
-    r.number("frequency", f.frequency, 0, 256);
-    r.number("mortar", f.mortar, 0, 0.5);
-    r.number("line_width", f.line_width, 1, 256);
-    r.number("radius", f.radius, 0, 0.5);
-    r.text("text", f.text);
-    r.finish();
-}
-
-void read_case(Reader r, StabilityCase& c, bool defaults) {
-    if (!defaults) {
-        r.text("name", c.name);
-        if (c.name.empty()) r.fail("every case needs a name", "name");
-        r.text("why", c.why);
-    }
-    if (r.has("field")) read_field(r.child("field"), c.field);
-    if (r.has("image")) {
-        Reader im = r.child("image");
-        int w = 0, h = 0;
-        im.number("width", w, 1, kMaxTextureSize);
-        im.number("height", h, 1, kMaxTextureSize);
-        im.finish();
-        if (w < 1 || h < 1) im.fail("needs width and height");
-        c.image_width = w;
-        c.image_height = h;
-    }
-    r.number("height_scale", c.height_scale, 0, kMaxHeightScale);
-    if (r.has("height_bias")) {
-        float b = 0;
-        r.number("height_bias", b, -kMaxHeightScale, kMaxHeightScale);
-        c.height_bias = b;
-    }
-    if (r.has("angle")) {
-        double a = 0;
-        r.number("angle", a, 0, 90);
-        c.angles = {a};
-    }
-    if (const json* a = r.get("angles")) {
-        if (!a->is_array() || a->empty() || a->size() > 64) return r.fail("must be an array of 1 to 64 angles", "angles");
-        c.angles.clear();
-        for (const json& e : *a) {
-            if (!e.is_number() || !(e.get<double>() >= 0 && e.get<double>() <= 90))
-                return r.fail("angles are degrees within 0..90", "angles");
-            c.angles.push_back(e.get<double>());
-        }
-    }
-    r.boolean("sweep", c.sweep);
-    if (const json* d = r.get("distances")) {
-        if (!d->is_array() || d->size() < 2 || d->size() > 64)
-            return r.fail("must be an array of 2 to 64 distances", "distances");
-        c.distances.clear();
-        for (const json& e : *d) {
-            if (!e.is_number() || !(e.get<double>() > 0 && e.get<double>() <= 1000))
-                return r.fail("distances must be within (0, 1000]", "distances");
-            c.distances.push_back(e.get<double>());
-        }
-    }
-    r.number("distance", c.distance, 1e-4, 1000);
-    if (r.has("camera")) {
-        Reader cam = r.child("camera");
-        glm::vec3 p(0.0f), t(0.0f);
-        cam.vec<3>("position", p, 1000);
-        cam.vec<3>("target", t, 1000);
-        cam.finish();
-        c.camera_position = p;
-        c.camera_target = t;
-    }
-    r.number("fov", c.fov_deg, 1, 170);
-    r.number("plane_size", c.plane_size, kMinExtent, kMaxExtent);
-    r.number("segments", c.segments, 1, 256);
-    r.number("samples", c.samples, 1, 256);
-    r.number("refine_steps", c.refine_steps, 0, 16);
-    if (r.has("light")) {
-        Reader l = r.child("light");
-        l.number("elevation", c.light_elevation_deg, -90, 90);
-        l.number("azimuth", c.light_azimuth_deg, -360, 360);
-        l.finish();
-    }
-    std::string shadow;
-    r.text("shadow", shadow);
-    if (!shadow.empty()) {
-        Result<ShadowMode> m = parse_shadow_mode(shadow);
-        if (!m) return r.fail(m.error().message, "shadow");
-        c.shadow = *m;
-    }
-    if (r.has("uv")) {
-        Reader uv = r.child("uv");
-        uv.vec<2>("scale", c.uv.scale, 1e5);
-        uv.vec<2>("offset", c.uv.offset, 1e5);
-        uv.number("rotation", c.uv.rotation_deg, -3600, 3600);
-        uv.finish();
-    }
-    r.vec<3>("model_scale", c.model_scale, 1e4);
-    if (r.has("lod")) {
-        Reader l = r.child("lod");
-        c.lod = true;
-        l.number("threshold", c.lod_threshold, 0, 16);
-        l.number("band", c.lod_band, 0.01, 16);
-        l.finish();
-    }
-    if (r.has("exact_view")) {
-        bool e = false;
-        r.boolean("exact_view", e);
-        c.exact_view = e;
-    }
-    if (const json* t = r.get("techniques")) {
-        if (!t->is_array()) return r.fail("must be an array of technique names", "techniques");
-        for (const json& e : *t) {
-            if (!e.is_string() || !parse_technique(e.get<std::string>()))
-                return r.fail("unknown technique (known: " + technique_names_joined() + ")", "techniques");
-            c.techniques.push_back(e.get<std::string>());
-        }
-    }
-    if (r.has("limits")) {
-        const json* l = r.get("limits");
-        if (!l->is_object()) return r.fail("must map technique names to the limit each shows", "limits");
-        for (auto it = l->begin(); it != l->end(); ++it) {
-            if (!parse_technique(it.key()))
-                return r.fail("unknown technique '" + echo(it.key()) + "'", "limits");
-            if (!it->is_string() || it->get<std::string>().empty())
-                return r.fail("each limit is a sentence saying what the technique cannot do", "limits." + it.key());
-            c.limits[it.key()] = it->get<std::string>();
-        }
-    }
-    r.boolean("expect_dark", c.expect_dark);
-    r.boolean("full_only", c.full_only);
-    r.number("quick_stride", c.quick_stride, 1, 64);
-    r.finish();
-    if (!defaults && c.sweep && c.angles.size() < 2) r.fail("a sweep needs at least two angles", "angles");
-}
 
 // --- Per-pixel bounds -------------------------------------------------------
 
@@ -296,6 +59,49 @@ bool finite(const SurfaceSample& s) {
 glm::dvec2 wrapped_texels(glm::dvec2 d, int w, int h) {
     d -= glm::round(d);
     return glm::dvec2(d.x * w, d.y * h);
+}
+
+// What the linear search would find along the exact ray, computed from its
+// definition (not from the shader): samples at heights 1 - i/N, the first one
+// on or under the exact surface (the 8-bit bilinear field the GPU samples)
+// and the one before it. A technique that searches can do no better than its
+// samples: where the ray crosses a feature between two samples (a chord
+// shorter than a step) the search misses it, and its bound says so instead of
+// a fitted allowance.
+struct SearchBound {
+    double steep = 0.0;    // |true hit - first sample under|, texels
+    double bracket = 0.0;  // max distance from the true hit to either end of the bracket
+    bool true_hit_in_bracket = false;
+};
+
+std::vector<SearchBound> search_bounds(const reference::ReferenceImage& ref, const HeightField& field, int samples) {
+    std::vector<SearchBound> out(ref.surface.samples.size());
+    const int tw = ref.texture_width, th = ref.texture_height;
+    if (tw == 0 || field.width == 0) return out;
+    const double s = ref.height_scale, p = ref.polygon_height;
+    const int n = std::max(samples, 1);
+    for (size_t i = 0; i < out.size(); ++i) {
+        const SurfaceSample& r = ref.surface.samples[i];
+        if (!r.covered) continue;
+        const glm::dvec3 v = ref.view_ts[i];
+        if (!(v.z > 0.0)) continue;
+        const glm::dvec2 parallax = s * glm::dvec2(v.x, v.y) / v.z;  // the exact ray, unclamped
+        const glm::dvec2 uv0 = ref.entry_uv[i];
+        auto at = [&](int k) { return uv0 + ((1.0 - double(k) / n) - p) * parallax; };
+        int k = 0;
+        for (; k < n; ++k) {
+            const glm::dvec2 uv = at(k);
+            if (field.sample_bilinear(uv.x, uv.y) >= 1.0 - double(k) / n) break;
+        }
+        const glm::dvec2 below = at(k), above = at(std::max(k - 1, 0));
+        const double d_below = glm::length(wrapped_texels(r.uv - below, tw, th));
+        const double d_above = glm::length(wrapped_texels(r.uv - above, tw, th));
+        out[i].steep = d_below;
+        out[i].bracket = std::max(d_below, d_above);
+        const double h_above = 1.0 - double(std::max(k - 1, 0)) / n, h_below = 1.0 - double(k) / n;
+        out[i].true_hit_in_bracket = r.height <= h_above + 1e-9 && r.height >= h_below - 1e-9;
+    }
+    return out;
 }
 
 // --- Scenes -------------------------------------------------------------------
@@ -371,79 +177,6 @@ Result<std::string> write_height_image(const StabilityCase& c, const std::string
 
 }  // namespace
 
-// The catalogue's text, embedded by CMake (generated/stability_catalogue.cpp).
-extern const char* const kEmbeddedCatalogue;
-
-const std::string& embedded_catalogue_text() {
-    static const std::string text = kEmbeddedCatalogue;
-    return text;
-}
-
-Result<Catalogue> parse_catalogue(const std::string& text, const std::string& origin) {
-    json root;
-    try {
-        root = json::parse(text, nullptr, true, /*ignore_comments=*/true);
-    } catch (const json::parse_error& e) {
-        return make_error(origin + ": not valid JSON: " + echo(e.what(), 200));
-    }
-    std::string error;
-    Catalogue cat;
-    Reader top(root, "catalogue", origin, &error);
-    {
-        Reader b = top.child("bounds");
-        b.number("slack_texels", cat.bounds.slack_texels, 0, 100);
-        b.number("offset_relative_slack", cat.bounds.offset_relative_slack, 0, 1);
-        b.number("violation_share", cat.bounds.violation_share, 0, 1);
-        b.number("crest_flip_height", cat.bounds.crest_flip_height, 0, 1);
-        Reader t = b.child("techniques");
-        for (const TechniqueInfo& info : technique_table()) {
-            if (!t.has(info.name)) {
-                t.fail(std::string("no bounds for technique '") + info.name + "'");
-                break;
-            }
-            Reader one = t.child(info.name);
-            TechniqueBounds tb;
-            for (auto [key, slot] : {std::pair{"error", &tb.error}, std::pair{"offset", &tb.offset},
-                                     std::pair{"continuity", &tb.continuity}}) {
-                std::string kind;
-                one.text(key, kind);
-                Result<BoundKind> k = parse_bound_kind(kind);
-                if (!k) {
-                    one.fail(k.error().message, key);
-                    break;
-                }
-                *slot = *k;
-            }
-            one.finish();
-            cat.bounds.techniques[info.name] = tb;
-        }
-        t.finish();
-        b.finish();
-    }
-    StabilityCase defaults;
-    if (top.has("defaults")) read_case(top.child("defaults"), defaults, true);
-    const json* cases = top.get("cases");
-    if (error.empty() && (!cases || !cases->is_array() || cases->empty()))
-        top.fail("needs a non-empty array of cases", "cases");
-    std::set<std::string> names;
-    if (error.empty()) {
-        for (size_t i = 0; i < cases->size() && error.empty(); ++i) {
-            StabilityCase c = defaults;
-            read_case(Reader((*cases)[i], "catalogue.cases[" + std::to_string(i) + "]", origin, &error), c, false);
-            if (!error.empty()) break;
-            if (!names.insert(c.name).second) {
-                error = origin + ": catalogue.cases[" + std::to_string(i) + "].name: '" + echo(c.name) +
-                        "' names another case too";
-                break;
-            }
-            cat.cases.push_back(std::move(c));
-        }
-    }
-    top.finish();
-    if (!error.empty()) return make_error(error);
-    return cat;
-}
-
 Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& technique, double angle,
                                   double distance, const std::string& scratch_dir) {
     SceneDesc s;
@@ -511,53 +244,6 @@ Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& tec
     return s;
 }
 
-void judge(StabilityRow& row, const CatalogueBounds& bounds, const StabilityCase& c) {
-    std::vector<std::string> failed;
-    std::vector<std::string> limit;
-    if (row.non_finite > 0) failed.push_back(std::to_string(row.non_finite) + " pixels NaN or Inf");
-    if (row.offset_violations > 0)
-        failed.push_back(std::to_string(row.offset_violations) + " pixels past the offset bound (max ratio " +
-                         Reader::num(row.offset_ratio_max) + ")");
-    if (row.dark_max > 0.0) failed.push_back("lit by a light below the horizon (visibility " + Reader::num(row.dark_max) + ")");
-    // Accuracy is judged at fp32 (the native run and the fp32 emulation);
-    // at fp16 and lowp the growth of the error is the finding, reported.
-    const bool judged = row.precision == "native" || row.precision == "fp32";
-    std::vector<std::string> accuracy;
-    if (judged && row.pixels > 0) {
-        if (row.error_mean > row.error_bound_mean + bounds.slack_texels)
-            accuracy.push_back("mean error " + Reader::num(row.error_mean) + " past its bound " +
-                               Reader::num(row.error_bound_mean + bounds.slack_texels));
-        if (row.error_violations > bounds.violation_share)
-            accuracy.push_back(Reader::num(100.0 * row.error_violations) + " % of pixels past their error bound");
-        if (row.continuity_max >= 0.0 && row.continuity_violations > bounds.violation_share)
-            accuracy.push_back(Reader::num(100.0 * row.continuity_violations) +
-                               " % of pixels jump past their continuity bound (max " + Reader::num(row.continuity_max) +
-                               " texels)");
-    }
-    auto it = c.limits.find(row.technique);
-    const bool documented = it != c.limits.end();
-    if (!accuracy.empty()) {
-        if (documented) {
-            limit.push_back(it->second);
-        } else {
-            failed.insert(failed.end(), accuracy.begin(), accuracy.end());
-        }
-    }
-    std::string reasons;
-    if (!failed.empty()) {
-        row.verdict = "fail";
-        for (const std::string& f : failed) reasons += (reasons.empty() ? "" : "; ") + f;
-        if (!limit.empty()) reasons += "; (limit: " + limit.front() + ")";
-    } else if (!limit.empty()) {
-        row.verdict = "limit";
-        reasons = limit.front();
-    } else {
-        row.verdict = row.pixels > 0 || row.non_finite > 0 ? "pass" : "n/a";
-        if (row.verdict == "n/a") reasons = "nothing covered (no NaN, nothing to measure)";
-    }
-    row.reasons = reasons;
-}
-
 namespace {
 
 struct Measurement {
@@ -575,9 +261,29 @@ struct Accumulator {
     double dark_max = -1.0;
 };
 
+// The per-pixel error bound of a technique: the catalogue's kind, with the
+// linear search's own limit where the kind is a search step, plus fp32's
+// rounding of the ray: the interpolated view vector's components carry a
+// relative error of about 2^-20 (a handful of fp32 roundings), and P divides
+// by V.z, so P's error is P 2^-20 / V.z; and a uv of magnitude m is held to
+// m 2^-23 (its ulp), a few roundings deep: 4 m 2^-23 tiles.
+double error_bound(BoundKind kind, const PixelTerms& t, double polygon_height, int samples, int refine,
+                   const SearchBound* search, const glm::dvec3& v, const glm::dvec2& uv, int tw, int th,
+                   double slack) {
+    double b = bound_value(kind, t, polygon_height, false, samples, refine);
+    if (search) {
+        if (kind == BoundKind::step) b = std::max(b, search->bracket);
+        if (kind == BoundKind::refined_step && !search->true_hit_in_bracket) b = std::max(b, search->bracket);
+    }
+    const double rounding_ray = t.parallax * std::ldexp(1.0, -20) / std::max(v.z, 1.0 / 64.0);
+    const double magnitude = std::max(std::fabs(uv.x), std::fabs(uv.y));
+    const double rounding_uv = 4.0 * magnitude * std::ldexp(1.0, -23) * std::max(tw, th);
+    return b + rounding_ray + rounding_uv + slack;
+}
+
 void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const reference::ReferenceImage& ref,
-                   const TechniqueBounds& tb, const StabilityCase& c, const CatalogueBounds& bounds, Accumulator& acc,
-                   bool lod) {
+                   const std::vector<SearchBound>& search, const TechniqueBounds& tb, const StabilityCase& c,
+                   const CatalogueBounds& bounds, Accumulator& acc, bool lod, std::vector<double>* per_pixel_bound) {
     const int tw = ref.texture_width, th = ref.texture_height;
     const double s = ref.height_scale, p = ref.polygon_height;
     const BoundKind error_kind = lod ? BoundKind::parallax : tb.error;  // past the LOD threshold: normal mapping
@@ -594,11 +300,14 @@ void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const ref
         const PixelTerms terms = pixel_terms(ref.view_ts[i], s, tw, th);
         ++acc.pixels;
         const double error = glm::length(wrapped_texels(g.uv - r.uv, tw, th));
-        const double bound = bound_value(error_kind, terms, p, false, c.samples, c.refine_steps);
+        const double bound = error_bound(error_kind, terms, p, c.samples, c.refine_steps,
+                                         search.empty() ? nullptr : &search[i], ref.view_ts[i], r.uv, tw, th,
+                                         bounds.slack_texels);
+        if (per_pixel_bound) (*per_pixel_bound)[i] = bound;
         acc.error_sum += error;
         acc.error_max = std::max(acc.error_max, error);
         acc.bound_sum += bound;
-        if (error > bound + bounds.slack_texels) ++acc.error_violations;
+        if (error > bound) ++acc.error_violations;
         if (entry && entry->samples[i].covered && finite(entry->samples[i])) {
             const double offset = glm::length(wrapped_texels(g.uv - entry->samples[i].uv, tw, th));
             const double ob = bound_value(tb.offset, terms, p, true, c.samples, c.refine_steps);
@@ -609,6 +318,42 @@ void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const ref
             if (offset > allowed && allowed < half_tile) ++acc.offset_violations;
         }
     }
+}
+
+// Error over bound per pixel as a picture (see StabilityOptions::image_dir).
+Status write_error_image(const std::string& path, const SurfaceImage& gpu, const reference::ReferenceImage& ref,
+                         const std::vector<double>& bounds) {
+    Image image;
+    image.width = gpu.width;
+    image.height = gpu.height;
+    image.channels = 3;
+    image.pixels.assign(static_cast<size_t>(image.width) * image.height * 3, 0);
+    for (size_t i = 0; i < gpu.samples.size(); ++i) {
+        std::uint8_t* px = &image.pixels[3 * i];
+        const SurfaceSample& g = gpu.samples[i];
+        if (!g.covered) continue;
+        if (!finite(g)) {
+            px[0] = 255, px[2] = 255;
+            continue;
+        }
+        const SurfaceSample& r = ref.surface.samples[i];
+        if (!r.covered || ref.texture_width == 0) {
+            px[2] = 128;
+            continue;
+        }
+        const double e = glm::length(wrapped_texels(g.uv - r.uv, ref.texture_width, ref.texture_height));
+        const double q = bounds[i] > 0.0 ? e / bounds[i] : 0.0;
+        if (q <= 1.0) {
+            px[0] = static_cast<std::uint8_t>(255.0 * q);
+            px[1] = 200;
+        } else {
+            px[0] = 255;
+            px[1] = static_cast<std::uint8_t>(std::clamp(120.0 / q, 0.0, 120.0));
+        }
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+    return write_png(path, image);
 }
 
 }  // namespace
@@ -695,6 +440,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
         const StabilityCase& c = *w.c;
         // The reference of each frame, shared by every technique and run.
         std::vector<reference::ReferenceImage> refs;
+        std::vector<std::vector<SearchBound>> searches;
         for (const Frame& f : w.frames) {
             Result<SceneDesc> scene = stability_scene(c, "pom", f.angle, f.distance, options.scratch_dir);
             if (!scene) return scene.error();
@@ -702,6 +448,9 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
             ro.shadow = c.shadow;
             Result<reference::ReferenceImage> ref = reference::render_reference(*scene, size, size, ro);
             if (!ref) return with_context("case '" + c.name + "' reference", ref.error());
+            Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
+            if (!images) return images.error();
+            searches.push_back(search_bounds(*ref, quantized_8bit(images->field), c.samples));
             refs.push_back(std::move(*ref));
         }
         for (const Run& run : runs) {
@@ -717,6 +466,9 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                 row.precision = run.precision;
                 Accumulator acc;
                 std::vector<SurfaceImage> gpu_frames;
+                std::vector<std::vector<double>> frame_bounds;
+                std::string drawn_note;
+                std::string drawn_name = t->name;
                 for (size_t fi = 0; fi < w.frames.size(); ++fi) {
                     const Frame& f = w.frames[fi];
                     auto capture = [&](const std::string& technique) -> Result<SurfaceImage> {
@@ -736,8 +488,25 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                     }
                     Result<SurfaceImage> gpu = capture(t->name);
                     if (!gpu) return gpu.error();
-                    measure_frame(*gpu, &entries[fi], refs[fi], catalogue.bounds.techniques.at(t->name), c,
-                                  catalogue.bounds, acc, c.lod);
+                    // Judged as what was drawn: the planner may substitute
+                    // (maxmip on a height map that is not a power of two).
+                    const auto& reports = (*renderer)->reports();
+                    const char* drawn = reports.empty() ? t->name : technique_name(reports.front().variant.technique);
+                    if (drawn != std::string(t->name) && drawn_note.empty()) {
+                        drawn_note = std::string("drawn as ") + drawn;
+                        if (!reports.front().notes.empty()) drawn_note += " (" + reports.front().notes.front() + ")";
+                        drawn_name = drawn;
+                    }
+                    frame_bounds.emplace_back(gpu->samples.size(), 0.0);
+                    measure_frame(*gpu, &entries[fi], refs[fi], searches[fi], catalogue.bounds.techniques.at(drawn_name),
+                                  c, catalogue.bounds, acc, c.lod, &frame_bounds.back());
+                    if (!options.image_dir.empty()) {
+                        Status written = write_error_image(options.image_dir + "/" + w.label + "_" + t->name + "_" +
+                                                               row.context + "_" + run.precision + "_" +
+                                                               std::to_string(fi) + ".png",
+                                                           *gpu, refs[fi], frame_bounds.back());
+                        if (!written) return written.error();
+                    }
                     gpu_frames.push_back(std::move(*gpu));
                     if (progress) progress(++done, total, w.label + " " + t->name + " " + row.context + " " + run.precision);
                 }
@@ -751,11 +520,11 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                 row.offset_violations = acc.offset_violations;
                 row.dark_max = acc.dark_max;
                 // Continuity: per pixel, the change of the error between
-                // neighbouring frames, against the sum of the technique's
-                // continuity bound and, in the LOD band, what the blend may
-                // move: |log2(d2 / d1)| / band of the way to the polygon's uv.
+                // neighbouring frames. Each error is within its own bound, so
+                // the change is within their sum; in the LOD band the blend
+                // may also move the hit |log2(d2 / d1)| / band of the way to
+                // the polygon's uv (at most P). More than that is a pop.
                 if (!w.pairs.empty()) {
-                    const TechniqueBounds& tb = catalogue.bounds.techniques.at(t->name);
                     long compared = 0, violations = 0, flips = 0;
                     double jump_max = 0.0;
                     for (auto [a, b] : w.pairs) {
@@ -778,12 +547,9 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                             const glm::dvec2 ea = wrapped_texels(ga.uv - sa.uv, tw, th);
                             const glm::dvec2 eb = wrapped_texels(gb.uv - sb.uv, tw, th);
                             const double jump = glm::length(eb - ea);
-                            const PixelTerms ta = pixel_terms(ra.view_ts[i], ra.height_scale, tw, th);
-                            const PixelTerms tbt = pixel_terms(rb.view_ts[i], rb.height_scale, tw, th);
-                            const PixelTerms big{std::max(ta.parallax, tbt.parallax), std::max(ta.limited, tbt.limited)};
-                            const double bound = bound_value(tb.continuity, big, ra.polygon_height, false, c.samples,
-                                                             c.refine_steps) +
-                                                 blend_step * big.parallax + catalogue.bounds.slack_texels;
+                            const double p_max = std::max(pixel_terms(ra.view_ts[i], ra.height_scale, tw, th).parallax,
+                                                          pixel_terms(rb.view_ts[i], rb.height_scale, tw, th).parallax);
+                            const double bound = frame_bounds[a][i] + frame_bounds[b][i] + blend_step * p_max;
                             ++compared;
                             jump_max = std::max(jump_max, jump);
                             if (jump > bound) ++violations;
@@ -794,113 +560,12 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                     row.crest_flips = flips;
                 }
                 judge(row, catalogue.bounds, c);
+                if (!drawn_note.empty()) row.reasons = drawn_note + (row.reasons.empty() ? "" : "; " + row.reasons);
                 rows.push_back(std::move(row));
             }
         }
     }
     return rows;
-}
-
-bool glob_match(const std::string& pattern, const std::string& text) {
-    const bool wild = pattern.find_first_of("*?") != std::string::npos;
-    if (!wild) return text.find(pattern) != std::string::npos;
-    // Iterative glob with backtracking to the last star.
-    size_t p = 0, t = 0, star = std::string::npos, mark = 0;
-    while (t < text.size()) {
-        if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == text[t])) {
-            ++p;
-            ++t;
-        } else if (p < pattern.size() && pattern[p] == '*') {
-            star = p++;
-            mark = t;
-        } else if (star != std::string::npos) {
-            p = star + 1;
-            t = ++mark;
-        } else {
-            return false;
-        }
-    }
-    while (p < pattern.size() && pattern[p] == '*') ++p;
-    return p == pattern.size();
-}
-
-namespace {
-
-std::string fixed(double v, int digits = 3) {
-    if (!std::isfinite(v)) return "-";
-    char b[48];
-    if (v != 0.0 && std::fabs(v) < 1e-3)
-        std::snprintf(b, sizeof b, "%.1e", v);
-    else
-        std::snprintf(b, sizeof b, "%.*f", digits, v);
-    return b;
-}
-
-std::string continuity_text(const StabilityRow& r) {
-    if (r.continuity_max < 0.0) return "-";
-    return fixed(r.continuity_max) + " (" + fixed(100.0 * r.continuity_violations, 1) + "%)";
-}
-
-}  // namespace
-
-std::string format_table(const std::vector<StabilityRow>& rows) {
-    std::ostringstream o;
-    char line[512];
-    std::snprintf(line, sizeof line, "%-26s %-14s %-4s %-8s %9s %9s %9s %6s %8s %17s %-6s %s\n", "case", "technique", "ctx",
-                  "precision", "max err", "mean err", "bound", "NaN", "offset", "continuity", "verdict", "why");
-    o << line;
-    for (const StabilityRow& r : rows) {
-        std::snprintf(line, sizeof line, "%-26s %-14s %-4s %-8s %9s %9s %9s %6ld %8s %17s %-6s %s\n",
-                      r.case_name.c_str(), r.technique.c_str(), r.context.c_str(), r.precision.c_str(),
-                      fixed(r.error_max).c_str(), fixed(r.error_mean).c_str(), fixed(r.error_bound_mean).c_str(),
-                      r.non_finite, fixed(r.offset_ratio_max, 2).c_str(), continuity_text(r).c_str(),
-                      r.verdict.c_str(), echo(r.reasons, 160).c_str());
-        o << line;
-    }
-    return o.str();
-}
-
-std::string format_markdown(const std::vector<StabilityRow>& rows, const std::string& command) {
-    std::ostringstream o;
-    o << "Command: `" << command << "`\n\n";
-    o << "| case | technique | ctx | precision | max err | mean err | bound (mean) | NaN | offset/bound | continuity (max, share past) | verdict | why |\n";
-    o << "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n";
-    for (const StabilityRow& r : rows) {
-        o << "| " << r.case_name << " | " << r.technique << " | " << r.context << " | " << r.precision << " | "
-          << fixed(r.error_max) << " | " << fixed(r.error_mean) << " | " << fixed(r.error_bound_mean) << " | "
-          << r.non_finite << " | " << fixed(r.offset_ratio_max, 2) << " | " << continuity_text(r) << " | "
-          << r.verdict << " | " << r.reasons << " |\n";
-    }
-    return o.str();
-}
-
-std::string format_json(const std::vector<StabilityRow>& rows) {
-    json out = json::array();
-    for (const StabilityRow& r : rows) {
-        json j;
-        j["case"] = r.case_name;
-        j["technique"] = r.technique;
-        j["context"] = r.context;
-        j["precision"] = r.precision;
-        j["pixels"] = r.pixels;
-        j["non_finite"] = r.non_finite;
-        j["error_max_texels"] = r.error_max;
-        j["error_mean_texels"] = r.error_mean;
-        j["error_bound_mean_texels"] = r.error_bound_mean;
-        j["error_violation_share"] = r.error_violations;
-        j["offset_ratio_max"] = r.offset_ratio_max;
-        j["offset_violations"] = r.offset_violations;
-        if (r.continuity_max >= 0.0) {
-            j["continuity_max_texels"] = r.continuity_max;
-            j["continuity_violation_share"] = r.continuity_violations;
-            j["crest_flips"] = r.crest_flips;
-        }
-        if (r.dark_max >= 0.0) j["dark_max_visibility"] = r.dark_max;
-        j["verdict"] = r.verdict;
-        j["reasons"] = r.reasons;
-        out.push_back(j);
-    }
-    return out.dump(1) + "\n";
 }
 
 }  // namespace px::profiling

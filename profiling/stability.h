@@ -1,122 +1,20 @@
-// The hard-case catalogue behind `parallax stability` and the stability
-// tests: grazing and edge-on views, thin features, steps, huge tiled uvs,
-// mirrored frames, far and LOD-blended surfaces, each run for every
-// technique, and judged on what the shader computed (its debug outputs):
-// no NaN or Inf, the uv offset within the bound the technique promises, the
-// hit error against the exact reference within the technique's derived
-// bound, and continuity along camera sweeps. The cases live in one file
-// (tests/stability/catalogue.jsonc, embedded in the program); each bound is
-// derived in that file's comments and computed per pixel here.
+// Running the hard-case catalogue (profiling/stability_catalogue.h) on the
+// current context: every case, every technique, the precisions asked for.
 #pragma once
 
 #include <functional>
-#include <map>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
-#include "core/result.h"
+#include "profiling/stability_catalogue.h"
 #include "render/renderer.h"
-#include "scene/scene.h"
 
 namespace px::profiling {
-
-// How a technique's per-pixel bound is computed from the pixel's exact view
-// vector V (unit, texture frame), the relief depth s (tile units), the
-// polygon height p (0..1), the texture size and the search's sample count N
-// and refinement steps R. P = s |V.xy| / max(V.z, 1/64), in texels: the
-// length of the whole parallax vector from the relief's top to its bottom.
-enum class BoundKind {
-    zero,          // 0
-    limited,       // s |V.xy| max(p, 1 - p): offset limiting's promise
-    parallax,      // P max(p, 1 - p) for offsets; P for errors
-    step,          // P / N: one step of the linear search
-    refined_step,  // P / (N 2^R): one step after R halvings
-    exact,         // 0: an exact technique (rounding only, covered by the slack)
-};
-
-struct TechniqueBounds {
-    BoundKind error = BoundKind::parallax;
-    BoundKind offset = BoundKind::parallax;
-    BoundKind continuity = BoundKind::parallax;
-};
-
-struct CatalogueBounds {
-    double slack_texels = 0.05;            // absolute, added to every per-pixel bound
-    double offset_relative_slack = 0.02;   // relative, on offset bounds
-    double violation_share = 0.01;         // share of pixels allowed past a per-pixel bound
-    double crest_flip_height = 0.5;        // reference height change that marks a crest flip (continuity)
-    std::map<std::string, TechniqueBounds> techniques;  // by technique name
-};
-
-struct StabilityCase {
-    std::string name;
-    std::string why;
-    FieldSpec field;
-    std::optional<int> image_width, image_height;  // a non-square / NPOT height image (written to a file)
-    float height_scale = 0.08f;
-    std::optional<float> height_bias;
-    std::vector<double> angles{60.0};      // frames: one case per angle unless `sweep`
-    bool sweep = false;                    // the angles are one sweep, judged on continuity
-    std::vector<double> distances;         // a distance sweep (overrides `distance`), judged on continuity
-    double distance = 2.2;
-    std::optional<glm::vec3> camera_position, camera_target;  // explicit camera (overrides angle/distance)
-    float fov_deg = 45.0f;
-    float plane_size = 2.4f;
-    int segments = 16;
-    int samples = 32;                      // min = max: the sample axis is exact
-    int refine_steps = 5;
-    float light_elevation_deg = 35.0f, light_azimuth_deg = 30.0f;
-    ShadowMode shadow = ShadowMode::none;
-    UvTransform uv;
-    glm::vec3 model_scale{1.0f};
-    bool lod = false;
-    float lod_threshold = 3.0f, lod_band = 1.0f;
-    std::optional<bool> exact_view;        // unset: the technique's default
-    std::vector<std::string> techniques;   // empty: every technique
-    std::map<std::string, std::string> limits;  // technique -> the documented limit this case shows
-    bool expect_dark = false;              // every covered pixel's first-light visibility must be 0
-    bool full_only = false;                // only with --full
-    int quick_stride = 1;                  // without --full, every k-th frame of a sweep
-};
-
-struct Catalogue {
-    CatalogueBounds bounds;
-    std::vector<StabilityCase> cases;
-};
-
-// The catalogue embedded at build time (tests/stability/catalogue.jsonc).
-const std::string& embedded_catalogue_text();
-// Parses catalogue text; `origin` names it in errors, which give the JSON
-// path of the offending field.
-Result<Catalogue> parse_catalogue(const std::string& text, const std::string& origin);
 
 // The scene of one frame of a case: a plane at the origin facing +z, the
 // camera `angle` degrees off its normal (or the case's explicit camera).
 Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& technique, double angle,
                                   double distance, const std::string& scratch_dir);
-
-struct StabilityRow {
-    std::string case_name;
-    std::string technique;
-    std::string context;    // "es2" or "es3": the variant's shading language
-    std::string precision;  // "native" (the driver, declarations in force) or an emulated profile
-    long pixels = 0;        // covered in both the GPU's output and the reference, summed over frames
-    long non_finite = 0;    // pixels with NaN or Inf in what the shader computed
-    double error_max = 0.0, error_mean = 0.0;  // hit-uv error, texels
-    double error_bound_mean = 0.0;             // mean of the per-pixel error bound
-    double error_violations = 0.0;             // share of pixels past their error bound
-    double offset_ratio_max = 0.0;             // max over pixels of |offset| / its bound (<= 1 holds)
-    long offset_violations = 0;                // pixels past their offset bound
-    double continuity_max = -1.0;              // sweeps: max |change of error| between neighbours, texels; -1: none
-    double continuity_violations = 0.0;        // share of compared pixels past their continuity bound
-    long crest_flips = 0;                      // sweep pixels left out: the reference itself jumps there
-    double dark_max = -1.0;                    // expect_dark: max visibility seen; -1: not asked
-    std::string verdict;                       // "pass", "fail", "limit" (a documented limit showed), "n/a"
-    std::string reasons;                       // why it failed, or the limit
-};
 
 // What the renderer is created with for a precision profile and the
 // variant's ES version (the tool supplies shader transforms for emulated
@@ -130,6 +28,10 @@ struct StabilityOptions {
     int image_size = 128;
     bool full = false;                    // full_only cases and every sweep frame
     std::string scratch_dir;              // where generated height images go
+    // When set: one PNG per row and frame, error against its bound per pixel
+    // (black: not covered; green to yellow: within the bound; red: past it;
+    // magenta: NaN or Inf), named CASE_TECHNIQUE_CONTEXT_PRECISION_FRAME.png.
+    std::string image_dir;
     RendererFactory renderer_options;
 };
 
@@ -141,14 +43,5 @@ using StabilityProgress = std::function<void(int done, int total, const std::str
 // context; "native" runs this context's own variants.
 Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, const StabilityOptions& options,
                                                 const StabilityProgress& progress);
-
-// Judges one row from its measurements (exposed for tests).
-void judge(StabilityRow& row, const CatalogueBounds& bounds, const StabilityCase& c);
-
-std::string format_table(const std::vector<StabilityRow>& rows);
-std::string format_markdown(const std::vector<StabilityRow>& rows, const std::string& command);
-std::string format_json(const std::vector<StabilityRow>& rows);
-
-bool glob_match(const std::string& pattern, const std::string& text);
 
 }  // namespace px::profiling

@@ -112,6 +112,24 @@ TEST(Planner, ZeroReliefFallsBackToNormalMapping) {
     EXPECT_NE(plan->notes[0].find("height_scale is 0"), std::string::npos);
 }
 
+// maxmip's pyramid halves every level exactly: a height map that is not a
+// power of two on both sides gets the table's fallback, with the reason; a
+// square power of two keeps maxmip.
+TEST(Planner, MaxmipOnANonPowerOfTwoHeightMapFallsBack) {
+    MaterialDesc m = material(Technique::maxmip);
+    Result<VariantPlan> npot = plan_variant(m, Caps::full(3), 200, 120);
+    ASSERT_TRUE(npot.ok());
+    EXPECT_EQ(npot->key.technique, technique_info(Technique::maxmip).fallback);
+    ASSERT_EQ(npot->notes.size(), 1u);
+    EXPECT_NE(npot->notes[0].find("200x120"), std::string::npos) << npot->notes[0];
+    Result<VariantPlan> wide = plan_variant(m, Caps::full(3), 256, 64);
+    ASSERT_TRUE(wide.ok());
+    EXPECT_EQ(wide->key.technique, Technique::maxmip);
+    Result<VariantPlan> one_side = plan_variant(m, Caps::full(3), 256, 96);
+    ASSERT_TRUE(one_side.ok());
+    EXPECT_NE(one_side->key.technique, Technique::maxmip);
+}
+
 TEST(Planner, OptionsTheTechniqueLacksAreNoted) {
     MaterialDesc m = material(Technique::offset_limited);
     m.technique.shadow = ShadowMode::hard;

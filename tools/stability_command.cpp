@@ -32,6 +32,7 @@ struct StabilityArgs {
     std::string format = "table";
     std::string out;
     std::string catalogue;
+    std::string images;
     std::string command;
 };
 
@@ -87,6 +88,7 @@ int run(const StabilityArgs& a) {
     const std::filesystem::path scratch = std::filesystem::temp_directory_path(ec) /
                                           ("parallax-stability-" + std::to_string(getpid()));
     o.scratch_dir = scratch.string();
+    o.image_dir = a.images;
     o.renderer_options = make_renderer_factory(platform::HeadlessContext::proc_loader());
 
     std::vector<profiling::StabilityRow> rows;
@@ -146,6 +148,8 @@ void add_stability_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--format", args->format, "table, md or json")->capture_default_str();
     cmd->add_option("--out", args->out, "Also write the report to this file");
     cmd->add_option("--catalogue", args->catalogue, "A catalogue file instead of the built-in one");
+    cmd->add_option("--images", args->images,
+                    "Write per-pixel error/bound maps here (green within, red past, magenta NaN)");
     cmd->callback([args]() { set_exit_status(run(*args)); });
 }
 

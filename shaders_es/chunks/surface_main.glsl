@@ -121,7 +121,11 @@ void main() {
 #ifdef PX_DEBUG_OUTPUT
     PxHit shown = hit;
 #if defined(PX_HAS_TRACE) && defined(PX_LOD)
-    if (lod_blend >= 0.5) shown = surface;
+    // In the band the colour blends two shadings; the hit shown moves the
+    // same share of the way to the polygon's uv, so it changes as smoothly
+    // as the image does (a switch at half-way would pop by the whole offset).
+    shown.uv = mix(hit.uv, surface.uv, lod_blend);
+    shown.height = mix(hit.height, surface.height, lod_blend);
 #endif
     mediump float visibility = 1.0;
 #ifdef PX_SHADOW

@@ -4,7 +4,12 @@
 
 namespace px {
 
-Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps) {
+namespace {
+bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+}  // namespace
+
+Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps, int traced_width,
+                                 int traced_height) {
     const TechniqueOptions& o = material.technique;
     VariantPlan plan;
     VariantKey& k = plan.key;
@@ -20,6 +25,15 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps)
                              std::to_string(std::max(o.max_samples, asked.fallback_min_samples)) + " samples: " +
                              asked.name + " needs OpenGL ES " + std::to_string(asked.min_es_major) +
                              ".0 and this context is " + caps.version);
+    }
+    const bool pyramid_fits = traced_width == 0 || (power_of_two(traced_width) && power_of_two(traced_height));
+    if (k.technique == o.technique && (asked.options & kOptSteps) && !pyramid_fits) {
+        k.technique = asked.fallback;
+        plan.notes.push_back(std::string(asked.name) + " -> " + technique_name(asked.fallback) + " with " +
+                             std::to_string(std::max(o.max_samples, asked.fallback_min_samples)) + " samples: " +
+                             asked.name + "'s max pyramid halves every level exactly, and the height map is " +
+                             std::to_string(traced_width) + "x" + std::to_string(traced_height) +
+                             ", not a power of two in both sides");
     }
     if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
         plan.notes.clear();

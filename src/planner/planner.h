@@ -24,6 +24,11 @@ struct VariantPlan {
 // run are dropped with the reason (e.g. depth write on ES 2.0 without
 // GL_EXT_frag_depth), a relief with zero depth falls back to normal mapping.
 // Errors: the technique needs a newer ES version than the context has.
-Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps);
+// `traced_width` and `traced_height`: the size of the height field the
+// technique traces, when known (0: unknown); maxmip's pyramid halves every
+// level exactly, so a field that is not a power of two in both gets the
+// table's fallback, with the reason.
+Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps, int traced_width = 0,
+                                 int traced_height = 0);
 
 }  // namespace px

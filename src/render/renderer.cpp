@@ -338,11 +338,11 @@ Status Renderer::load_checked(const SceneDesc& scene) {
     for (const MaterialDesc& m : desc.materials) {
         GpuMaterial g;
         g.desc = &m;
-        Result<VariantPlan> plan = plan_variant(m, caps_);
-        if (!plan) return with_context("material '" + echo(m.name) + "'", plan.error());
-        g.plan = std::move(*plan);
         Result<MaterialImages> images = build_material_images(m, desc.base_dir);
         if (!images) return images.error();
+        Result<VariantPlan> plan = plan_variant(m, caps_, images->field.width, images->field.height);
+        if (!plan) return with_context("material '" + echo(m.name) + "'", plan.error());
+        g.plan = std::move(*plan);
         const std::string what = "material '" + echo(m.name) + "'";
         g.field = quantized_8bit(images->field);
         Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo (" + source_label(m.albedo) + ")");
