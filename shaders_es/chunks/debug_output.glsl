@@ -3,9 +3,10 @@
 //   PX_DEBUG_OUTPUT 1: a float target: (u, v, height, visibility of light 0).
 //   PX_DEBUG_OUTPUT 2, 3, 4: RGBA8 passes (GLSL ES 1.00, or no float target):
 //     fract(u) in 24 bits | fract(v) in 24 bits | height and visibility in
-//     16 bits each. Alpha 1 marks a drawn pixel (the target is cleared to 0),
-//     alpha 64/255 one where any of the values was not finite (NaN or Inf:
-//     packing would clamp them into plausible numbers).
+//     16 bits each. In passes 2 and 3, alpha 1 marks a drawn pixel (the
+//     target is cleared to 0) and alpha 64/255 one where any of the values
+//     was not finite (NaN or Inf: packing would clamp them into plausible
+//     numbers); pass 4 uses all four channels for data.
 // The packing needs exact integers: 24 bits in highp. A fragment stage
 // without highp (GLSL ES 1.00 makes it optional; PX_NO_FRAGMENT_HIGHP
 // emulates one) holds integers exactly only up to 2048 (mediump's 2^-10
@@ -54,8 +55,10 @@ PX_HIGHP vec4 px_debug_output(PX_HIGHP vec2 hit_uv, PX_HIGHP float hit_height, P
     // A float target keeps NaN and Inf as they are.
     return vec4(hit_uv, hit_height, visibility);
 #else
+#if PX_DEBUG_OUTPUT != 4  // passes 2 and 3 carry the mark in alpha; pass 4's alpha is data
     if (!(px_is_finite(hit_uv.x) && px_is_finite(hit_uv.y) && px_is_finite(hit_height) && px_is_finite(visibility)))
         return vec4(0.0, 0.0, 0.0, PX_DEBUG_NON_FINITE);
+#endif
 #if PX_DEBUG_OUTPUT == 2
     return vec4(px_pack24(fract(hit_uv.x)), PX_DEBUG_DRAWN);
 #elif PX_DEBUG_OUTPUT == 3

@@ -28,9 +28,13 @@ mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height
     // of Tatarchuk 2005 (w_p = w_s (d_r - d_b) / d_b) in angular form.
     mediump float steepest = -1024.0;  // tangent of blocker elevation x horizontal / light_dir.z
     for (int j = 1; j <= PX_SHADOW_SAMPLES; j++) {
-        mediump float ray = hit_height + float(j) * step;
-        mediump float h = px_trace_height(uv_hit + (ray - hit_height) * shift);
-        steepest = max(steepest, (h - hit_height) / (ray - hit_height));
+        // The ray's rise above the hit, formed directly: in fp16,
+        // (hit + rise) - hit cancels to 0 when the hit is just under the top
+        // and the step is under half an ulp of it, and 0 / 0 is NaN. step > 0
+        // here: hit_height < 1, so 1 - hit_height >= 2^-11 in fp16.
+        mediump float rise = float(j) * step;
+        mediump float h = px_trace_height(uv_hit + rise * shift);
+        steepest = max(steepest, (h - hit_height) / rise);
     }
     // (h - h0) / (ray - h0) is the blocker's rise over the light ray's rise;
     // times tan(light elevation) it is the tangent of the blocker's elevation.

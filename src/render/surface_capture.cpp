@@ -77,7 +77,7 @@ Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height)
         for (size_t i = 0; i < count; ++i) {
             SurfaceSample& s = out.samples[i];
             const std::uint8_t* p = &pixels[4 * i];
-            if (p[3] == kNonFinite) {  // in any pass: the value is unknown, and not finite
+            if (pass < 4 && p[3] == kNonFinite) {  // passes 2 and 3: the values are unknown, and not finite
                 s.covered = true;
                 drawn_mark[i] = kNonFinite;
                 s.uv = glm::dvec2(std::numeric_limits<double>::quiet_NaN());
