@@ -437,6 +437,74 @@ std::string format_table(const std::vector<StabilityRow>& rows) {
 std::string format_markdown(const std::vector<StabilityRow>& rows, const std::string& command) {
     std::ostringstream o;
     o << "Command: `" << command << "`\n\n";
+    long counts[4] = {0, 0, 0, 0};
+    for (const StabilityRow& r : rows)
+        counts[r.verdict == "pass" ? 0 : r.verdict == "limit" ? 1 : r.verdict == "fail" ? 2 : 3]++;
+    o << "**" << rows.size() << " rows:** " << counts[0] << " pass, " << counts[1] << " documented limits, "
+      << counts[2] << " fail, " << counts[3] << " with nothing covered.\n\n";
+
+    o << "### Failures\n\n";
+    bool any = false;
+    for (const StabilityRow& r : rows) {
+        if (r.verdict != "fail") continue;
+        if (!any) o << "| case | technique | ctx | precision | why |\n| --- | --- | --- | --- | --- |\n";
+        any = true;
+        o << "| " << r.case_name << " | " << r.technique << " | " << r.context << " | " << r.precision << " | "
+          << r.reasons << " |\n";
+    }
+    if (!any) o << "None.\n";
+
+    o << "\n### Documented limits, measured\n\n";
+    o << "| case | technique | ctx | precision | mean err (texels) | its bound | max err | why |\n";
+    o << "| --- | --- | --- | --- | ---: | ---: | ---: | --- |\n";
+    for (const StabilityRow& r : rows) {
+        if (r.verdict != "limit") continue;
+        o << "| " << r.case_name << " | " << r.technique << " | " << r.context << " | " << r.precision << " | "
+          << fixed(r.error_mean) << " | " << fixed(r.error_bound_mean) << " | " << fixed(r.error_max) << " | "
+          << r.reasons << " |\n";
+    }
+
+    // Precision: the mean error of each case and technique under every
+    // precision measured, side by side (NaN counts beside, where any).
+    std::vector<std::string> precisions;
+    for (const StabilityRow& r : rows)
+        if (std::find(precisions.begin(), precisions.end(), r.precision) == precisions.end())
+            precisions.push_back(r.precision);
+    if (precisions.size() > 1) {
+        o << "\n### Mean hit error (texels) by precision\n\n";
+        o << "native: the driver with the shaders' declarations in force; fp32: everything highp (the "
+             "shader rewritten without rounding); fp16, lowp, nohighp: emulated (docs/stability.md).\n\n";
+        o << "| case | technique | ctx |";
+        for (const std::string& p : precisions) o << " " << p << " |";
+        o << "\n| --- | --- | --- |";
+        for (size_t i = 0; i < precisions.size(); ++i) o << " ---: |";
+        o << "\n";
+        std::vector<std::string> keys;
+        std::map<std::string, std::map<std::string, const StabilityRow*>> table;
+        for (const StabilityRow& r : rows) {
+            const std::string key = r.case_name + " | " + r.technique + " | " + r.context;
+            if (!table.count(key)) keys.push_back(key);
+            table[key][r.precision] = &r;
+        }
+        for (const std::string& key : keys) {
+            o << "| " << key << " |";
+            for (const std::string& p : precisions) {
+                auto it = table[key].find(p);
+                if (it == table[key].end()) {
+                    o << " |";
+                    continue;
+                }
+                const StabilityRow& r = *it->second;
+                o << " " << (r.pixels ? fixed(r.error_mean) : std::string("-"));
+                if (r.non_finite) o << " (" << r.non_finite << " NaN)";
+                if (r.verdict == "fail") o << " **fail**";
+                o << " |";
+            }
+            o << "\n";
+        }
+    }
+
+    o << "\n### Every row\n\n";
     o << "| case | technique | ctx | precision | max err | mean err | bound (mean) | NaN | offset/bound | continuity (max, share past) | verdict | why |\n";
     o << "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n";
     for (const StabilityRow& r : rows) {
