@@ -228,7 +228,7 @@ void set_draw_state(const Caps& caps, const RenderTarget& target, const glm::vec
     glDisable(GL_SAMPLE_COVERAGE);
     glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     glDisable(GL_DITHER);  // the debug outputs are exact bit patterns
-    if (caps.es_major >= 3) {
+    if (caps.context_es3()) {
         glDisable(GL_RASTERIZER_DISCARD);
         glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
         for (int i = 0; i < kLibraryTextureUnits; ++i) glBindSampler(static_cast<GLuint>(i), 0);
@@ -290,7 +290,9 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     if (options.emulate_es2 && r->caps_.es_major >= 3) {
         // Everything the ES 2.0 path keys on is the major version (the
         // planner, uploads, draws, capture); the extensions stay this
-        // context's, which offers every ES 2.0 one it lists.
+        // context's, which offers every ES 2.0 one it lists. The ES 3.0
+        // state the context has is still saved and reset (context_es3).
+        r->caps_.context_es_major = r->caps_.es_major;
         r->caps_.es_major = 2;
         r->caps_.es_minor = 0;
     }

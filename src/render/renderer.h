@@ -29,9 +29,8 @@ struct RendererOptions {
     // An OpenGL ES 3.x context planned and drawn exactly as an ES 2.0 one
     // (GLSL ES 1.00 variants, the ES 2.0 uploads, draws and debug packing),
     // so that ES 2.0 variants can run through a transform that emits
-    // GLSL ES 3.00 (the precision emulation). For tests and tools: the
-    // host-state guarantees for ES 3.0-only state (vertex arrays, sampler
-    // objects) do not hold with it. Combines with emulate_no_fragment_highp.
+    // GLSL ES 3.00 (the precision emulation). The host's ES 3.0 state is
+    // saved and restored as ever. Combines with emulate_no_fragment_highp.
     bool emulate_es2 = false;
     // Applied to both assembled sources of every program before it is
     // compiled (gl/program.h ShaderTransform); empty: none. Uniform names
