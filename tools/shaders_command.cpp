@@ -1,13 +1,16 @@
 // parallax shaders --es 2|3 --out DIR: writes the full source of every shader
 // variant the program can build, for offline validation (glslangValidator)
-// and for reading what a variant really contains.
+// and for reading what a variant really contains. --emulate PROFILE writes
+// them as the precision emulation rewrites them (src/emulation/precision.h).
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.h"
+#include "emulation/precision.h"
 #include "gl/program.h"
 
 namespace px::tools {
@@ -17,6 +20,7 @@ namespace {
 struct ShadersArgs {
     int es = 3;
     std::string out = "out/shaders";
+    std::string emulate;  // empty: the sources as the GPU gets them
 };
 
 int run_shaders(const ShadersArgs& a) {
@@ -25,6 +29,15 @@ int run_shaders(const ShadersArgs& a) {
     if (ec) {
         std::fprintf(stderr, "parallax: error: cannot create '%s': %s\n", a.out.c_str(), ec.message().c_str());
         return 1;
+    }
+    std::optional<emulation::PrecisionProfile> profile;
+    if (!a.emulate.empty()) {
+        Result<emulation::PrecisionProfile> parsed = emulation::parse_profile(a.emulate);
+        if (!parsed) {
+            std::fprintf(stderr, "parallax: error: --emulate: %s\n", parsed.error().message.c_str());
+            return 1;
+        }
+        profile = *parsed;
     }
     int count = 0;
     for (const VariantKey& key : enumerate_variants(a.es)) {
@@ -39,8 +52,18 @@ int run_shaders(const ShadersArgs& a) {
         for (const auto& [suffix, text] : {std::pair<const char*, const std::string*>{".vert", &sources->vertex.text},
                                            {".frag", &sources->fragment.text}}) {
             const std::string path = a.out + "/" + stem + suffix;
+            std::string written = *text;
+            if (profile) {
+                Result<std::string> emulated = emulation::emulate_precision(
+                    *text, suffix[1] == 'v' ? ShaderStage::vertex : ShaderStage::fragment, *profile);
+                if (!emulated) {
+                    std::fprintf(stderr, "parallax: error: %s: %s\n", key.describe().c_str(), emulated.error().message.c_str());
+                    return 1;
+                }
+                written = std::move(*emulated);
+            }
             std::ofstream file(path, std::ios::binary);
-            file << *text;
+            file << written;
             if (!file) {
                 std::fprintf(stderr, "parallax: error: cannot write '%s'\n", path.c_str());
                 return 1;
@@ -59,6 +82,8 @@ void add_shaders_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("shaders", "Write every shader variant's full source (for validation)");
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+    cmd->add_option("--emulate", args->emulate,
+                    "Write them as rewritten for a precision profile: fp32, fp16, lowp or nohighp");
     cmd->callback([args]() { set_exit_status(run_shaders(*args)); });
 }
 

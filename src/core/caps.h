@@ -17,6 +17,10 @@ struct PrecisionInfo {
 struct Caps {
     int es_major = 3;
     int es_minor = 0;
+    // The context's own major version where es_major was lowered to draw as
+    // an older one (RendererOptions::emulate_es2); 0: es_major. What GL state
+    // exists (vertex arrays, sampler objects, pixel buffers) follows it.
+    int context_es_major = 0;
     std::string version;       // GL_VERSION
     std::string glsl_version;  // GL_SHADING_LANGUAGE_VERSION
     std::string renderer;      // GL_RENDERER
@@ -34,6 +38,7 @@ struct Caps {
     bool npot_mipmaps() const { return es_major >= 3 || has("GL_OES_texture_npot"); }
     bool uint_indices() const { return es_major >= 3 || has("GL_OES_element_index_uint"); }
     bool khr_debug() const { return has("GL_KHR_debug"); }
+    bool context_es3() const { return (context_es_major ? context_es_major : es_major) >= 3; }
 
     // An ES 3.0 context with every extension the renderer can use; for tests
     // and for enumerating variants without a context.

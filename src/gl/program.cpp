@@ -221,6 +221,17 @@ Result<const Program*> ProgramCache::get(const VariantKey& key) {
     if (it != programs_.end()) return static_cast<const Program*>(it->second.get());
     Result<VariantSources> sources = assemble_variant(key);
     if (!sources) return sources.error();
+    if (transform_) {
+        for (auto [stage, source] : {std::pair{ShaderStage::vertex, &sources->vertex},
+                                     std::pair{ShaderStage::fragment, &sources->fragment}}) {
+            Result<std::string> rewritten = transform_(source->text, stage);
+            if (!rewritten)
+                return make_error("variant '" + key.describe() + "' " +
+                                  (stage == ShaderStage::vertex ? "vertex" : "fragment") +
+                                  " stage: the shader transform failed: " + rewritten.error().message);
+            source->text = std::move(*rewritten);
+        }
+    }
     Result<std::unique_ptr<Program>> program = build_program(*sources, key);
     if (!program) return program.error();
     const Program* raw = program->get();

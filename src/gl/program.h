@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -65,8 +66,17 @@ private:
 // Leaves the current program as it was.
 Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, const VariantKey& key);
 
+// Rewrites an assembled source before it is compiled (RendererOptions::
+// shader_transform): the precision emulation's hook, kept a plain callback so
+// that gl/ and render/ link nothing of it. Returns the source to compile.
+using ShaderTransform = std::function<Result<std::string>(const std::string& source, ShaderStage stage)>;
+
 class ProgramCache {
 public:
+    ProgramCache() = default;
+    // Every program this cache builds compiles `transform`'s output (empty:
+    // the sources as assembled).
+    explicit ProgramCache(ShaderTransform transform) : transform_(std::move(transform)) {}
     // The program for a variant, built on first use.
     Result<const Program*> get(const VariantKey& key);
     size_t size() const { return programs_.size(); }
@@ -75,6 +85,7 @@ public:
     void abandon();
 
 private:
+    ShaderTransform transform_;
     std::map<std::uint64_t, std::unique_ptr<Program>> programs_;
 };
 

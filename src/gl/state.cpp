@@ -25,7 +25,8 @@ void enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
 }  // namespace
 
 struct SavedGlState::Snapshot {
-    bool es3 = false;
+    bool es3 = false;         // the context has ES 3.0 state
+    bool points_attributes = false;  // the library points the context's attribute slots (the ES 2.0 path)
     GLint draw_framebuffer = 0, read_framebuffer = 0, renderbuffer = 0, program = 0;
     GLint array_buffer = 0, element_buffer = 0, vertex_array = 0, pack_buffer = 0, unpack_buffer = 0;
     GLint active_texture = GL_TEXTURE0;
@@ -53,7 +54,8 @@ struct SavedGlState::Snapshot {
 
 SavedGlState::SavedGlState(const Caps& caps) : saved_(std::make_unique<Snapshot>()) {
     Snapshot& s = *saved_;
-    s.es3 = caps.es_major >= 3;
+    s.es3 = caps.context_es3();
+    s.points_attributes = caps.es_major < 3;
     if (s.es3) {
         s.draw_framebuffer = get_int(GL_DRAW_FRAMEBUFFER_BINDING);
         s.read_framebuffer = get_int(GL_READ_FRAMEBUFFER_BINDING);
@@ -126,7 +128,7 @@ SavedGlState::SavedGlState(const Caps& caps) : saved_(std::make_unique<Snapshot>
     // library binds a VAO of its own for every mesh it uploads or draws, so it
     // never writes the host's; on ES 2.0 it points the slots of the context
     // (or of an OES VAO the host bound): save those.
-    for (int i = 0; i < kLibraryAttributeSlots && !s.es3; ++i) {
+    for (int i = 0; i < kLibraryAttributeSlots && s.points_attributes; ++i) {
         AttributeState& a = s.attributes[static_cast<size_t>(i)];
         const GLuint slot = static_cast<GLuint>(i);
         glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &a.enabled);
@@ -152,7 +154,7 @@ SavedGlState::~SavedGlState() {
     // bound), each pointer with the buffer it was taken from. ES 3.0: the
     // library only points attributes of its own VAOs, and the host's VAO is
     // bound again above.
-    for (int i = 0; i < kLibraryAttributeSlots && !s.es3; ++i) {
+    for (int i = 0; i < kLibraryAttributeSlots && s.points_attributes; ++i) {
         const AttributeState& a = s.attributes[static_cast<size_t>(i)];
         const GLuint slot = static_cast<GLuint>(i);
         glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(a.buffer));
@@ -223,7 +225,7 @@ SavedGlState::~SavedGlState() {
 
 void set_unpack_defaults(const Caps& caps) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    if (caps.es_major < 3) return;
+    if (!caps.context_es3()) return;
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
@@ -234,7 +236,7 @@ void set_unpack_defaults(const Caps& caps) {
 
 void set_pack_defaults(const Caps& caps) {
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    if (caps.es_major < 3) return;
+    if (!caps.context_es3()) return;
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glPixelStorei(GL_PACK_SKIP_ROWS, 0);

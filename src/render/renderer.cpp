@@ -231,7 +231,7 @@ void set_draw_state(const Caps& caps, const RenderTarget& target, const glm::vec
     glDisable(GL_SAMPLE_COVERAGE);
     glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     glDisable(GL_DITHER);  // the debug outputs are exact bit patterns
-    if (caps.es_major >= 3) {
+    if (caps.context_es3()) {
         glDisable(GL_RASTERIZER_DISCARD);
         glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
         for (int i = 0; i < kLibraryTextureUnits; ++i) glBindSampler(static_cast<GLuint>(i), 0);
@@ -290,7 +290,17 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     r->caps_ = query_caps();
     if (r->caps_.es_major < 2)
         return make_error("the current context is '" + r->caps_.version + "'; ParallaxES needs OpenGL ES 2.0 or later");
+    if (options.emulate_es2 && r->caps_.es_major >= 3) {
+        // Everything the ES 2.0 path keys on is the major version (the
+        // planner, uploads, draws, capture); the extensions stay this
+        // context's, which offers every ES 2.0 one it lists. The ES 3.0
+        // state the context has is still saved and reset (context_es3).
+        r->caps_.context_es_major = r->caps_.es_major;
+        r->caps_.es_major = 2;
+        r->caps_.es_minor = 0;
+    }
     if (options.emulate_no_fragment_highp && r->caps_.es_major < 3) r->caps_.fragment_highp = false;
+    r->shader_transform_ = options.shader_transform;
     install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
     return r;
 }
@@ -331,6 +341,7 @@ Status Renderer::load_checked(const SceneDesc& scene) {
     SavedGlState saved(caps_);
     set_unpack_defaults(caps_);
     auto gpu = std::make_unique<GpuScene>();
+    gpu->programs = ProgramCache(shader_transform_);
     gpu->desc = scene;
     const SceneDesc& desc = gpu->desc;
     std::vector<DrawReport> reports;

@@ -26,6 +26,16 @@ struct RendererOptions {
     // their 11-bit packing), whatever this context has. For testing the
     // no-highp path on a context that has highp.
     bool emulate_no_fragment_highp = false;
+    // An OpenGL ES 3.x context planned and drawn exactly as an ES 2.0 one
+    // (GLSL ES 1.00 variants, the ES 2.0 uploads, draws and debug packing),
+    // so that ES 2.0 variants can run through a transform that emits
+    // GLSL ES 3.00 (the precision emulation). The host's ES 3.0 state is
+    // saved and restored as ever. Combines with emulate_no_fragment_highp.
+    bool emulate_es2 = false;
+    // Applied to both assembled sources of every program before it is
+    // compiled (gl/program.h ShaderTransform); empty: none. Uniform names
+    // and types must survive it: the typed interface is checked as ever.
+    ShaderTransform shader_transform;
 };
 
 // What the renderer decided for one object: shown by `parallax render` and
@@ -74,6 +84,7 @@ private:
     Status load_checked(const SceneDesc& scene);
     Renderer() = default;
     Caps caps_;
+    ShaderTransform shader_transform_;
     std::unique_ptr<GpuScene> scene_;
     std::vector<DrawReport> reports_;
 };
