@@ -396,6 +396,10 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
         if (!options.cases_pattern.empty() && !glob_match(options.cases_pattern, c.name)) continue;
         Work w{&c, {}, {}, c.name};
         w.frames = frames_of(c, options.full, w.pairs);
+        if (options.sweep_pairs > 0 && w.pairs.size() > static_cast<size_t>(options.sweep_pairs)) {
+            w.pairs.resize(static_cast<size_t>(options.sweep_pairs));
+            w.frames.resize(2 * w.pairs.size());  // pairs are stored as consecutive frames
+        }
         if (!w.frames.empty()) {
             work.push_back(w);
             continue;

@@ -27,6 +27,7 @@ struct StabilityOptions {
     std::vector<std::string> precisions{"native"};
     int image_size = 128;
     bool full = false;                    // full_only cases and every sweep frame
+    int sweep_pairs = 0;                  // > 0: at most this many neighbour pairs per sweep
     std::string scratch_dir;              // where generated height images go
     // When set: one PNG per row and frame, error against its bound per pixel
     // (black: not covered; green to yellow: within the bound; red: past it;

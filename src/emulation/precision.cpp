@@ -24,10 +24,11 @@
 // constant with no precise neighbour) takes the precision of the operation
 // it feeds, else the source's default float precision for the stage.
 //
-// Profiles: fp32 rounds nothing and keeps the source's precision qualifiers
+// Profiles: identity rounds nothing and keeps the source's precision qualifiers
 // (a pure re-emission: the driver treats every value as in the original,
 // which is what makes it a control; Mesa lowers mediump to fp16 on CPUs with
 // F16C, so an all-highp emission would not compute what the original does).
+// fp32: nothing rounded, everything declared highp (strict fp32 arithmetic).
 // fp16: mediump and lowp -> fp16. lowp: mediump -> fp16, lowp -> lowp.
 // nohighp: in the fragment stage every precision -> fp16; the vertex stage
 // as fp16. Integers are not emulated (declared highp in the rounding
@@ -55,6 +56,7 @@ using namespace glslang;
 
 const char* profile_name(PrecisionProfile profile) {
     switch (profile) {
+        case PrecisionProfile::identity: return "identity";
         case PrecisionProfile::fp32: return "fp32";
         case PrecisionProfile::fp16: return "fp16";
         case PrecisionProfile::lowp: return "lowp";
@@ -65,9 +67,10 @@ const char* profile_name(PrecisionProfile profile) {
 
 Result<PrecisionProfile> parse_profile(std::string_view name) {
     for (PrecisionProfile p :
-         {PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp})
+         {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp,
+          PrecisionProfile::nohighp})
         if (name == profile_name(p)) return p;
-    return make_error("unknown precision profile '" + std::string(name) + "' (fp32, fp16, lowp or nohighp)");
+    return make_error("unknown precision profile '" + std::string(name) + "' (identity, fp32, fp16, lowp or nohighp)");
 }
 
 const std::vector<std::string>& default_exempt_functions() {
@@ -379,12 +382,14 @@ private:
     std::string out_;
     int indent_ = 0;
 
-    bool rounds() const { return profile_ != PrecisionProfile::fp32; }
+    // Every profile but the identity declares everything highp.
+    bool rounds() const { return profile_ != PrecisionProfile::identity; }
 
     Rounding rounding(TPrecisionQualifier p) const {
         if (in_exempt_) return Rounding::none;
         if (p == EpqNone) p = default_float_;
         switch (profile_) {
+            case PrecisionProfile::identity:
             case PrecisionProfile::fp32: return Rounding::none;
             case PrecisionProfile::fp16: return p == EpqHigh ? Rounding::none : Rounding::fp16;
             case PrecisionProfile::lowp:

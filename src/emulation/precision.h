@@ -20,6 +20,10 @@ enum class PrecisionProfile {
     // No rounding: the source emitted again with its own precision
     // qualifiers. The control: on any driver it must compute what the
     // original computes (tests/gpu_emulation_tests.cpp checks it per pixel).
+    identity,
+    // No rounding, every value declared highp: strict fp32 arithmetic, the
+    // baseline the mobile profiles are measured against (on Mesa with F16C
+    // the declarations in force lower mediump to fp16 in part).
     fp32,
     // Strict IEEE binary16 for every mediump and lowp value: round to
     // nearest even after each operation, subnormals, overflow to infinity.
@@ -33,7 +37,7 @@ enum class PrecisionProfile {
 };
 
 const char* profile_name(PrecisionProfile profile);
-// "fp32", "fp16", "lowp" or "nohighp".
+// "identity", "fp32", "fp16", "lowp" or "nohighp".
 Result<PrecisionProfile> parse_profile(std::string_view name);
 
 // Functions emitted without rounding: the debug outputs' encoders

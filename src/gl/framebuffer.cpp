@@ -8,7 +8,7 @@ namespace px {
 Result<ColorDepthFramebuffer> make_color_depth_framebuffer(int width, int height, ColorFormat format,
                                                            const Caps& caps) {
     const char* format_name = format == ColorFormat::rgba32f ? "RGBA32F" : "RGBA8";
-    if (format == ColorFormat::rgba32f && !(caps.es_major >= 3 && caps.has("GL_EXT_color_buffer_float")))
+    if (format == ColorFormat::rgba32f && !(caps.context_es3() && caps.has("GL_EXT_color_buffer_float")))
         return make_error(std::string("an ") + format_name +
                           " target needs OpenGL ES 3.0 with GL_EXT_color_buffer_float");
     SavedGlState saved(caps);
@@ -25,7 +25,7 @@ Result<ColorDepthFramebuffer> make_color_depth_framebuffer(int width, int height
     glBindTexture(GL_TEXTURE_2D, 0);
     t.depth = make_renderbuffer();
     glBindRenderbuffer(GL_RENDERBUFFER, t.depth.get());
-    const bool depth24 = caps.es_major >= 3 || caps.has("GL_OES_depth24");
+    const bool depth24 = caps.context_es3() || caps.has("GL_OES_depth24");
     glRenderbufferStorage(GL_RENDERBUFFER, depth24 ? GL_DEPTH_COMPONENT24_OES : GL_DEPTH_COMPONENT16, width, height);
     glBindRenderbuffer(GL_RENDERBUFFER, 0);
     t.framebuffer = make_framebuffer();

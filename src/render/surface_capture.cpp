@@ -32,7 +32,9 @@ double unpack(const std::uint8_t* p, int bytes, double levels) {
 Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height) {
     if (width < 1 || height < 1) return make_error("capture_surfaces: empty size");
     const Caps& caps = renderer.caps();
-    const bool float_color = caps.es_major >= 3 && caps.has("GL_EXT_color_buffer_float");
+    // The context's own version decides: an ES 3.0 context drawing ES 2.0
+    // variants (RendererOptions::emulate_es2) still reads them back as floats.
+    const bool float_color = caps.context_es3() && caps.has("GL_EXT_color_buffer_float");
     SavedGlState saved(caps);
 
     Result<ColorDepthFramebuffer> target =
