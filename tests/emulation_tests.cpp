@@ -82,7 +82,7 @@ TEST(RoundLowp, Minimums) {
 
 TEST(Profiles, NamesRoundTrip) {
     for (PrecisionProfile p :
-         {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp}) {
+         {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp, PrecisionProfile::lowp_all}) {
         auto parsed = parse_profile(profile_name(p));
         ASSERT_TRUE(parsed.ok());
         EXPECT_EQ(*parsed, p);
@@ -134,7 +134,7 @@ TEST(Emulation, EveryVariantRewritesAndParses) {
             auto sources = assemble_variant(key);
             ASSERT_TRUE(sources.ok()) << sources.error().message;
             for (PrecisionProfile profile :
-                 {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp}) {
+                 {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp, PrecisionProfile::nohighp, PrecisionProfile::lowp_all}) {
                 for (ShaderStage stage : {ShaderStage::vertex, ShaderStage::fragment}) {
                     const std::string& text = stage == ShaderStage::vertex ? sources->vertex.text : sources->fragment.text;
                     auto emitted = emulate_precision(text, stage, profile);

@@ -62,7 +62,7 @@ int run(const StabilityArgs& a) {
             continue;
         }
         if (p != "native" && !is_emulated_precision(p))
-            return fail("--precision '" + p + "': expected native, fp32, fp16, lowp, nohighp or all");
+            return fail("--precision '" + p + "': expected native, fp32, fp16, lowp, nohighp, lowp_all or all");
         if (std::find(precisions.begin(), precisions.end(), p) == precisions.end()) precisions.push_back(p);
     }
     if (a.es != "2" && a.es != "3" && a.es != "both") return fail("--es '" + a.es + "': expected 2, 3 or both");
@@ -143,7 +143,7 @@ void add_stability_command(CLI::App& app, int argc, char** argv) {
     args->command = command.str();
     CLI::App* cmd = app.add_subcommand("stability", "Run the hard-case catalogue; exit 1 when a case fails");
     cmd->add_option("--cases", args->cases, "Case names: a substring, or a glob with * and ?");
-    cmd->add_option("--precision", args->precisions, "native, fp32, fp16, lowp, nohighp or all (default all)")
+    cmd->add_option("--precision", args->precisions, "native, fp32, fp16, lowp, nohighp, lowp_all (the whitepaper's all-lowp fragment stage) or all (every one but lowp_all; the default)")
         ->delimiter(',');
     cmd->add_option("--es", args->es, "OpenGL ES contexts: 2, 3 or both")->capture_default_str();
     cmd->add_flag("--full", args->full, "Every sweep frame and the full-only cases, at 256 pixels");

@@ -5,7 +5,7 @@
 namespace px::tools {
 
 bool is_emulated_precision(const std::string& name) {
-    return name == "fp32" || name == "fp16" || name == "lowp" || name == "nohighp";
+    return name == "fp32" || name == "fp16" || name == "lowp" || name == "nohighp" || name == "lowp_all";
 }
 
 profiling::RendererFactory make_renderer_factory(GetProcAddress get_proc_address) {

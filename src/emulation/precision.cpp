@@ -61,6 +61,7 @@ const char* profile_name(PrecisionProfile profile) {
         case PrecisionProfile::fp16: return "fp16";
         case PrecisionProfile::lowp: return "lowp";
         case PrecisionProfile::nohighp: return "nohighp";
+        case PrecisionProfile::lowp_all: return "lowp_all";
     }
     return "?";
 }
@@ -68,9 +69,9 @@ const char* profile_name(PrecisionProfile profile) {
 Result<PrecisionProfile> parse_profile(std::string_view name) {
     for (PrecisionProfile p :
          {PrecisionProfile::identity, PrecisionProfile::fp32, PrecisionProfile::fp16, PrecisionProfile::lowp,
-          PrecisionProfile::nohighp})
+          PrecisionProfile::nohighp, PrecisionProfile::lowp_all})
         if (name == profile_name(p)) return p;
-    return make_error("unknown precision profile '" + std::string(name) + "' (identity, fp32, fp16, lowp or nohighp)");
+    return make_error("unknown precision profile '" + std::string(name) + "' (identity, fp32, fp16, lowp, nohighp or lowp_all)");
 }
 
 const std::vector<std::string>& default_exempt_functions() {
@@ -396,6 +397,9 @@ private:
                 return p == EpqHigh ? Rounding::none : p == EpqLow ? Rounding::lowp : Rounding::fp16;
             case PrecisionProfile::nohighp:
                 if (stage_ == ShaderStage::fragment) return Rounding::fp16;
+                return p == EpqHigh ? Rounding::none : Rounding::fp16;
+            case PrecisionProfile::lowp_all:
+                if (stage_ == ShaderStage::fragment) return Rounding::lowp;
                 return p == EpqHigh ? Rounding::none : Rounding::fp16;
         }
         return Rounding::none;

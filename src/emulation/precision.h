@@ -34,10 +34,15 @@ enum class PrecisionProfile {
     // The fragment stage has no highp (many ES 2.0 GPUs): every fragment
     // float is fp16; the vertex stage as in fp16.
     nohighp,
+    // The PowerVR whitepaper's choice (section 3.2.2): every fragment-stage
+    // value at the lowp minimums, whatever it is declared as; the vertex
+    // stage as fp16. Not a profile any shader here declares: the experiment
+    // that shows where all-lowp holds and where it breaks.
+    lowp_all,
 };
 
 const char* profile_name(PrecisionProfile profile);
-// "identity", "fp32", "fp16", "lowp" or "nohighp".
+// "identity", "fp32", "fp16", "lowp", "nohighp" or "lowp_all".
 Result<PrecisionProfile> parse_profile(std::string_view name);
 
 // Functions emitted without rounding: the debug outputs' encoders
