@@ -92,3 +92,73 @@ TEST(Accuracy, MaxmipMeetsTheReferenceOnEveryBenchScene) {
 
 }  // namespace
 }  // namespace px::test
+
+namespace px::test {
+namespace {
+
+// maxmip at the grazing limit: 89 and 89.9 degrees, where V.z < 1/64 on the
+// plane's far rows. A clamp of V.z there (march.glsl's, which maxmip used to
+// share) traced a steeper ray than the camera's: 2 texels of mean error at
+// 89 degrees on sine, all of it on the rows past the clamp (docs/accuracy.md,
+// "At 89 degrees"). 127 pixels, an odd size: the middle row and column pass
+// through the view target, so 89.9 degrees, whose plane spans 0.16 of the 45
+// degrees of view (less than a row of 128), still covers a row of pixel
+// centres, and the middle ray runs along the field's symmetry line, the
+// costliest walk (2310 iterations on hemispheres).
+//
+// The bound, 0.05 texel, on the whole image and on every row (an error
+// confined to rows is what the clamp left): the walk is exact to 1e-3 texel
+// (tests/unit_maxmip.cpp); the rest is the rasteriser's input, the uv and
+// view vector interpolated from vertices snapped to 1/256 pixel (llvmpipe's
+// 8 subpixel bits): a pixel here spans 1.5 to 4.6 texels across the ray, so
+// that moves a hit by at most 0.018 texel.
+TEST(Accuracy, MaxmipMeetsTheReferenceAtGrazingAngles) {
+    if (test_es_major() < 3) GTEST_SKIP() << "maxmip needs OpenGL ES 3.0; this run is ES 2.0";
+    constexpr int kSize = 127;
+    constexpr double kBound = 0.05;
+    for (const std::string& scene_name : profiling::bench_scene_names()) {
+        for (double angle : {89.0, 89.9}) {
+            auto scene = profiling::bench_scene(scene_name, angle);
+            ASSERT_TRUE(scene.ok());
+            reference::ReferenceOptions reference_options;
+            reference_options.shadow = profiling::bench_scene_shadow(scene_name);
+            auto truth = reference::render_reference(*scene, kSize, kSize, reference_options);
+            ASSERT_TRUE(truth.ok()) << truth.error().message;
+            scene->materials[0].technique.technique = Technique::maxmip;
+            scene->materials[0].technique.shadow = reference_options.shadow;
+            auto renderer = Renderer::create();
+            ASSERT_TRUE(renderer.ok());
+            Status loaded = (*renderer)->load(*scene);
+            ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+            auto surfaces = capture_surfaces(**renderer, kSize, kSize);
+            ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
+            const std::string where = scene_name + " at " + std::to_string(angle) + " degrees";
+            auto whole = reference::compare_surfaces(*surfaces, truth->surface, truth->texture_width,
+                                                     truth->texture_height);
+            ASSERT_TRUE(whole.ok());
+            EXPECT_LT(whole->uv_error_mean, kBound) << where << " (max " << whole->uv_error_max << " texels)";
+            // 89 degrees covers 4 rows of 127 pixels, 89.9 one.
+            EXPECT_GE(whole->pixels, angle < 89.5 ? 4 * kSize : kSize) << where;
+            for (int y = 0; y < kSize; ++y) {
+                SurfaceImage measured_row, truth_row;
+                measured_row.width = truth_row.width = kSize;
+                measured_row.height = truth_row.height = 1;
+                measured_row.packing_bits = surfaces->packing_bits;
+                for (int x = 0; x < kSize; ++x) {
+                    measured_row.samples.push_back(surfaces->at(x, y));
+                    truth_row.samples.push_back(truth->surface.at(x, y));
+                }
+                auto row = reference::compare_surfaces(measured_row, truth_row, truth->texture_width,
+                                                       truth->texture_height);
+                ASSERT_TRUE(row.ok());
+                if (row->pixels > 0)
+                    EXPECT_LT(row->uv_error_mean, kBound)
+                        << where << ", row " << y << ": " << row->pixels << " pixels, max " << row->uv_error_max
+                        << " texels, mean depth error " << row->depth_error_mean << " of the relief";
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace px::test
