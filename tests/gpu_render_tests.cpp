@@ -3,8 +3,10 @@
 // of the techniques it checks; tolerances are in 8-bit levels.
 #include "gpu_fixture.h"
 
+#include <algorithm>
 #include <cstring>
 
+#include "reference/reference_image.h"
 #include "render/surface_capture.h"
 
 namespace px::test {
@@ -336,6 +338,52 @@ TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
         const glm::vec2 open = project(lit_scene, glm::vec3(-0.8f, 0.0f, 0.0f), 128);
         const Image with_shadows = render(p.build()).image;
         EXPECT_GT(luminance(with_shadows, int(open.x), int(open.y)), 0.8 * lit) << technique_name(t);
+    }
+}
+
+// A light on or below the polygon's plane cannot light its surface, whatever
+// the normal map says: a bevel facing a light 5 degrees under the horizon has
+// N.L > 0, but the light is behind the polygon. Shadows off (the shadow ray's
+// horizon test is not what keeps it dark), every technique, and the exact
+// reference's shading (surface_main.glsl's mirror) the same. What is left is
+// ambient * albedo: 0.08 * 0.8 = 0.064, 16.3 of 255; 17 allows the 8-bit
+// rounding of that (and mediump's 1e-3 relative error, 0.02 of a level).
+// Before: 12 to 28 % of the surface was lit from under the polygon.
+TEST(Lighting, LightOnOrBelowTheHorizonLightsNothingButAmbient) {
+    constexpr int kAmbientLevel = 17;
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > test_es_major()) continue;
+        for (float elevation : {-5.0f, 0.0f}) {
+            PlaneScene p = bricks_scene();
+            p.technique = info.id;
+            p.view_angle_deg = 40.0f;
+            p.light_elevation_deg = elevation;
+            p.textured_albedo = false;
+            SceneDesc scene = p.build();
+            scene.materials[0].specular = 1.0f;  // a lit highlight could not hide
+            const Image image = render(scene).image;
+            ASSERT_EQ(image.pixels.size(), 128u * 128u * 4u);
+            long lit = 0, drawn = 0;
+            for (size_t i = 0; i < image.pixels.size(); i += 4) {
+                const int level = std::max({image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]});
+                if (level > 12) ++drawn;  // the background is (5, 5, 8)
+                if (level > kAmbientLevel) ++lit;
+            }
+            EXPECT_GT(drawn, 128 * 128 / 4) << info.name << ": the plane was not drawn";
+            EXPECT_EQ(lit, 0) << info.name << " with the light " << elevation << " degrees up: " << lit << " of "
+                              << drawn << " pixels (" << 100.0 * lit / std::max(drawn, 1L)
+                              << " %) lit beyond ambient";
+            if (info.id == Technique::pom) {
+                auto truth = reference::render_reference(scene, 128, 128);
+                ASSERT_TRUE(truth.ok()) << truth.error().message;
+                long reference_lit = 0;
+                for (size_t i = 0; i < truth->color.pixels.size(); i += 4)
+                    if (std::max({truth->color.pixels[i], truth->color.pixels[i + 1], truth->color.pixels[i + 2]}) >
+                        kAmbientLevel)
+                        ++reference_lit;
+                EXPECT_EQ(reference_lit, 0) << "the reference with the light " << elevation << " degrees up";
+            }
+        }
     }
 }
 
