@@ -62,9 +62,12 @@ struct TechniqueOptions {
     int shadow_samples = 16;  // samples along the shadow ray
     bool depth_write = false; // perspective-correct depth through gl_FragDepth
     // The view vector interpolated unnormalised in highp and normalised per
-    // fragment, instead of normalised per vertex in mediump (the PowerVR
-    // whitepaper's saving). Exact on flat triangles; maxmip always uses it.
-    bool exact_view = false;
+    // fragment (the default: exact on flat triangles; maxmip always uses it).
+    // false: normalised per vertex in mediump, the PowerVR whitepaper's
+    // saving of a normalise per fragment, which on one 4-unit quad seen from
+    // 2 units puts a level-0 field at 0.14 of the relief's height instead of
+    // 0 (docs/scene-format.md): an opt-in where the polygons are small.
+    bool exact_view = true;
     // Mip-level LOD (Tatarchuk 2005): at mip levels past lod_threshold render
     // normal mapping; blend over the lod_band levels before it.
     bool lod = false;
