@@ -387,6 +387,61 @@ TEST(Lighting, LightOnOrBelowTheHorizonLightsNothingButAmbient) {
     }
 }
 
+// A whole-tile uv offset changes no texel (GL_REPEAT), so it must change
+// nothing drawn, up to kMaxUvOffset (core/limits.h), for every technique. It
+// did: at offset 1000 steep's colour lost the relief (26 levels mean, its
+// march uv demoted to fp16 by Mesa's mediump lowering) and every technique's
+// hit moved by fp32's 2^-14-tile grid there (up to 0.83 texel on steep, 0.3
+// on pom and maxmip). The bound is exact equality: the renderer hands the
+// shader only the offset's fraction, and k + 0.25 (|k| <= 1023) is exact in
+// fp32 with an exact difference (Sterbenz), so the draws are the same draws.
+TEST(UvOffset, WholeTilesChangeNothingForEveryTechnique) {
+    const glm::vec2 base(0.25f, 0.5f);
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > test_es_major()) continue;
+        PlaneScene p = bricks_scene();
+        p.technique = info.id;
+        p.view_angle_deg = 50.0f;
+        SceneDesc scene = p.build();
+        auto draw = [&](glm::vec2 tiles) {
+            SceneDesc s = scene;
+            s.materials[0].uv.offset = base + tiles;
+            auto renderer = Renderer::create();
+            EXPECT_TRUE(renderer.ok());
+            Status loaded = (*renderer)->load(s);
+            EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+            auto surfaces = capture_surfaces(**renderer, 128, 128);
+            EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+            return std::make_pair(*surfaces, render(s).image);
+        };
+        const auto [surface0, color0] = draw(glm::vec2(0.0f));
+        for (const glm::vec2 tiles : {glm::vec2(100.0f), glm::vec2(1000.0f), glm::vec2(-1023.0f, 1023.0f)}) {
+            const auto [surface, color] = draw(tiles);
+            double worst = 0.0, worst_height = 0.0;
+            long covered = 0;
+            for (size_t i = 0; i < surface.samples.size(); ++i) {
+                const SurfaceSample& a = surface.samples[i];
+                const SurfaceSample& b = surface0.samples[i];
+                ASSERT_EQ(a.covered, b.covered);
+                if (!a.covered) continue;
+                ++covered;
+                glm::dvec2 d = a.uv - b.uv;
+                d -= glm::round(d);  // modulo the tile
+                worst = std::max(worst, glm::length(d) * 128.0);
+                worst_height = std::max(worst_height, std::abs(a.height - b.height));
+            }
+            EXPECT_GT(covered, 128 * 128 / 4) << info.name;
+            EXPECT_EQ(worst, 0.0) << info.name << " at offset " << tiles.x << ", " << tiles.y
+                                  << " tiles: the hit moved by up to " << worst << " texels";
+            EXPECT_EQ(worst_height, 0.0) << info.name << " at offset " << tiles.x << ", " << tiles.y;
+            const ImageDiff diff = compare(color, color0);
+            EXPECT_EQ(diff.max, 0) << info.name << " at offset " << tiles.x << ", " << tiles.y
+                                   << " tiles: colour differs by " << diff.mean << " levels mean, " << diff.max
+                                   << " max";
+        }
+    }
+}
+
 // The renderer draws into a framebuffer the host app owns (not 0, not made by
 // platform/) and puts back the state it changed.
 TEST(HostIntegration, DrawsIntoTheHostFramebufferAndRestoresState) {
