@@ -150,8 +150,8 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
     o.name = "plane";
     o.mesh.kind = MeshKind::plane;
     o.mesh.size = 2.4f;
-    // 64 x 64 quads: the default view vector is normalised per vertex (the
-    // PowerVR whitepaper's saving), which on one big quad alone costs POM
+    // 64 x 64 quads: with the opt-in per-vertex view vector (the PowerVR
+    // whitepaper's saving, --per-vertex-view) one big quad alone costs POM
     // about a texel of hit error at 30 degrees (docs/accuracy.md).
     o.mesh.segments = segments;
     o.material = "surface";

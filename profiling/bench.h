@@ -36,7 +36,7 @@ struct BenchOptions {
     std::string command;     // recorded in the results
     int threads = 0;         // recorded: llvmpipe's thread count
     int segments = 64;       // quads per side of each bench plane
-    bool exact_view = false; // every technique with the exact (highp, per-fragment) view vector
+    bool exact_view = true;  // false: every technique with the per-vertex normalised view vector
 };
 
 // Called after each setting: done, total, and what was just measured.

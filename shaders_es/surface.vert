@@ -1,7 +1,8 @@
 // Vertex stage shared by every technique. Builds the tangent frame and moves
 // the view and light vectors into texture space, as the PowerVR whitepaper
-// does: the view vector is normalised here and the parallax scale folded into
-// it, so the fragment stage starts tracing at once.
+// does, and folds the parallax scale into the view vector. The view vector
+// is normalised here only without PX_EXACT_VIEW (the whitepaper's saving, an
+// opt-in); by default the fragment stage normalises it (exact).
 #include "chunks/interface.glsl"
 
 PX_ATTRIBUTE highp vec3 a_position;

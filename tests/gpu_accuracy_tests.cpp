@@ -92,3 +92,178 @@ TEST(Accuracy, MaxmipMeetsTheReferenceOnEveryBenchScene) {
 
 }  // namespace
 }  // namespace px::test
+
+namespace px::test {
+namespace {
+
+// maxmip at the grazing limit: 89 and 89.9 degrees, where V.z < 1/64 on the
+// plane's far rows. A clamp of V.z there (march.glsl's, which maxmip used to
+// share) traced a steeper ray than the camera's: 2 texels of mean error at
+// 89 degrees on sine, all of it on the rows past the clamp (docs/accuracy.md,
+// "At 89 degrees"). 127 pixels, an odd size: the middle row and column pass
+// through the view target, so 89.9 degrees, whose plane spans 0.16 of the 45
+// degrees of view (less than a row of 128), still covers a row of pixel
+// centres, and the middle ray runs along the field's symmetry line, the
+// costliest walk (2310 iterations on hemispheres).
+//
+// The bound, 0.05 texel, on the whole image and on every row (an error
+// confined to rows is what the clamp left): the walk is exact to 1e-3 texel
+// (tests/unit_maxmip.cpp); the rest is the rasteriser's input, the uv and
+// view vector interpolated from vertices snapped to 1/256 pixel (llvmpipe's
+// 8 subpixel bits): a pixel here spans 1.5 to 4.6 texels across the ray, so
+// that moves a hit by at most 0.018 texel.
+TEST(Accuracy, MaxmipMeetsTheReferenceAtGrazingAngles) {
+    if (test_es_major() < 3) GTEST_SKIP() << "maxmip needs OpenGL ES 3.0; this run is ES 2.0";
+    constexpr int kSize = 127;
+    constexpr double kBound = 0.05;
+    for (const std::string& scene_name : profiling::bench_scene_names()) {
+        for (double angle : {89.0, 89.9}) {
+            auto scene = profiling::bench_scene(scene_name, angle);
+            ASSERT_TRUE(scene.ok());
+            reference::ReferenceOptions reference_options;
+            reference_options.shadow = profiling::bench_scene_shadow(scene_name);
+            auto truth = reference::render_reference(*scene, kSize, kSize, reference_options);
+            ASSERT_TRUE(truth.ok()) << truth.error().message;
+            scene->materials[0].technique.technique = Technique::maxmip;
+            scene->materials[0].technique.shadow = reference_options.shadow;
+            auto renderer = Renderer::create();
+            ASSERT_TRUE(renderer.ok());
+            Status loaded = (*renderer)->load(*scene);
+            ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+            auto surfaces = capture_surfaces(**renderer, kSize, kSize);
+            ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
+            const std::string where = scene_name + " at " + std::to_string(angle) + " degrees";
+            auto whole = reference::compare_surfaces(*surfaces, truth->surface, truth->texture_width,
+                                                     truth->texture_height);
+            ASSERT_TRUE(whole.ok());
+            EXPECT_LT(whole->uv_error_mean, kBound) << where << " (max " << whole->uv_error_max << " texels)";
+            // 89 degrees covers 4 rows of 127 pixels, 89.9 one.
+            EXPECT_GE(whole->pixels, angle < 89.5 ? 4 * kSize : kSize) << where;
+            for (int y = 0; y < kSize; ++y) {
+                SurfaceImage measured_row, truth_row;
+                measured_row.width = truth_row.width = kSize;
+                measured_row.height = truth_row.height = 1;
+                measured_row.packing_bits = surfaces->packing_bits;
+                for (int x = 0; x < kSize; ++x) {
+                    measured_row.samples.push_back(surfaces->at(x, y));
+                    truth_row.samples.push_back(truth->surface.at(x, y));
+                }
+                auto row = reference::compare_surfaces(measured_row, truth_row, truth->texture_width,
+                                                       truth->texture_height);
+                ASSERT_TRUE(row.ok());
+                if (row->pixels > 0)
+                    EXPECT_LT(row->uv_error_mean, kBound)
+                        << where << ", row " << y << ": " << row->pixels << " pixels, max " << row->uv_error_max
+                        << " texels, mean depth error " << row->depth_error_mean << " of the relief";
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+struct ImpliedDepth {
+    double height = 0.0;  // where the exact view ray passes over the hit uv (0 bottom, 1 top)
+    long pixels = 0;
+};
+
+// One 4-unit quad (one segment, so the vertex stage runs only at its
+// corners), seen from 2 units at 35 degrees, a flat field at level 0 0.08
+// deep under it: every view ray must reach the bottom, height 0. The shader
+// reports height 0 whatever ray it walked (the field is flat), so the depth
+// is read from the hit uv instead: with uv0 the pixel's polygon uv (normal
+// mapping's hit) and p = uv0 - reference hit (the exact ray's shift from the
+// polygon down to the bottom), a hit uv0 - D p lies on the exact ray at
+// height 1 - D. D is fitted over the pixels whose shift is at least 4 texels.
+ImpliedDepth implied_depth(Technique technique, const TechniqueOptions& options) {
+    PlaneScene p;
+    p.field.kind = FieldKind::flat;
+    p.field.level = 0.0f;
+    p.field.size = 256;
+    p.technique = technique;
+    p.options = options;
+    p.view_angle_deg = 35.0f;
+    p.distance = 2.0f;
+    p.fov_deg = 60.0f;
+    SceneDesc scene = p.build();
+    scene.objects[0].mesh.size = 4.0f;
+    scene.objects[0].mesh.segments = 1;
+    constexpr int kSize = 96;
+    auto capture = [&](Technique t) {
+        SceneDesc s = scene;
+        s.materials[0].technique.technique = t;
+        auto renderer = Renderer::create();
+        EXPECT_TRUE(renderer.ok());
+        Status loaded = (*renderer)->load(s);
+        EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+        auto surfaces = capture_surfaces(**renderer, kSize, kSize);
+        EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+        return *surfaces;
+    };
+    const SurfaceImage polygon = capture(Technique::normal);
+    const SurfaceImage hit = capture(technique);
+    auto truth = reference::render_reference(scene, kSize, kSize);
+    EXPECT_TRUE(truth.ok());
+    const glm::dvec2 texels(256.0);
+    auto wrapped = [](glm::dvec2 d) { return d - glm::round(d); };  // ES 2.0 reads uvs modulo the tile
+    double along = 0.0, squared = 0.0;
+    ImpliedDepth out;
+    for (size_t i = 0; i < hit.samples.size(); ++i) {
+        const SurfaceSample& h = hit.samples[i];
+        const SurfaceSample& uv0 = polygon.samples[i];
+        const SurfaceSample& t = truth->surface.samples[i];
+        if (!h.covered || !uv0.covered || !t.covered) continue;
+        const glm::dvec2 shift = wrapped(uv0.uv - t.uv) * texels;
+        if (glm::length(shift) < 4.0) continue;
+        along += glm::dot(wrapped(uv0.uv - h.uv) * texels, shift);
+        squared += glm::dot(shift, shift);
+        ++out.pixels;
+    }
+    out.height = squared > 0.0 ? 1.0 - along / squared : 1.0;
+    return out;
+}
+
+// The default view vector is the exact one (interpolated unnormalised in
+// highp, normalised per fragment) for every technique that reads height; the
+// PowerVR whitepaper's per-vertex normalisation is an opt-in
+// (`"exact_view": false`), and this shows what it costs on a big polygon.
+//
+// Bound at the default, 0.005 of the relief depth: the reference and the GPU
+// share nothing but the scene, so the GPU's uv0 carries the rasteriser's
+// vertex snap (1/256 pixel, here 7e-5 units of the 4-unit quad: 0.0045
+// texel), which over shifts of at least 4 texels is 0.0011 of the depth; the
+// interpolated view vector's direction moves by 3.5e-5 (relative) over that
+// snap, fp32 adds 1e-6 and the ES 2.0 packing 24 bits of a tile (1.5e-5
+// texel). 0.005 is twice their sum, rounded up. The linear techniques land
+// on the bottom exactly (steep's last layer is height 0; pom and relief
+// interpolate onto it; parallax reads the flat field's true height);
+// offset limiting drops V.z by design, so it is not among them.
+TEST(Accuracy, ExactViewIsTheDefaultAndPlacesTheReliefAtItsDepth) {
+    constexpr double kBound = 0.005;
+    EXPECT_TRUE(TechniqueOptions{}.exact_view);
+    for (Technique t : {Technique::parallax, Technique::steep, Technique::pom, Technique::relief, Technique::maxmip}) {
+        if (technique_info(t).min_es_major > test_es_major()) continue;
+        TechniqueOptions options;
+        options.min_samples = options.max_samples = 64;
+        const ImpliedDepth exact = implied_depth(t, options);
+        EXPECT_GT(exact.pixels, 1000) << technique_name(t);
+        EXPECT_NEAR(exact.height, 0.0, kBound) << technique_name(t) << " at the default view vector: the level-0 "
+                                               << "field shows at height " << exact.height << " of the relief";
+        if (technique_info(t).always_exact_view) continue;
+        options.exact_view = false;
+        const ImpliedDepth per_vertex = implied_depth(t, options);
+        // What the opt-in costs: measurably off, far past the exact path's bound.
+        EXPECT_GT(per_vertex.height, 10.0 * kBound)
+            << technique_name(t) << " with the per-vertex view vector: the level-0 field shows at height "
+            << per_vertex.height;
+        std::printf("%s: the level-0 field shows at height %.4f with the exact view vector, %.4f per vertex\n",
+                    technique_name(t), exact.height, per_vertex.height);
+    }
+}
+
+}  // namespace
+}  // namespace px::test

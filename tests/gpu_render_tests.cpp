@@ -3,8 +3,10 @@
 // of the techniques it checks; tolerances are in 8-bit levels.
 #include "gpu_fixture.h"
 
+#include <algorithm>
 #include <cstring>
 
+#include "reference/reference_image.h"
 #include "render/surface_capture.h"
 
 namespace px::test {
@@ -336,6 +338,107 @@ TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
         const glm::vec2 open = project(lit_scene, glm::vec3(-0.8f, 0.0f, 0.0f), 128);
         const Image with_shadows = render(p.build()).image;
         EXPECT_GT(luminance(with_shadows, int(open.x), int(open.y)), 0.8 * lit) << technique_name(t);
+    }
+}
+
+// A light on or below the polygon's plane cannot light its surface, whatever
+// the normal map says: a bevel facing a light 5 degrees under the horizon has
+// N.L > 0, but the light is behind the polygon. Shadows off (the shadow ray's
+// horizon test is not what keeps it dark), every technique, and the exact
+// reference's shading (surface_main.glsl's mirror) the same. What is left is
+// ambient * albedo: 0.08 * 0.8 = 0.064, 16.3 of 255; 17 allows the 8-bit
+// rounding of that (and mediump's 1e-3 relative error, 0.02 of a level).
+// Before: 12 to 28 % of the surface was lit from under the polygon.
+TEST(Lighting, LightOnOrBelowTheHorizonLightsNothingButAmbient) {
+    constexpr int kAmbientLevel = 17;
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > test_es_major()) continue;
+        for (float elevation : {-5.0f, 0.0f}) {
+            PlaneScene p = bricks_scene();
+            p.technique = info.id;
+            p.view_angle_deg = 40.0f;
+            p.light_elevation_deg = elevation;
+            p.textured_albedo = false;
+            SceneDesc scene = p.build();
+            scene.materials[0].specular = 1.0f;  // a lit highlight could not hide
+            const Image image = render(scene).image;
+            ASSERT_EQ(image.pixels.size(), 128u * 128u * 4u);
+            long lit = 0, drawn = 0;
+            for (size_t i = 0; i < image.pixels.size(); i += 4) {
+                const int level = std::max({image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]});
+                if (level > 12) ++drawn;  // the background is (5, 5, 8)
+                if (level > kAmbientLevel) ++lit;
+            }
+            EXPECT_GT(drawn, 128 * 128 / 4) << info.name << ": the plane was not drawn";
+            EXPECT_EQ(lit, 0) << info.name << " with the light " << elevation << " degrees up: " << lit << " of "
+                              << drawn << " pixels (" << 100.0 * lit / std::max(drawn, 1L)
+                              << " %) lit beyond ambient";
+            if (info.id == Technique::pom) {
+                auto truth = reference::render_reference(scene, 128, 128);
+                ASSERT_TRUE(truth.ok()) << truth.error().message;
+                long reference_lit = 0;
+                for (size_t i = 0; i < truth->color.pixels.size(); i += 4)
+                    if (std::max({truth->color.pixels[i], truth->color.pixels[i + 1], truth->color.pixels[i + 2]}) >
+                        kAmbientLevel)
+                        ++reference_lit;
+                EXPECT_EQ(reference_lit, 0) << "the reference with the light " << elevation << " degrees up";
+            }
+        }
+    }
+}
+
+// A whole-tile uv offset changes no texel (GL_REPEAT), so it must change
+// nothing drawn, up to kMaxUvOffset (core/limits.h), for every technique. It
+// did: at offset 1000 steep's colour lost the relief (26 levels mean, its
+// march uv demoted to fp16 by Mesa's mediump lowering) and every technique's
+// hit moved by fp32's 2^-14-tile grid there (up to 0.83 texel on steep, 0.3
+// on pom and maxmip). The bound is exact equality: the renderer hands the
+// shader only the offset's fraction, and k + 0.25 (|k| <= 1023) is exact in
+// fp32 with an exact difference (Sterbenz), so the draws are the same draws.
+TEST(UvOffset, WholeTilesChangeNothingForEveryTechnique) {
+    const glm::vec2 base(0.25f, 0.5f);
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > test_es_major()) continue;
+        PlaneScene p = bricks_scene();
+        p.technique = info.id;
+        p.view_angle_deg = 50.0f;
+        SceneDesc scene = p.build();
+        auto draw = [&](glm::vec2 tiles) {
+            SceneDesc s = scene;
+            s.materials[0].uv.offset = base + tiles;
+            auto renderer = Renderer::create();
+            EXPECT_TRUE(renderer.ok());
+            Status loaded = (*renderer)->load(s);
+            EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+            auto surfaces = capture_surfaces(**renderer, 128, 128);
+            EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+            return std::make_pair(*surfaces, render(s).image);
+        };
+        const auto [surface0, color0] = draw(glm::vec2(0.0f));
+        for (const glm::vec2 tiles : {glm::vec2(100.0f), glm::vec2(1000.0f), glm::vec2(-1023.0f, 1023.0f)}) {
+            const auto [surface, color] = draw(tiles);
+            double worst = 0.0, worst_height = 0.0;
+            long covered = 0;
+            for (size_t i = 0; i < surface.samples.size(); ++i) {
+                const SurfaceSample& a = surface.samples[i];
+                const SurfaceSample& b = surface0.samples[i];
+                ASSERT_EQ(a.covered, b.covered);
+                if (!a.covered) continue;
+                ++covered;
+                glm::dvec2 d = a.uv - b.uv;
+                d -= glm::round(d);  // modulo the tile
+                worst = std::max(worst, glm::length(d) * 128.0);
+                worst_height = std::max(worst_height, std::abs(a.height - b.height));
+            }
+            EXPECT_GT(covered, 128 * 128 / 4) << info.name;
+            EXPECT_EQ(worst, 0.0) << info.name << " at offset " << tiles.x << ", " << tiles.y
+                                  << " tiles: the hit moved by up to " << worst << " texels";
+            EXPECT_EQ(worst_height, 0.0) << info.name << " at offset " << tiles.x << ", " << tiles.y;
+            const ImageDiff diff = compare(color, color0);
+            EXPECT_EQ(diff.max, 0) << info.name << " at offset " << tiles.x << ", " << tiles.y
+                                   << " tiles: colour differs by " << diff.mean << " levels mean, " << diff.max
+                                   << " max";
+        }
     }
 }
 

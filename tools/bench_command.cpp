@@ -29,7 +29,7 @@ struct BenchArgs {
     int frames = 0;
     bool quick = false;
     int segments = 64;
-    bool exact_view = false;
+    bool per_vertex_view = false;
     std::string out = "out/bench";
     std::string command;
 };
@@ -71,7 +71,7 @@ int run(BenchArgs a) {
     o.height = height;
     o.command = a.command;
     o.segments = a.segments;
-    o.exact_view = a.exact_view;
+    o.exact_view = !a.per_vertex_view;
     const char* threads = std::getenv("LP_NUM_THREADS");
     o.threads = threads ? std::atoi(threads) : static_cast<int>(std::thread::hardware_concurrency());
 
@@ -118,8 +118,9 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--frames", args->frames, "Timed rounds per setting (default 7; --quick 3)");
     cmd->add_flag("--quick", args->quick, "A small grid that finishes in under 2 minutes");
     cmd->add_option("--segments", args->segments, "Quads per side of each bench plane")->capture_default_str();
-    cmd->add_flag("--exact-view", args->exact_view,
-                  "Every technique with the exact view vector (highp, normalised per fragment)");
+    cmd->add_flag("--per-vertex-view", args->per_vertex_view,
+                  "Every technique with the view vector normalised per vertex (\"exact_view\": false) "
+                  "instead of the exact one");
     cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
     cmd->callback([args]() { set_exit_status(run(*args)); });
 }

@@ -3,12 +3,12 @@
 // preamble the loader injects.
 PX_VARYING PX_HIGHP vec2 v_uv;             // material uv; PX_HIGHP for large tiled uvs
 // The view vector in texture space, xy * height scale when PX_READS_HEIGHT.
-// By default normalised per vertex and mediump (PowerVR whitepaper: saves a
-// normalise per fragment). PX_EXACT_VIEW: highp and not normalised, so that
-// interpolation is exact (the vector is affine across a flat triangle); the
-// fragment stage normalises. Measured: per-vertex normalisation costs POM
-// about 1 texel of hit error on a two-triangle plane at 30 degrees, and
-// grazing views need highp (docs/accuracy.md).
+// PX_EXACT_VIEW (the default, TechniqueOptions::exact_view): highp and not
+// normalised, so that interpolation is exact (the vector is affine across a
+// flat triangle); the fragment stage normalises. Without it (the opt-in
+// "exact_view": false): normalised per vertex and mediump (PowerVR
+// whitepaper: saves a normalise per fragment), which costs POM about 1 texel
+// of hit error on a two-triangle plane at 30 degrees (docs/accuracy.md).
 #ifdef PX_EXACT_VIEW
 #define PX_VIEW_PRECISION PX_HIGHP
 #else

@@ -100,11 +100,18 @@ bool px_solve_patch(PX_HIGHP vec2 p0, PX_HIGHP vec2 p1, PX_HIGHP float z0, PX_HI
 }
 
 PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
-    // px_parallax_vector (march.glsl), but divided in highp: from mediump
+    // px_parallax_vector (march.glsl) without its clamp, divided in highp: from mediump
     // operands the division runs at mediump (fp16 on Mesa llvmpipe), whose
     // ~1e-3 relative error moves a grazing ray's hit by texels.
     PX_HIGHP vec3 view = view_ts;
-    PX_HIGHP vec2 parallax = view.xy / max(view.z, 1.0 / 64.0);
+    // No grazing clamp: a ray past 89.1 degrees (V.z < 1/64, march.glsl's
+    // clamp) is still the exact ray (clamping it there cost 2 texels of mean
+    // error at 89 degrees, docs/accuracy.md). V.z is kept off zero only where
+    // the ray would cross more than 2^24 texels over the relief's depth:
+    // there t (24-bit mantissa, in [0, 1]) could no longer give every cell
+    // boundary its own value, and the offset would run to infinity.
+    PX_HIGHP float z_min = max(length(view.xy) * max(u_texture_size.x, u_texture_size.y) / 16777216.0, 1e-30);
+    PX_HIGHP vec2 parallax = view.xy / max(view.z, z_min);
     // The frame: cell space (texel space - 0.5: cell (i, j) is [i, i+1]^2),
     // integer cells counted from the tile where the ray enters the top (a
     // whole number of tiles, so every level's nodes stay aligned), float

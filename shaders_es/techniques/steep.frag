@@ -5,10 +5,16 @@
 #include "chunks/march.glsl"
 
 PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
-    PxMarch m = px_linear_search(uv, px_parallax_vector(view_ts), view_ts.z PX_TRACE_GRADIENT_ARGS);
+    PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
+    PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
     PxHit hit;
-    hit.uv = m.uv_below;
     hit.height = m.ray_below;
+    // The uv from highp uv and parallax again (as pom and relief do), not the
+    // loop's m.uv_below: Mesa lowers a texture coordinate to the sampler's
+    // mediump, and where the shading's coordinate is a loop-carried value it
+    // moves that f2f16 up through the loop's phis, so m.uv_below came back in
+    // fp16 (0.5-tile steps at uv 1000: the relief gone).
+    hit.uv = uv + (hit.height - u_polygon_height) * parallax;
     return hit;
 }
 #include "chunks/surface_main.glsl"

@@ -51,16 +51,23 @@ struct TechniqueOptions {
     int max_samples = 32;
     int refine_steps = 5;     // relief: binary search steps after the linear search
     // maxmip: the iteration budget of the pyramid walk (a constant loop
-    // bound). Grazing rays beside 1-texel features need the most: 831 on a
-    // 256-texel field 0.1 deep at 89 degrees (tests/unit_maxmip.cpp).
-    int max_steps = 1024;
+    // bound; a ray stops early at its hit, so only the rays that need the
+    // steps pay for them). Grazing rays beside 1-texel features need the
+    // most: 831 on a 256-texel field 0.1 deep at 89 degrees
+    // (tests/unit_maxmip.cpp); at 89.9 degrees a bench ray along the gap
+    // between two rows of hemispheres needs 2310, so the default is the
+    // technique's limit.
+    int max_steps = 4096;
     ShadowMode shadow = ShadowMode::none;
     int shadow_samples = 16;  // samples along the shadow ray
     bool depth_write = false; // perspective-correct depth through gl_FragDepth
     // The view vector interpolated unnormalised in highp and normalised per
-    // fragment, instead of normalised per vertex in mediump (the PowerVR
-    // whitepaper's saving). Exact on flat triangles; maxmip always uses it.
-    bool exact_view = false;
+    // fragment (the default: exact on flat triangles; maxmip always uses it).
+    // false: normalised per vertex in mediump, the PowerVR whitepaper's
+    // saving of a normalise per fragment, which on one 4-unit quad seen from
+    // 2 units puts a level-0 field at 0.14 of the relief's height instead of
+    // 0 (docs/scene-format.md): an opt-in where the polygons are small.
+    bool exact_view = true;
     // Mip-level LOD (Tatarchuk 2005): at mip levels past lod_threshold render
     // normal mapping; blend over the lod_band levels before it.
     bool lod = false;

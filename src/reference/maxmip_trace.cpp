@@ -215,7 +215,11 @@ ViewSetup view_setup(const MaxMipmap& pyramid, glm::dvec2 uv, glm::dvec3 view_ts
     v.uv0 = to_float(uv);
     const glm::vec3 view(to_float(view_ts.x * height_scale), to_float(view_ts.y * height_scale), to_float(view_ts.z));
     v.polygon_height = to_float(polygon_height);
-    v.parallax = glm::vec2(view.x, view.y) / std::max(view.z, 1.0f / 64.0f);  // px_parallax_vector's clamp
+    // maxmip.frag's divisor: V.z kept off zero only where the ray would cross
+    // more than 2^24 texels over the relief's depth (no grazing clamp).
+    const float longest_side = static_cast<float>(std::max(pyramid.width, pyramid.height));
+    const float z_min = std::max(glm::length(glm::vec2(view.x, view.y)) * longest_side / 16777216.0f, 1e-30f);
+    v.parallax = glm::vec2(view.x, view.y) / std::max(view.z, z_min);
     const glm::vec2 uv_top = v.uv0 + (1.0f - v.polygon_height) * v.parallax;  // the ray enters the top here
     v.tile = glm::floor(uv_top);
     const glm::vec2 size(static_cast<float>(pyramid.width), static_cast<float>(pyramid.height));

@@ -38,7 +38,9 @@ MaxmipHit maxmip_first_hit(const MaxMipmap& pyramid, const HeightField& field, c
 
 // The view ray in the shader's conventions (reference::trace_view): the hit
 // uv is uv + (height - polygon_height) * parallax, as maxmip.frag returns it,
-// with parallax = height_scale * view_ts.xy / max(view_ts.z, 1/64).
+// with parallax = height_scale * view_ts.xy / max(view_ts.z, z_min), z_min
+// the divisor below which the ray would cross more than 2^24 texels over the
+// relief's depth (no grazing clamp: the exact ray past 89.1 degrees too).
 MaxmipHit maxmip_trace_view(const MaxMipmap& pyramid, const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts,
                             double height_scale, double polygon_height, int budget);
 

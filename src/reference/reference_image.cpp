@@ -166,6 +166,8 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
         const glm::dvec3 light_ts = to_texture_frame(p, to_light);
         const double visibility = light_visibility(f, m, hit, light_ts, l.angular_radius);
         if (i == 0) first_visibility = visibility;
+        // px_light_term: a light on or below the polygon's plane lights nothing.
+        if (!(light_ts.z > 0.0)) continue;
         const double n_dot_l = std::max(glm::dot(normal, light_ts), 0.0);
         const glm::dvec3 half_sum = light_ts + view_ts;
         const double half_len = glm::length(half_sum);

@@ -183,9 +183,9 @@ void bind_texture_unit(shader::Sampler sampler, const Texture& texture) {
 void set_material_uniforms(const Program& p, const GpuMaterial& material, const VariantKey& key) {
     const MaterialDesc& m = *material.desc;
     p.set(slot::uv_matrix, m.uv.matrix<float>());
-    // Only the fraction: textures repeat, so whole tiles change nothing, and
-    // a large offset would cost the interpolated uv its low bits (fract is
-    // exact in float).
+    // Whole tiles of offset change no texel (GL_REPEAT), but uvs 1000 tiles
+    // out leave fp32 a 2^-14-tile grid and mediump none: only the fraction
+    // goes to the shader (exact: Sterbenz), so every technique is invariant.
     p.set(slot::uv_offset, m.uv.offset - glm::floor(m.uv.offset));
     p.set(slot::uv_frame, m.uv.frame<float>());
     const float scale = m.height_scale;
