@@ -14,6 +14,7 @@
 #include "core/text.h"
 #include "gl/gl.h"
 #include "reference/reference_image.h"
+#include "reference/tracer.h"
 #include "render/surface_capture.h"
 #include "scene/material_images.h"
 
@@ -72,7 +73,19 @@ struct SearchBound {
     double steep = 0.0;    // |true hit - first sample under|, texels
     double bracket = 0.0;  // max distance from the true hit to either end of the bracket
     bool true_hit_in_bracket = false;
+    double filtered = 0.0; // how far the hit moves on the surface raised or lowered by kFilteredHeight
+    double entry = 0.0;    // how far it moves with the entry uv's fp32 rounding
 };
+
+// The surface a technique's filtered fetches see is not the exact bilinear
+// one: Mesa returns a mediump sampler's texels as fp16 (half an ulp below 1
+// is 2^-12), and GL leaves the filter's sub-texel precision to the
+// implementation: D3D10-class hardware keeps 8 bits of it, so a weight is
+// off by up to 2^-9 and the filtered height by 2^-9 of the corners' range
+// (at most 1). The hit a technique can promise lies between the exact hits
+// on the surface lowered and raised by the sum; where the ray meets the
+// surface at a shallow angle that window is wide, and the bound says so.
+constexpr double kFilteredHeight = 1.0 / 4096.0 + 1.0 / 512.0;
 
 std::vector<SearchBound> search_bounds(const reference::ReferenceImage& ref, const HeightField& field, int samples) {
     std::vector<SearchBound> out(ref.surface.samples.size());
@@ -85,7 +98,10 @@ std::vector<SearchBound> search_bounds(const reference::ReferenceImage& ref, con
         if (!r.covered) continue;
         const glm::dvec3 v = ref.view_ts[i];
         if (!(v.z > 0.0)) continue;
-        const glm::dvec2 parallax = s * glm::dvec2(v.x, v.y) / v.z;  // the exact ray, unclamped
+        // The ray the search is defined on: the shaders clamp V.z at 1/64
+        // (chunks/march.glsl), so past 89.1 degrees it is steeper than the
+        // view ray; the gap to the exact hit shows as the technique's limit.
+        const glm::dvec2 parallax = s * glm::dvec2(v.x, v.y) / std::max(v.z, 1.0 / 64.0);
         const glm::dvec2 uv0 = ref.entry_uv[i];
         auto at = [&](int k) { return uv0 + ((1.0 - double(k) / n) - p) * parallax; };
         int k = 0;
@@ -94,14 +110,57 @@ std::vector<SearchBound> search_bounds(const reference::ReferenceImage& ref, con
             if (field.sample_bilinear(uv.x, uv.y) >= 1.0 - double(k) / n) break;
         }
         const glm::dvec2 below = at(k), above = at(std::max(k - 1, 0));
-        const double d_below = glm::length(wrapped_texels(r.uv - below, tw, th));
-        const double d_above = glm::length(wrapped_texels(r.uv - above, tw, th));
+        // Unwrapped: the reference's hit and the samples share one uv frame,
+        // and a bound on the straight distance bounds the error measured the
+        // shorter way round the tile too (a deep relief spans tiles).
+        const glm::dvec2 texels(tw, th);
+        const double d_below = glm::length((r.uv - below) * texels);
+        const double d_above = glm::length((r.uv - above) * texels);
         out[i].steep = d_below;
         out[i].bracket = std::max(d_below, d_above);
         const double h_above = 1.0 - double(std::max(k - 1, 0)) / n, h_below = 1.0 - double(k) / n;
         out[i].true_hit_in_bracket = r.height <= h_above + 1e-9 && r.height >= h_below - 1e-9;
     }
     return out;
+}
+
+// SearchBound::filtered for every covered pixel: the exact trace on the field
+// shifted down and up by kFilteredHeight.
+// Also: the GPU's entry uv is known only to its fp32 rounding, 4 ulp of its
+// magnitude m (a few roundings in the interpolation); where that is past a
+// tenth of a texel (tiled uvs of 10^3 and more) the exact hits from the
+// entry moved that far along the view ray's direction, either way, widen
+// the window the same way (a ray that skims a crest flips with its entry).
+void filtered_bounds(const reference::ReferenceImage& ref, const HeightField& field, std::vector<SearchBound>& out) {
+    const int tw = ref.texture_width, th = ref.texture_height;
+    if (tw == 0 || field.width == 0) return;
+    HeightField lower = field, upper = field;
+    for (float& t : lower.texels) t -= static_cast<float>(kFilteredHeight);
+    for (float& t : upper.texels) t += static_cast<float>(kFilteredHeight);
+    const glm::dvec2 texels(tw, th);
+    for (size_t i = 0; i < out.size(); ++i) {
+        const SurfaceSample& r = ref.surface.samples[i];
+        const glm::dvec3 v = ref.view_ts[i];
+        if (!r.covered || !(v.z > 0.0)) continue;
+        const glm::dvec2 uv0 = ref.entry_uv[i];
+        double window = 0.0, entry = 0.0;
+        for (const HeightField* f : {&lower, &upper}) {
+            const reference::ReliefHit h = reference::trace_view(*f, uv0, v, ref.height_scale, ref.polygon_height);
+            window = std::max(window, glm::length((r.uv - h.uv) * texels));
+        }
+        const double magnitude = std::max(std::fabs(uv0.x), std::fabs(uv0.y));
+        const double entry_rounding = 4.0 * magnitude * std::ldexp(1.0, -23);  // tiles
+        if (entry_rounding * std::max(tw, th) > 0.1 && glm::length(glm::dvec2(v)) > 0.0) {
+            const glm::dvec2 along = glm::normalize(glm::dvec2(v.x, v.y)) * entry_rounding;
+            for (double sign : {-1.0, 1.0}) {
+                const reference::ReliefHit h =
+                    reference::trace_view(field, uv0 + sign * along, v, ref.height_scale, ref.polygon_height);
+                entry = std::max(entry, glm::length((r.uv - h.uv) * texels));
+            }
+        }
+        out[i].filtered = window;
+        out[i].entry = entry;
+    }
 }
 
 // --- Scenes -------------------------------------------------------------------
@@ -254,8 +313,8 @@ struct Measurement {
 struct Accumulator {
     long pixels = 0;
     long non_finite = 0;
-    double error_sum = 0.0, error_max = 0.0, bound_sum = 0.0;
-    long error_violations = 0;
+    double error_sum = 0.0, error_max = 0.0, bound_sum = 0.0, nominal_sum = 0.0;
+    long error_violations = 0, nominal_violations = 0;
     double offset_ratio_max = 0.0;
     long offset_violations = 0;
     double dark_max = -1.0;
@@ -267,14 +326,21 @@ struct Accumulator {
 // relative error of about 2^-20 (a handful of fp32 roundings), and P divides
 // by V.z, so P's error is P 2^-20 / V.z; and a uv of magnitude m is held to
 // m 2^-23 (its ulp), a few roundings deep: 4 m 2^-23 tiles.
+// `with_search`: the derived bound, with what the search's own samples
+// allow where a feature lies between two of them; without it the nominal
+// bound, which a technique misses exactly where it has a limit.
 double error_bound(BoundKind kind, const PixelTerms& t, double polygon_height, int samples, int refine,
-                   const SearchBound* search, const glm::dvec3& v, const glm::dvec2& uv, int tw, int th,
-                   double slack) {
+                   const SearchBound& search, bool with_search, const glm::dvec3& v, const glm::dvec2& uv, int tw,
+                   int th, double slack) {
     double b = bound_value(kind, t, polygon_height, false, samples, refine);
-    if (search) {
-        if (kind == BoundKind::step) b = std::max(b, search->bracket);
-        if (kind == BoundKind::refined_step && !search->true_hit_in_bracket) b = std::max(b, search->bracket);
+    if (with_search) {
+        if (kind == BoundKind::step) b = std::max(b, search.bracket);
+        if (kind == BoundKind::refined_step && !search.true_hit_in_bracket) b = std::max(b, search.bracket);
     }
+    // Techniques that read the hardware-filtered surface (all but the exact
+    // one, which filters 8-bit texels itself in highp).
+    if (kind != BoundKind::exact && kind != BoundKind::zero) b += search.filtered;
+    if (kind != BoundKind::zero) b += search.entry;
     const double rounding_ray = t.parallax * std::ldexp(1.0, -20) / std::max(v.z, 1.0 / 64.0);
     const double magnitude = std::max(std::fabs(uv.x), std::fabs(uv.y));
     const double rounding_uv = 4.0 * magnitude * std::ldexp(1.0, -23) * std::max(tw, th);
@@ -300,14 +366,17 @@ void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const ref
         const PixelTerms terms = pixel_terms(ref.view_ts[i], s, tw, th);
         ++acc.pixels;
         const double error = glm::length(wrapped_texels(g.uv - r.uv, tw, th));
-        const double bound = error_bound(error_kind, terms, p, c.samples, c.refine_steps,
-                                         search.empty() ? nullptr : &search[i], ref.view_ts[i], r.uv, tw, th,
-                                         bounds.slack_texels);
+        const double bound = error_bound(error_kind, terms, p, c.samples, c.refine_steps, search[i], true,
+                                         ref.view_ts[i], r.uv, tw, th, bounds.slack_texels);
+        const double nominal = error_bound(error_kind, terms, p, c.samples, c.refine_steps, search[i], false,
+                                           ref.view_ts[i], r.uv, tw, th, bounds.slack_texels);
         if (per_pixel_bound) (*per_pixel_bound)[i] = bound;
         acc.error_sum += error;
         acc.error_max = std::max(acc.error_max, error);
         acc.bound_sum += bound;
+        acc.nominal_sum += nominal;
         if (error > bound) ++acc.error_violations;
+        if (error > nominal) ++acc.nominal_violations;
         if (entry && entry->samples[i].covered && finite(entry->samples[i])) {
             const double offset = glm::length(wrapped_texels(g.uv - entry->samples[i].uv, tw, th));
             const double ob = bound_value(tb.offset, terms, p, true, c.samples, c.refine_steps);
@@ -454,7 +523,9 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
             if (!ref) return with_context("case '" + c.name + "' reference", ref.error());
             Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
             if (!images) return images.error();
-            searches.push_back(search_bounds(*ref, quantized_8bit(images->field), c.samples));
+            const HeightField traced = quantized_8bit(images->field);
+            searches.push_back(search_bounds(*ref, traced, c.samples));
+            filtered_bounds(*ref, traced, searches.back());
             refs.push_back(std::move(*ref));
         }
         for (const Run& run : runs) {
@@ -520,6 +591,8 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                 row.error_max = acc.error_max;
                 row.error_bound_mean = acc.pixels ? acc.bound_sum / static_cast<double>(acc.pixels) : 0.0;
                 row.error_violations = acc.pixels ? static_cast<double>(acc.error_violations) / static_cast<double>(acc.pixels) : 0.0;
+                row.nominal_bound_mean = acc.pixels ? acc.nominal_sum / static_cast<double>(acc.pixels) : 0.0;
+                row.nominal_violations = acc.pixels ? static_cast<double>(acc.nominal_violations) / static_cast<double>(acc.pixels) : 0.0;
                 row.offset_ratio_max = acc.offset_ratio_max;
                 row.offset_violations = acc.offset_violations;
                 row.dark_max = acc.dark_max;

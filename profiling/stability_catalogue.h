@@ -101,6 +101,12 @@ struct StabilityRow {
     double error_max = 0.0, error_mean = 0.0;  // hit-uv error, texels
     double error_bound_mean = 0.0;             // mean of the per-pixel error bound
     double error_violations = 0.0;             // share of pixels past their error bound
+    // The nominal bound: the technique's own promise (P / N for a search),
+    // without what its samples allow where a feature lies between two of
+    // them. Missing it is the technique's limit: documented in the case, or
+    // a failure until it is.
+    double nominal_bound_mean = 0.0;
+    double nominal_violations = 0.0;
     double offset_ratio_max = 0.0;             // max over pixels of |offset| / its bound (<= 1 holds)
     long offset_violations = 0;                // pixels past their offset bound
     double continuity_max = -1.0;              // sweeps: max |change of error| between neighbours, texels; -1: none

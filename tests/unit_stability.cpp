@@ -72,6 +72,7 @@ StabilityRow measured(const std::string& precision = "native") {
     r.pixels = 1000;
     r.error_mean = 0.1;
     r.error_bound_mean = 0.5;
+    r.nominal_bound_mean = 0.5;
     return r;
 }
 
@@ -100,18 +101,29 @@ TEST(StabilityJudge, VerdictsFollowTheBounds) {
     EXPECT_EQ(far.verdict, "fail");
     EXPECT_TRUE(contains(far.reasons, "mean error"));
 
-    // The same miss where the case documents the technique's limit.
+    // Within the derived bound (what the search's samples allow) but past
+    // the nominal one: the technique's limit, which the case must document.
+    StabilityRow missed = measured();
+    missed.error_mean = 0.6;
+    missed.error_bound_mean = 1.0;
+    StabilityRow undocumented = missed;
+    judge(undocumented, bounds, c);
+    EXPECT_EQ(undocumented.verdict, "fail");
+    EXPECT_TRUE(contains(undocumented.reasons, "a limit the catalogue does not document")) << undocumented.reasons;
     StabilityCase limited;
     limited.limits["pom"] = "steps over thin lines";
-    StabilityRow known = far;
+    StabilityRow known = missed;
     judge(known, bounds, limited);
     EXPECT_EQ(known.verdict, "limit");
-    EXPECT_EQ(known.reasons, "steps over thin lines");
-    // A documented limit never excuses NaN.
-    StabilityRow known_nan = far;
+    EXPECT_TRUE(contains(known.reasons, "steps over thin lines (mean 0.6 texels against 0.5")) << known.reasons;
+    // A documented limit never excuses NaN, nor an error past the derived bound.
+    StabilityRow known_nan = missed;
     known_nan.non_finite = 1;
     judge(known_nan, bounds, limited);
     EXPECT_EQ(known_nan.verdict, "fail");
+    StabilityRow known_far = far;
+    judge(known_far, bounds, limited);
+    EXPECT_EQ(known_far.verdict, "fail");
 
     StabilityRow share = measured();
     share.error_violations = 0.02;  // past violation_share (1 %)

@@ -127,12 +127,17 @@ void main() {
     shown.uv = mix(hit.uv, surface.uv, lod_blend);
     shown.height = mix(hit.height, surface.height, lod_blend);
 #endif
+    // The first light's visibility: the shadow ray's where there is one,
+    // else the polygon's horizon (px_light_term lights nothing past it), so
+    // that what is reported is what the shading used.
     mediump float visibility = 1.0;
+    if (u_light_count > 0) {
+        visibility = normalize(v_light_ts[0]).z > 0.0 ? 1.0 : 0.0;
 #ifdef PX_SHADOW
-    if (u_light_count > 0)
         visibility = px_light_visibility(shown.uv, shown.height, normalize(v_light_ts[0]),
                                          u_light_angular_radius[0] PX_TRACE_GRADIENT_ARGS);
 #endif
+    }
     PX_FRAG_COLOR = px_debug_output(shown.uv, shown.height, visibility);
 #else
     PX_FRAG_COLOR = vec4(color, 1.0);

@@ -94,7 +94,8 @@ struct Frame {
 double light_visibility(const Frame& f, const MaterialData& m, const ReliefHit& hit, glm::dvec3 light_ts,
                         double angular_radius) {
     switch (f.options.shadow) {
-        case ShadowMode::none: return 1.0;
+        // No shadow ray: the polygon's horizon alone (px_light_term).
+        case ShadowMode::none: return light_ts.z > 0.0 ? 1.0 : 0.0;
         case ShadowMode::hard:
         case ShadowMode::soft:
             // No relief to trace: only the geometric horizon can hide the light.
