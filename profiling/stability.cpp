@@ -245,7 +245,9 @@ Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& tec
         s.camera.position = *c.camera_position;
         s.camera.target = *c.camera_target;
     } else {
-        s.camera.position = glm::vec3(0.0f, static_cast<float>(-distance * std::sin(a)),
+        const double az = c.azimuth_deg * M_PI / 180.0;
+        s.camera.position = glm::vec3(static_cast<float>(distance * std::sin(a) * std::sin(az)),
+                                      static_cast<float>(-distance * std::sin(a) * std::cos(az)),
                                       static_cast<float>(distance * std::cos(a)));
         s.camera.target = glm::vec3(0.0f);
     }

@@ -181,6 +181,7 @@ void read_case(Reader r, StabilityCase& c, bool defaults) {
         }
     }
     r.number("distance", c.distance, 1e-4, 1000);
+    r.number("azimuth", c.azimuth_deg, -360, 360);
     if (r.has("camera")) {
         Reader cam = r.child("camera");
         glm::vec3 p(0.0f), t(0.0f);
@@ -509,15 +510,7 @@ std::string format_markdown(const std::vector<StabilityRow>& rows, const std::st
         }
     }
 
-    o << "\n### Every row\n\n";
-    o << "| case | technique | ctx | precision | max err | mean err | bound (mean) | NaN | offset/bound | continuity (max, share past) | verdict | why |\n";
-    o << "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n";
-    for (const StabilityRow& r : rows) {
-        o << "| " << r.case_name << " | " << r.technique << " | " << r.context << " | " << r.precision << " | "
-          << fixed(r.error_max) << " | " << fixed(r.error_mean) << " | " << fixed(r.error_bound_mean) << " | "
-          << r.non_finite << " | " << fixed(r.offset_ratio_max, 2) << " | " << continuity_text(r) << " | "
-          << r.verdict << " | " << r.reasons << " |\n";
-    }
+    o << "\nEvery row, with its offset and continuity figures: `--format table` or `--format json`.\n";
     return o.str();
 }
 

@@ -60,6 +60,7 @@ struct StabilityCase {
     bool sweep = false;                    // the angles are one sweep, judged on continuity
     std::vector<double> distances;         // a distance sweep (overrides `distance`), judged on continuity
     double distance = 2.2;
+    double azimuth_deg = 0.0;              // the camera's turn about the normal (0: looking along +y)
     std::optional<glm::vec3> camera_position, camera_target;  // explicit camera (overrides angle/distance)
     float fov_deg = 45.0f;
     float plane_size = 2.4f;

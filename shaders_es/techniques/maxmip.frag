@@ -19,8 +19,9 @@
 // the ray is solved against the bilinear patch in closed form (a quadratic),
 // so no feature, however thin, is stepped over.
 //
-// reference/maxmip_trace.cpp mirrors this function step for step in float;
-// unit tests compare it with the exact reference tracer.
+// The GPU tests and the stability catalogue hold this function to the exact
+// reference, and its mobile precisions are emulated on this source itself
+// (src/emulation), so there is no second, CPU transcription to drift.
 #if PX_ES < 3 || !defined(PX_READS_HEIGHT)
 #error "maxmip needs GLSL ES 3.00 (texelFetch with a level) and PX_READS_HEIGHT"
 #endif
