@@ -351,7 +351,8 @@ double error_bound(BoundKind kind, const PixelTerms& t, double polygon_height, i
 
 void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const reference::ReferenceImage& ref,
                    const std::vector<SearchBound>& search, const TechniqueBounds& tb, const StabilityCase& c,
-                   const CatalogueBounds& bounds, Accumulator& acc, bool lod, std::vector<double>* per_pixel_bound) {
+                   const CatalogueBounds& bounds, Accumulator& acc, bool lod, std::vector<double>* per_pixel_bound,
+                   const std::string& precision) {
     const int tw = ref.texture_width, th = ref.texture_height;
     const double s = ref.height_scale, p = ref.polygon_height;
     const BoundKind error_kind = lod ? BoundKind::parallax : tb.error;  // past the LOD threshold: normal mapping
@@ -382,7 +383,18 @@ void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const ref
         if (entry && entry->samples[i].covered && finite(entry->samples[i])) {
             const double offset = glm::length(wrapped_texels(g.uv - entry->samples[i].uv, tw, th));
             const double ob = bound_value(tb.offset, terms, p, true, c.samples, c.refine_steps);
-            const double allowed = ob * (1.0 + bounds.offset_relative_slack) + bounds.slack_texels;
+            // The offset is a difference of two uvs, each held to what the
+            // fragment stage can represent at its magnitude m: fp32 keeps m
+            // to 2^-23 relative (4 ulp with the interpolation), a stage
+            // without highp to fp16's ulp (2^-10 relative, 2^-24 at least),
+            // the whitepaper's all-lowp stage to 2^-8 of a tile.
+            const glm::dvec2 at = entry->samples[i].uv;
+            const double m = std::max({std::fabs(at.x), std::fabs(at.y), std::fabs(g.uv.x), std::fabs(g.uv.y)});
+            double quantum = 4.0 * m * std::ldexp(1.0, -23);
+            if (precision == "nohighp") quantum = 2.0 * std::max(m * std::ldexp(1.0, -10), std::ldexp(1.0, -24));
+            if (precision == "lowp_all") quantum = 2.0 * std::ldexp(1.0, -8);
+            const double allowed = ob * (1.0 + bounds.offset_relative_slack) + bounds.slack_texels +
+                                   2.0 * quantum * std::max(tw, th);
             acc.offset_ratio_max = std::max(acc.offset_ratio_max, offset / std::max(allowed, 1e-12));
             // Wrapping folds offsets past half a tile: judge only those below it.
             const double half_tile = 0.5 * std::min(tw, th);
@@ -576,7 +588,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                     }
                     frame_bounds.emplace_back(gpu->samples.size(), 0.0);
                     measure_frame(*gpu, &entries[fi], refs[fi], searches[fi], catalogue.bounds.techniques.at(drawn_name),
-                                  c, catalogue.bounds, acc, c.lod, &frame_bounds.back());
+                                  c, catalogue.bounds, acc, c.lod, &frame_bounds.back(), run.precision);
                     if (!options.image_dir.empty()) {
                         Status written = write_error_image(options.image_dir + "/" + w.label + "_" + t->name + "_" +
                                                                row.context + "_" + run.precision + "_" +

@@ -797,8 +797,18 @@ std::string Emitter::assignment(TIntermBinary* b) {
     TIntermTyped* lhs = b->getLeft();
     const TPrecisionQualifier target = precision_of(lhs, default_float_);
     const std::string l = lvalue(lhs);
-    if (b->getOp() == EOpAssign)
+    if (b->getOp() == EOpAssign) {
+        // The result of an exempt (measurement) function is stored as it is:
+        // rounding it into a mediump output (gl_FragColor is mediump in GLSL
+        // ES 1.00) would corrupt the measurement, e.g. a debug uv of 100
+        // rounded to fp16 is 16 texels off.
+        if (TIntermAggregate* call = b->getRight()->getAsAggregate(); call && call->getOp() == EOpFunctionCall) {
+            std::string name = call->getName().c_str();
+            name = name.substr(0, name.find('('));
+            if (exempt_.count(name)) return l + " = " + value(b->getRight(), target);
+        }
         return l + " = " + wrap(rounding(target), lhs->getType(), value(b->getRight(), target), "an assignment");
+    }
     const char* op = compound_operator(b->getOp());
     if (!op) throw Unsupported{"an assignment operator"};
     const Rounding r_op = rounding(precision_of(b, target));
