@@ -24,7 +24,13 @@ uniform highp vec2 u_uv_offset;
 // material's texture frame (rotation and mirroring; the relief depth is
 // already in tile units, so the uniform scale cancels).
 uniform mediump mat2 u_uv_frame;
-uniform mediump float u_height_scale;    // relief depth in tile units
+// The relief depth in tile units, folded into the view vector. highp, and
+// the vertex stage's own (GLSL ES 1.00 wants a uniform in both stages to have
+// one precision, and a fragment stage may have no highp): as mediump (strict
+// fp16, 2^-11 relative) it scaled every parallax vector by up to 2e-4, which
+// moved maxmip's exact hits 100 times past their fp32 error (0.026 texel on
+// the text relief at 85 degrees; docs/stability.md).
+uniform highp float u_parallax_scale;
 // xyz: world direction toward the light (w = 0) or world position (w = 1).
 uniform highp vec4 u_light_vector[PX_MAX_LIGHTS];
 
@@ -48,7 +54,7 @@ void main() {
 #endif
     view_ts.xy = u_uv_frame * view_ts.xy;
 #ifdef PX_READS_HEIGHT
-    view_ts.xy *= u_height_scale;  // folded here: one multiply per vertex, not per fragment
+    view_ts.xy *= u_parallax_scale;  // folded here: one multiply per vertex, not per fragment
 #endif
     v_view_ts = view_ts;
 

@@ -190,6 +190,7 @@ void set_material_uniforms(const Program& p, const GpuMaterial& material, const 
     p.set(slot::uv_frame, m.uv.frame<float>());
     const float scale = m.height_scale;
     p.set(slot::height_scale, scale);
+    p.set(slot::parallax_scale, scale);
     p.set(slot::inv_height_scale, scale > 0.0f ? 1.0f / scale : 0.0f);
     p.set(slot::polygon_height, static_cast<float>(m.polygon_height()));
     p.set(slot::texture_size, material.traced_size);

@@ -123,9 +123,11 @@ bool needed(Uniform uniform, const VariantKey& key) {
         // surface_main.glsl px_write_depth, in every pass (depth is output).
         case Uniform::depth_projection:
         case Uniform::units_per_tile: return k.depth_write;
-        // surface.vert folds it into the view vector; shadows.glsl and
-        // px_write_depth read it in the fragment stage.
-        case Uniform::height_scale: return u.traced && (u.shading || u.view_in_trace);
+        // surface.vert folds the relief depth into the view vector (highp,
+        // vertex stage only); shadows.glsl and px_write_depth read the
+        // fragment stage's mediump copy.
+        case Uniform::parallax_scale: return u.traced && (u.shading || u.view_in_trace);
+        case Uniform::height_scale: return u.traced && (u.shadow || k.depth_write);
         // surface_main.glsl: unscales the view vector for shading, and for the
         // trace when the exact view vector is normalised per fragment.
         case Uniform::inv_height_scale: return u.traced && (u.shading || (k.exact_view && u.view_in_trace));

@@ -55,6 +55,7 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(uv_frame, "u_uv_frame", mat2, 1)                         \
     X(units_per_tile, "u_units_per_tile", float1, 1)           \
     X(height_scale, "u_height_scale", float1, 1)               \
+    X(parallax_scale, "u_parallax_scale", float1, 1)           \
     X(inv_height_scale, "u_inv_height_scale", float1, 1)       \
     X(polygon_height, "u_polygon_height", float1, 1)           \
     X(light_vector, "u_light_vector", vec4, kMaxLights)        \
