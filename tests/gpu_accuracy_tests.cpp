@@ -2,9 +2,13 @@
 // the shader computed (its debug outputs), on both ES versions.
 #include "gpu_fixture.h"
 
+#include <cstdio>
+#include <utility>
+
 #include "profiling/bench.h"
 #include "reference/reference_image.h"
 #include "render/surface_capture.h"
+#include "scene/material_images.h"
 
 namespace px::test {
 namespace {
@@ -262,6 +266,75 @@ TEST(Accuracy, ExactViewIsTheDefaultAndPlacesTheReliefAtItsDepth) {
             << per_vertex.height;
         std::printf("%s: the level-0 field shows at height %.4f with the exact view vector, %.4f per vertex\n",
                     technique_name(t), exact.height, per_vertex.height);
+    }
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+// The displaced plane (real geometry, drawn with normal mapping as the bench
+// draws displaced_mesh) at uv scale `uv_scale`, against the exact reference
+// of the same scene: the mean hit-uv error in texels.
+reference::ErrorMetrics displaced_error(const std::string& scene_name, double angle, float uv_scale) {
+    auto scene = profiling::bench_scene(scene_name, angle);
+    EXPECT_TRUE(scene.ok());
+    scene->materials[0].uv.scale = glm::vec2(uv_scale);
+    constexpr int kSize = 128;
+    auto truth = reference::render_reference(*scene, kSize, kSize);  // pom marks the plane as relief
+    EXPECT_TRUE(truth.ok()) << truth.error().message;
+    scene->materials[0].technique.technique = Technique::normal;
+    scene->objects[0].mesh.displaced = true;
+    auto renderer = Renderer::create();
+    EXPECT_TRUE(renderer.ok());
+    Status loaded = (*renderer)->load(*scene);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto surfaces = capture_surfaces(**renderer, kSize, kSize);
+    EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+    // Normal mapping reports the polygon's height; the mesh's is the field's at its uv (as the bench).
+    auto images = build_material_images(scene->materials[0], scene->base_dir);
+    EXPECT_TRUE(images.ok());
+    const HeightField field = quantized_8bit(images->field);
+    for (SurfaceSample& s : surfaces->samples)
+        if (s.covered) s.height = field.sample_bilinear(s.uv.x, s.uv.y);
+    auto error = reference::compare_surfaces(*surfaces, truth->surface, truth->texture_width, truth->texture_height);
+    EXPECT_TRUE(error.ok());
+    return *error;
+}
+
+// The displaced baseline follows the material's uv transform: at uv scale 2
+// and 3 the relief lies under the tiles the shading shows. It used to place
+// one tile of relief across the plane under s x s tiles of shading: errors
+// of the parallax's size (tens of texels at 60 degrees on sine).
+//
+// The bound, s times the scale-1 error: the grid is the same lattice in
+// texel space at every scale (one vertex per texel of uv'), and each pixel's
+// view vector in the texture frame does not depend on the scale, so a ray's
+// geometry error (the triangulated field against the bilinear one) is the
+// same function of where it enters the tile; only the share of pixels at
+// the relief's silhouettes, where a small geometry error switches the
+// surface hit, grows with the tiles across the image, s times. Fields with
+// round features only (sine, hemispheres): a brick edge parallel to the
+// pixel rows puts a whole row (1% of the image) in or out of its half-texel
+// band at once, a sampling accident that no per-ray argument bounds.
+TEST(Accuracy, DisplacedMeshFollowsTheUvScale) {
+    for (const auto& [scene_name, angle] : {std::pair<std::string, double>{"sine", 60.0}, {"hemispheres", 45.0}}) {
+        const reference::ErrorMetrics one = displaced_error(scene_name, angle, 1.0f);
+        EXPECT_GT(one.pixels, 1000) << scene_name;
+        for (float s : {2.0f, 3.0f}) {
+            const reference::ErrorMetrics e = displaced_error(scene_name, angle, s);
+            EXPECT_GT(e.pixels, 1000) << scene_name << " at uv scale " << s;
+            EXPECT_LE(e.uv_error_mean, s * one.uv_error_mean)
+                << scene_name << " at " << angle << " degrees, uv scale " << s << ": " << e.uv_error_mean
+                << " texels against " << one.uv_error_mean << " at scale 1";
+            std::printf("displaced %s at %.0f degrees: uv scale 1 %.4f texels (p95 %.3f, max %.2f, wrong %.4f), "
+                        "%.0f: %.4f (p95 %.3f, max %.2f, wrong %.4f)\n",
+                        scene_name.c_str(), angle, one.uv_error_mean, one.uv_error_p95, one.uv_error_max,
+                        one.wrong_surface_share, s, e.uv_error_mean, e.uv_error_p95, e.uv_error_max,
+                        e.wrong_surface_share);
+        }
     }
 }
 
