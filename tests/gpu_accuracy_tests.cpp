@@ -2,8 +2,11 @@
 // the shader computed (its debug outputs), on both ES versions.
 #include "gpu_fixture.h"
 
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <utility>
+#include <vector>
 
 #include "profiling/bench.h"
 #include "reference/reference_image.h"
@@ -334,6 +337,136 @@ TEST(Accuracy, DisplacedMeshFollowsTheUvScale) {
                         scene_name.c_str(), angle, one.uv_error_mean, one.uv_error_p95, one.uv_error_max,
                         one.wrong_surface_share, s, e.uv_error_mean, e.uv_error_p95, e.uv_error_max,
                         e.wrong_surface_share);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+struct AuthoredFrame {
+    const char* what;
+    std::optional<glm::vec3> tangent, normal;
+};
+
+// What one draw of `scene` computed: its debug surfaces and its colour.
+struct Drawn {
+    SurfaceImage surfaces;
+    Image color;
+};
+
+Drawn draw_scene(const SceneDesc& scene, int size) {
+    Drawn out;
+    auto renderer = Renderer::create();
+    EXPECT_TRUE(renderer.ok());
+    Status loaded = (*renderer)->load(scene);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto surfaces = capture_surfaces(**renderer, size, size);
+    EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+    if (surfaces.ok()) out.surfaces = std::move(*surfaces);
+    out.color = render(scene, size).image;
+    return out;
+}
+
+// Covered pixels whose hit uv, height or visibility is not finite (a NaN
+// frame in the vertex stage reaches all three through the view vector).
+long non_finite_pixels(const SurfaceImage& s) {
+    long n = 0;
+    for (const SurfaceSample& p : s.samples)
+        if (p.covered && !(std::isfinite(p.uv.x) && std::isfinite(p.uv.y) && std::isfinite(p.height) &&
+                           std::isfinite(p.visibility)))
+            ++n;
+    return n;
+}
+
+// A plane's authored frame may be degenerate (zero normal, zero tangent, a
+// tangent along the normal) or skewed; surface.vert falls back to, or
+// Gram-Schmidts onto, the default frame (+u, +z) in every such case here,
+// and the exact reference applies the same rule. Every technique this ES
+// version runs: no NaN/Inf in the debug outputs, the same hits and colour as
+// the default frame, and the same error against the reference.
+//
+// Bounds. The fallback and Gram-Schmidt frames are the default one up to
+// fp32 rounding (1e-7 relative; [1, 0, 0.5] - n 0.5 is exact), which moves a
+// hit by 1e-7 of its parallax (under 40 texels at 60 degrees): 4e-6 texel.
+// A march's step may still flip where a sample lands on a crossing; 1e-3
+// texel of mean over the ~5000 covered pixels lets one pixel in 1000 jump a
+// texel, and stays 100 times under the techniques' own errors. The colour:
+// the same frame up to rounding is at most one unit of 8 bits apart.
+// maxmip is exact, so it also keeps Accuracy's bound of 0.1 texel to the
+// reference (MaxmipMeetsTheReferenceOnEveryBenchScene).
+TEST(Accuracy, DegenerateAuthoredFramesFallBackToAUsableFrame) {
+    constexpr int kSize = 96;
+    constexpr double kSameHits = 1e-3;
+    const std::vector<AuthoredFrame> frames = {
+        {"normal [0, 0, 0]", std::nullopt, glm::vec3(0.0f)},
+        {"tangent [0, 0, 0]", glm::vec3(0.0f), std::nullopt},
+        {"tangent [0, 0, 1] along the normal", glm::vec3(0.0f, 0.0f, 1.0f), std::nullopt},
+        {"skewed tangent [1, 0, 0.5]", glm::vec3(1.0f, 0.0f, 0.5f), std::nullopt},
+    };
+    auto base = profiling::bench_scene("sine", 60.0);
+    ASSERT_TRUE(base.ok());
+    auto with_frame = [&](const AuthoredFrame* f) {
+        SceneDesc s = *base;
+        if (f) {
+            s.objects[0].mesh.tangent = f->tangent;
+            s.objects[0].mesh.normal = f->normal;
+        }
+        return s;
+    };
+    auto default_truth = reference::render_reference(with_frame(nullptr), kSize, kSize);
+    ASSERT_TRUE(default_truth.ok()) << default_truth.error().message;
+    std::vector<reference::ReferenceImage> truths;
+    for (const AuthoredFrame& f : frames) {
+        auto truth = reference::render_reference(with_frame(&f), kSize, kSize);
+        ASSERT_TRUE(truth.ok()) << f.what << ": " << truth.error().message;
+        // The reference's own frame falls back to the default one too.
+        auto same = reference::compare_surfaces(truth->surface, default_truth->surface, truth->texture_width,
+                                                truth->texture_height);
+        ASSERT_TRUE(same.ok());
+        EXPECT_LT(same->uv_error_mean, 1e-9) << f.what << ": the reference's frame is not the default one";
+        truths.push_back(std::move(*truth));
+    }
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > test_es_major()) continue;
+        auto set_technique = [&](SceneDesc s) {
+            s.materials[0].technique.technique = info.id;
+            if (info.options & kOptSamples)  // the march techniques at Accuracy's 64 samples
+                s.materials[0].technique.min_samples = s.materials[0].technique.max_samples = 64;
+            return s;
+        };
+        const Drawn plain = draw_scene(set_technique(with_frame(nullptr)), kSize);
+        ASSERT_EQ(non_finite_pixels(plain.surfaces), 0) << info.name << " with the default frame";
+        const bool traced = (info.options & kOptHeight) != 0;
+        double plain_error = 0.0;
+        if (traced) {
+            auto e = reference::compare_surfaces(plain.surfaces, default_truth->surface, default_truth->texture_width,
+                                                 default_truth->texture_height);
+            ASSERT_TRUE(e.ok());
+            plain_error = e->uv_error_mean;
+        }
+        for (size_t i = 0; i < frames.size(); ++i) {
+            const std::string where = std::string(info.name) + ", " + frames[i].what;
+            const Drawn d = draw_scene(set_technique(with_frame(&frames[i])), kSize);
+            long covered = 0;
+            for (const SurfaceSample& p : d.surfaces.samples) covered += p.covered ? 1 : 0;
+            EXPECT_GT(covered, 1000) << where;
+            EXPECT_EQ(non_finite_pixels(d.surfaces), 0) << where << ": non-finite debug outputs";
+            auto same = reference::compare_surfaces(d.surfaces, plain.surfaces, truths[i].texture_width,
+                                                    truths[i].texture_height);
+            ASSERT_TRUE(same.ok());
+            EXPECT_LE(same->uv_error_mean, kSameHits) << where << ": hits differ from the default frame's";
+            EXPECT_LE(compare(d.color, plain.color).max, 1) << where << ": colour differs from the default frame's";
+            if (!traced) continue;
+            auto e = reference::compare_surfaces(d.surfaces, truths[i].surface, truths[i].texture_width,
+                                                 truths[i].texture_height);
+            ASSERT_TRUE(e.ok());
+            EXPECT_GT(e->pixels, 1000) << where;
+            EXPECT_NEAR(e->uv_error_mean, plain_error, kSameHits) << where << " against the reference";
+            if (info.id == Technique::maxmip) EXPECT_LE(e->uv_error_mean, 0.1) << where << " against the reference";
         }
     }
 }

@@ -75,7 +75,7 @@ void point_attributes() {
 
 Mesh build_mesh(const MeshDesc& d) {
     switch (d.kind) {
-        case MeshKind::plane: return make_plane(d.size, d.segments);
+        case MeshKind::plane: return make_plane(d.size, d.segments, d.tangent, d.normal);
         case MeshKind::cube: return make_cube(d.size);
         case MeshKind::sphere: return make_uv_sphere(d.radius);
         case MeshKind::torus: return make_torus(d.radius, d.tube_radius);

@@ -254,7 +254,8 @@ Status generate_tangents(Mesh& mesh) {
     return {};
 }
 
-Mesh make_plane(float size, int segments) {
+Mesh make_plane(float size, int segments, const std::optional<glm::vec3>& tangent,
+                const std::optional<glm::vec3>& normal) {
     const int n = std::max(segments, 1);
     const auto row = static_cast<std::uint32_t>(n + 1);
     Mesh mesh;
@@ -275,6 +276,12 @@ Mesh make_plane(float size, int segments) {
             push_quad(mesh, a, a + 1, a + row + 1, a + row);
         }
     (void)generate_tangents(mesh);  // cannot fail: indices are in range by construction
+    // The authored frame as given: generate_tangents would repair it, and the
+    // point of authoring one is to reach the shader's own fallbacks.
+    for (Vertex& v : mesh.vertices) {
+        if (tangent) v.tangent = glm::vec4(*tangent, 1.0f);
+        if (normal) v.normal = *normal;
+    }
     return mesh;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,8 +36,11 @@ const char* mesh_kind_name(MeshKind kind);
 Result<MeshKind> parse_mesh_kind(const std::string& name);
 
 // Plane in the xy plane facing +z, centred on the origin, `size` wide,
-// uv 0..1 across it, `segments` quads per side.
-Mesh make_plane(float size = 2.0f, int segments = 1);
+// uv 0..1 across it, `segments` quads per side. An authored tangent or
+// normal replaces every vertex's (+x, +z) as given, unnormalised and
+// unchecked (tangent w stays +1): surface.vert makes a frame of anything.
+Mesh make_plane(float size = 2.0f, int segments = 1, const std::optional<glm::vec3>& tangent = std::nullopt,
+                const std::optional<glm::vec3>& normal = std::nullopt);
 // Axis-aligned cube, `size` wide, each face uv 0..1.
 Mesh make_cube(float size = 2.0f);
 // UV sphere: u around the equator, v from south to north pole.
