@@ -6,8 +6,10 @@
 #include "chunks/interface.glsl"
 
 PX_ATTRIBUTE highp vec3 a_position;
-PX_ATTRIBUTE mediump vec3 a_normal;
-PX_ATTRIBUTE mediump vec4 a_tangent;  // xyz tangent along +u, w handedness (+1/-1)
+// highp: an authored frame's components reach 1e5 (past fp16's 65504) and
+// may be tiny; the frame below is built from them in highp.
+PX_ATTRIBUTE highp vec3 a_normal;
+PX_ATTRIBUTE highp vec4 a_tangent;  // xyz tangent along +u, w handedness (+1/-1)
 PX_ATTRIBUTE highp vec2 a_uv;
 
 uniform highp mat4 u_model;
@@ -41,10 +43,37 @@ void main() {
     v_uv = u_uv_matrix * a_uv + u_uv_offset;
     v_view_position = view_position.xyz;
 
-    mediump vec3 n = normalize(u_normal_matrix * a_normal);
-    mediump vec3 t = mat3(u_model[0].xyz, u_model[1].xyz, u_model[2].xyz) * a_tangent.xyz;
-    t = normalize(t - n * dot(n, t));
-    mediump vec3 b = (a_tangent.w * u_model_handedness) * cross(n, t);
+    // The frame in highp: the vertex stage always has it (GLSL ES 1.00 and
+    // 3.00, section 4.5.3/4.5.4), and an authored frame may be any vector
+    // (docs/scene-format.md, mesh.tangent and mesh.normal), zero and
+    // parallel ones included. The same rule, in double, builds the exact
+    // reference's frame (src/reference/reference_image.cpp, plane_frame):
+    //  - n: the normal by the normal matrix; a normal shorter than 1e-6
+    //    (model space, so independent of the object's scale) is replaced
+    //    by the model's +z. Either has a world length of at least 1e-10
+    //    (the normal matrix shrinks by at most 1e-4, limits.h), whose square
+    //    fp32 keeps.
+    //  - t: Gram-Schmidt against n. Where what remains is under 1e-3 of the
+    //    tangent (within 0.06 degrees of n, or a tangent shorter than 1e-6),
+    //    the model's +x made orthogonal to n; where that degenerates too (n
+    //    along the model's x), the model's +y, orthogonal to the model's x
+    //    (a TransformDesc has no shear), so orthogonal to n.
+    highp mat3 model3 = mat3(u_model[0].xyz, u_model[1].xyz, u_model[2].xyz);
+    highp vec3 authored_n = a_normal;
+    highp vec3 authored_t = a_tangent.xyz;
+    highp vec3 n = normalize(u_normal_matrix * (dot(authored_n, authored_n) < 1e-12 ? vec3(0.0, 0.0, 1.0) : authored_n));
+    highp vec3 t = model3 * authored_t;
+    highp vec3 t_perp = t - n * dot(n, t);
+    if (dot(authored_t, authored_t) < 1e-12 || dot(t_perp, t_perp) <= 1e-6 * dot(t, t)) {
+        t = model3[0];
+        t_perp = t - n * dot(n, t);
+        if (dot(t_perp, t_perp) <= 1e-6 * dot(t, t)) {
+            t = model3[1];
+            t_perp = t - n * dot(n, t);
+        }
+    }
+    t = normalize(t_perp);
+    highp vec3 b = (a_tangent.w * u_model_handedness) * cross(n, t);
 
     highp vec3 to_eye = u_camera_position - world_position.xyz;
 #ifdef PX_EXACT_VIEW

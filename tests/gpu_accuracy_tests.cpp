@@ -2,9 +2,16 @@
 // the shader computed (its debug outputs), on both ES versions.
 #include "gpu_fixture.h"
 
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <utility>
+#include <vector>
+
 #include "profiling/bench.h"
 #include "reference/reference_image.h"
 #include "render/surface_capture.h"
+#include "scene/material_images.h"
 
 namespace px::test {
 namespace {
@@ -262,6 +269,205 @@ TEST(Accuracy, ExactViewIsTheDefaultAndPlacesTheReliefAtItsDepth) {
             << per_vertex.height;
         std::printf("%s: the level-0 field shows at height %.4f with the exact view vector, %.4f per vertex\n",
                     technique_name(t), exact.height, per_vertex.height);
+    }
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+// The displaced plane (real geometry, drawn with normal mapping as the bench
+// draws displaced_mesh) at uv scale `uv_scale`, against the exact reference
+// of the same scene: the mean hit-uv error in texels.
+reference::ErrorMetrics displaced_error(const std::string& scene_name, double angle, float uv_scale) {
+    auto scene = profiling::bench_scene(scene_name, angle);
+    EXPECT_TRUE(scene.ok());
+    scene->materials[0].uv.scale = glm::vec2(uv_scale);
+    constexpr int kSize = 128;
+    auto truth = reference::render_reference(*scene, kSize, kSize);  // pom marks the plane as relief
+    EXPECT_TRUE(truth.ok()) << truth.error().message;
+    scene->materials[0].technique.technique = Technique::normal;
+    scene->objects[0].mesh.displaced = true;
+    auto renderer = Renderer::create();
+    EXPECT_TRUE(renderer.ok());
+    Status loaded = (*renderer)->load(*scene);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto surfaces = capture_surfaces(**renderer, kSize, kSize);
+    EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+    // Normal mapping reports the polygon's height; the mesh's is the field's at its uv (as the bench).
+    auto images = build_material_images(scene->materials[0], scene->base_dir);
+    EXPECT_TRUE(images.ok());
+    const HeightField field = quantized_8bit(images->field);
+    for (SurfaceSample& s : surfaces->samples)
+        if (s.covered) s.height = field.sample_bilinear(s.uv.x, s.uv.y);
+    auto error = reference::compare_surfaces(*surfaces, truth->surface, truth->texture_width, truth->texture_height);
+    EXPECT_TRUE(error.ok());
+    return *error;
+}
+
+// The displaced baseline follows the material's uv transform: at uv scale 2
+// and 3 the relief lies under the tiles the shading shows. It used to place
+// one tile of relief across the plane under s x s tiles of shading: errors
+// of the parallax's size (tens of texels at 60 degrees on sine).
+//
+// The bound, s times the scale-1 error: the grid is the same lattice in
+// texel space at every scale (one vertex per texel of uv'), and each pixel's
+// view vector in the texture frame does not depend on the scale, so a ray's
+// geometry error (the triangulated field against the bilinear one) is the
+// same function of where it enters the tile; only the share of pixels at
+// the relief's silhouettes, where a small geometry error switches the
+// surface hit, grows with the tiles across the image, s times. Fields with
+// round features only (sine, hemispheres): a brick edge parallel to the
+// pixel rows puts a whole row (1% of the image) in or out of its half-texel
+// band at once, a sampling accident that no per-ray argument bounds.
+TEST(Accuracy, DisplacedMeshFollowsTheUvScale) {
+    for (const auto& [scene_name, angle] : {std::pair<std::string, double>{"sine", 60.0}, {"hemispheres", 45.0}}) {
+        const reference::ErrorMetrics one = displaced_error(scene_name, angle, 1.0f);
+        EXPECT_GT(one.pixels, 1000) << scene_name;
+        for (float s : {2.0f, 3.0f}) {
+            const reference::ErrorMetrics e = displaced_error(scene_name, angle, s);
+            EXPECT_GT(e.pixels, 1000) << scene_name << " at uv scale " << s;
+            EXPECT_LE(e.uv_error_mean, s * one.uv_error_mean)
+                << scene_name << " at " << angle << " degrees, uv scale " << s << ": " << e.uv_error_mean
+                << " texels against " << one.uv_error_mean << " at scale 1";
+            std::printf("displaced %s at %.0f degrees: uv scale 1 %.4f texels (p95 %.3f, max %.2f, wrong %.4f), "
+                        "%.0f: %.4f (p95 %.3f, max %.2f, wrong %.4f)\n",
+                        scene_name.c_str(), angle, one.uv_error_mean, one.uv_error_p95, one.uv_error_max,
+                        one.wrong_surface_share, s, e.uv_error_mean, e.uv_error_p95, e.uv_error_max,
+                        e.wrong_surface_share);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+struct AuthoredFrame {
+    const char* what;
+    std::optional<glm::vec3> tangent, normal;
+};
+
+// What one draw of `scene` computed: its debug surfaces and its colour.
+struct Drawn {
+    SurfaceImage surfaces;
+    Image color;
+};
+
+Drawn draw_scene(const SceneDesc& scene, int size) {
+    Drawn out;
+    auto renderer = Renderer::create();
+    EXPECT_TRUE(renderer.ok());
+    Status loaded = (*renderer)->load(scene);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto surfaces = capture_surfaces(**renderer, size, size);
+    EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
+    if (surfaces.ok()) out.surfaces = std::move(*surfaces);
+    out.color = render(scene, size).image;
+    return out;
+}
+
+// Covered pixels whose hit uv, height or visibility is not finite (a NaN
+// frame in the vertex stage reaches all three through the view vector).
+long non_finite_pixels(const SurfaceImage& s) {
+    long n = 0;
+    for (const SurfaceSample& p : s.samples)
+        if (p.covered && !(std::isfinite(p.uv.x) && std::isfinite(p.uv.y) && std::isfinite(p.height) &&
+                           std::isfinite(p.visibility)))
+            ++n;
+    return n;
+}
+
+// A plane's authored frame may be degenerate (zero normal, zero tangent, a
+// tangent along the normal) or skewed; surface.vert falls back to, or
+// Gram-Schmidts onto, the default frame (+u, +z) in every such case here,
+// and the exact reference applies the same rule. Every technique this ES
+// version runs: no NaN/Inf in the debug outputs, the same hits and colour as
+// the default frame, and the same error against the reference.
+//
+// Bounds. The fallback and Gram-Schmidt frames are the default one up to
+// fp32 rounding (1e-7 relative; [1, 0, 0.5] - n 0.5 is exact), which moves a
+// hit by 1e-7 of its parallax (under 40 texels at 60 degrees): 4e-6 texel.
+// A march's step may still flip where a sample lands on a crossing; 1e-3
+// texel of mean over the ~5000 covered pixels lets one pixel in 1000 jump a
+// texel, and stays 100 times under the techniques' own errors. The colour:
+// the same frame up to rounding is at most one unit of 8 bits apart.
+// maxmip is exact, so it also keeps Accuracy's bound of 0.1 texel to the
+// reference (MaxmipMeetsTheReferenceOnEveryBenchScene).
+TEST(Accuracy, DegenerateAuthoredFramesFallBackToAUsableFrame) {
+    constexpr int kSize = 96;
+    constexpr double kSameHits = 1e-3;
+    const std::vector<AuthoredFrame> frames = {
+        {"normal [0, 0, 0]", std::nullopt, glm::vec3(0.0f)},
+        {"tangent [0, 0, 0]", glm::vec3(0.0f), std::nullopt},
+        {"tangent [0, 0, 1] along the normal", glm::vec3(0.0f, 0.0f, 1.0f), std::nullopt},
+        {"skewed tangent [1, 0, 0.5]", glm::vec3(1.0f, 0.0f, 0.5f), std::nullopt},
+    };
+    auto base = profiling::bench_scene("sine", 60.0);
+    ASSERT_TRUE(base.ok());
+    auto with_frame = [&](const AuthoredFrame* f) {
+        SceneDesc s = *base;
+        if (f) {
+            s.objects[0].mesh.tangent = f->tangent;
+            s.objects[0].mesh.normal = f->normal;
+        }
+        return s;
+    };
+    auto default_truth = reference::render_reference(with_frame(nullptr), kSize, kSize);
+    ASSERT_TRUE(default_truth.ok()) << default_truth.error().message;
+    std::vector<reference::ReferenceImage> truths;
+    for (const AuthoredFrame& f : frames) {
+        auto truth = reference::render_reference(with_frame(&f), kSize, kSize);
+        ASSERT_TRUE(truth.ok()) << f.what << ": " << truth.error().message;
+        // The reference's own frame falls back to the default one too.
+        auto same = reference::compare_surfaces(truth->surface, default_truth->surface, truth->texture_width,
+                                                truth->texture_height);
+        ASSERT_TRUE(same.ok());
+        EXPECT_LT(same->uv_error_mean, 1e-9) << f.what << ": the reference's frame is not the default one";
+        truths.push_back(std::move(*truth));
+    }
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > test_es_major()) continue;
+        auto set_technique = [&](SceneDesc s) {
+            s.materials[0].technique.technique = info.id;
+            if (info.options & kOptSamples)  // the march techniques at Accuracy's 64 samples
+                s.materials[0].technique.min_samples = s.materials[0].technique.max_samples = 64;
+            return s;
+        };
+        const Drawn plain = draw_scene(set_technique(with_frame(nullptr)), kSize);
+        ASSERT_EQ(non_finite_pixels(plain.surfaces), 0) << info.name << " with the default frame";
+        const bool traced = (info.options & kOptHeight) != 0;
+        double plain_error = 0.0;
+        if (traced) {
+            auto e = reference::compare_surfaces(plain.surfaces, default_truth->surface, default_truth->texture_width,
+                                                 default_truth->texture_height);
+            ASSERT_TRUE(e.ok());
+            plain_error = e->uv_error_mean;
+        }
+        for (size_t i = 0; i < frames.size(); ++i) {
+            const std::string where = std::string(info.name) + ", " + frames[i].what;
+            const Drawn d = draw_scene(set_technique(with_frame(&frames[i])), kSize);
+            long covered = 0;
+            for (const SurfaceSample& p : d.surfaces.samples) covered += p.covered ? 1 : 0;
+            EXPECT_GT(covered, 1000) << where;
+            EXPECT_EQ(non_finite_pixels(d.surfaces), 0) << where << ": non-finite debug outputs";
+            auto same = reference::compare_surfaces(d.surfaces, plain.surfaces, truths[i].texture_width,
+                                                    truths[i].texture_height);
+            ASSERT_TRUE(same.ok());
+            EXPECT_LE(same->uv_error_mean, kSameHits) << where << ": hits differ from the default frame's";
+            EXPECT_LE(compare(d.color, plain.color).max, 1) << where << ": colour differs from the default frame's";
+            if (!traced) continue;
+            auto e = reference::compare_surfaces(d.surfaces, truths[i].surface, truths[i].texture_width,
+                                                 truths[i].texture_height);
+            ASSERT_TRUE(e.ok());
+            EXPECT_GT(e->pixels, 1000) << where;
+            EXPECT_NEAR(e->uv_error_mean, plain_error, kSameHits) << where << " against the reference";
+            if (info.id == Technique::maxmip) EXPECT_LE(e->uv_error_mean, 0.1) << where << " against the reference";
+        }
     }
 }
 

@@ -404,9 +404,24 @@ TEST(HostileScene, DisplacedPlaneOverTheVertexBudgetIsRefusedFromSizes) {
         << message;
     HeightField sized_only;  // make_displaced_plane checks before it reads a texel
     sized_only.width = sized_only.height = 4096;
-    Result<Mesh> mesh = make_displaced_plane(2.0f, sized_only, 0.1f, 1.0f, 2.0f);
+    Result<Mesh> mesh = make_displaced_plane(2.0f, sized_only, glm::dmat2(1.0), glm::dvec2(0.0), 0.1f, 1.0f);
     ASSERT_FALSE(mesh.ok());
     EXPECT_TRUE(contains(mesh.error().message, "over the limit")) << mesh.error().message;
+}
+
+// The displaced grid follows the uv transform (about one vertex per texel
+// of uv'): a 1024 field fits at uv scale 1 (1025^2 vertices) and is refused
+// at scale 4 (4097^2), from sizes, with the count make_displaced_plane uses.
+TEST(HostileScene, DisplacedPlaneVertexBudgetFollowsTheUvScale) {
+    const std::string field = R"("height": {"procedural": "bricks", "size": 1024})";
+    Result<SceneDesc> fits = parse_scene(with_material(field, R"(, "mesh": {"displaced": true})"), "hostile.json");
+    ASSERT_TRUE(fits.ok()) << fits.error().message;
+    EXPECT_TRUE(check_scene_resources(*fits, true).ok());
+    const std::string message = scene_error(
+        with_material(field + R"(, "uv": {"scale": [4, 4]})", R"(, "mesh": {"displaced": true})"));
+    EXPECT_TRUE(contains(message, "objects[0].mesh: the scene's meshes pass the limit of 4194304 vertices in all "
+                                  "(this one adds 16785409, about one per texel"))
+        << message;
 }
 
 TEST(HostileScene, TexturesOverTheSceneBudgetAreRefusedFromSizes) {

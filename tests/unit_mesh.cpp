@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "core/limits.h"
 #include "scene/mesh.h"
 
 namespace px {
@@ -374,6 +375,76 @@ TEST(MeshTangents, RotatedUvsGiveRotatedTangent) {
         EXPECT_EQ(v.tangent.w, 1.0f);
         EXPECT_NEAR(bitangent(v).x, -1.0f, 1e-6f);
     }
+}
+
+}  // namespace
+}  // namespace px
+
+namespace px {
+namespace {
+
+// A height field whose texel (x, y) holds a distinct value: where each vertex
+// samples it can be read back from its height.
+HeightField ramp_field(int w, int h) {
+    HeightField f;
+    f.width = w;
+    f.height = h;
+    f.texels.resize(static_cast<std::size_t>(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            f.texels[static_cast<std::size_t>(y) * w + x] = static_cast<float>(x + 3 * y) / (4.0f * (w + h));
+    return f;
+}
+
+glm::dmat2 uv_scale(double su, double sv) { return glm::dmat2(su, 0.0, 0.0, sv); }
+
+// The real-geometry baseline displaces along the material's transformed uv,
+// as the shading samples: about one vertex per texel of uv' along each side
+// (width * |scale|), heights sampled at uv' = M uv + offset with repeat, and
+// a relief height_scale tiles deep, a tile size / area_scale mesh units.
+TEST(MeshDisplacedPlane, GridAndDisplacementFollowTheUvTransform) {
+    const HeightField field = ramp_field(16, 8);
+    for (double s : {1.0, 2.0, 3.0, 0.5}) {
+        SCOPED_TRACE("uv scale " + std::to_string(s));
+        const glm::dmat2 m = uv_scale(s, s);
+        const glm::dvec2 offset(0.25, -1.5);
+        const DisplacedGrid grid = displaced_plane_grid(16, 8, m);
+        EXPECT_EQ(grid.columns, static_cast<std::int64_t>(16 * s));
+        EXPECT_EQ(grid.rows, static_cast<std::int64_t>(8 * s));
+        const float size = 2.0f, scale = 0.1f, polygon = 1.0f;
+        Result<Mesh> mesh = make_displaced_plane(size, field, m, offset, scale, polygon);
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        ASSERT_EQ(static_cast<std::int64_t>(mesh->vertices.size()), grid.vertex_count());
+        EXPECT_EQ(mesh->indices.size(), static_cast<std::size_t>(6 * grid.columns * grid.rows));
+        const double units_per_tile = size / s;
+        for (const Vertex& v : mesh->vertices) {
+            const glm::dvec2 tiled = m * glm::dvec2(v.uv) + offset;
+            const double expected = (field.sample_bilinear(tiled.x, tiled.y) - polygon) * scale * units_per_tile;
+            ASSERT_NEAR(v.position.z, expected, 1e-6) << "at mesh uv " << v.uv.x << ", " << v.uv.y;
+        }
+    }
+    // Anisotropic and rotated: texels along each transformed mesh edge.
+    EXPECT_EQ(displaced_plane_grid(16, 8, uv_scale(2.0, -3.0)).columns, 32);
+    EXPECT_EQ(displaced_plane_grid(16, 8, uv_scale(2.0, -3.0)).rows, 24);
+    const glm::dmat2 quarter_turn(0.0, 1.0, -1.0, 0.0);  // +u to +v: the u edge crosses the 8 texels of v
+    EXPECT_EQ(displaced_plane_grid(16, 8, quarter_turn).columns, 8);
+    EXPECT_EQ(displaced_plane_grid(16, 8, quarter_turn).rows, 16);
+}
+
+// The grid grows with the uv scale, so the budget is checked on the grid,
+// from sizes, before any vertex exists (the field below has no texels).
+TEST(MeshDisplacedPlane, OverTheVertexLimitIsRefusedBeforeAllocating) {
+    HeightField sized_only;
+    sized_only.width = sized_only.height = 1024;  // 1025^2 vertices at scale 1: under 2^22
+    EXPECT_LE(displaced_plane_grid(1024, 1024, uv_scale(1.0, 1.0)).vertex_count(), kMaxSceneVertices);
+    Result<Mesh> mesh = make_displaced_plane(2.0f, sized_only, uv_scale(4.0, 4.0), glm::dvec2(0.0), 0.1f, 1.0f);
+    ASSERT_FALSE(mesh.ok());
+    const std::string& message = mesh.error().message;
+    EXPECT_NE(message.find("4096x4096 grid"), std::string::npos) << message;
+    EXPECT_NE(message.find("16785409 vertices, over the limit of 4194304"), std::string::npos) << message;
+    // The largest uv scale on the largest field: counted without overflow.
+    const DisplacedGrid huge = displaced_plane_grid(4096, 4096, uv_scale(16384.0, 16384.0));
+    EXPECT_GT(huge.vertex_count(), kMaxSceneVertices);
 }
 
 }  // namespace

@@ -824,3 +824,49 @@ TEST(SceneErrors, SourceInNoFormSuggestsAKeyOfAnyForm) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// An authored plane frame: any direction, zero and parallel ones included,
+// lands as given (surface.vert and the reference fall back); absent, the
+// fields stay empty and the plane keeps +u, +z.
+TEST(SceneParse, AuthoredPlaneFrameLandsAsGiven) {
+    const SceneDesc s = parse_ok(object_doc(R"("mesh": {"type": "plane", "tangent": [1, 0, 0.5], "normal": [0, 0, 0]})"));
+    ASSERT_EQ(s.objects.size(), 1u);
+    ASSERT_TRUE(s.objects[0].mesh.tangent.has_value());
+    ASSERT_TRUE(s.objects[0].mesh.normal.has_value());
+    EXPECT_EQ(*s.objects[0].mesh.tangent, glm::vec3(1.0f, 0.0f, 0.5f));
+    EXPECT_EQ(*s.objects[0].mesh.normal, glm::vec3(0.0f));
+    const SceneDesc parallel = parse_ok(object_doc(R"("mesh": {"tangent": [0, 0, 1]})"));
+    EXPECT_EQ(*parallel.objects[0].mesh.tangent, glm::vec3(0.0f, 0.0f, 1.0f));
+    EXPECT_FALSE(parallel.objects[0].mesh.normal.has_value());
+    const SceneDesc plain = parse_ok(object_doc(R"("mesh": {"type": "plane"})"));
+    EXPECT_FALSE(plain.objects[0].mesh.tangent.has_value());
+    EXPECT_FALSE(plain.objects[0].mesh.normal.has_value());
+    // make_plane gives every vertex the authored vectors, w +1.
+    const Mesh mesh = make_plane(2.0f, 2, glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0.0f));
+    for (const Vertex& v : mesh.vertices) {
+        EXPECT_EQ(v.tangent, glm::vec4(0.0f, 0.0f, 1.0f, 1.0f));
+        EXPECT_EQ(v.normal, glm::vec3(0.0f));
+    }
+}
+
+TEST(SceneErrors, AuthoredPlaneFrameErrorsNameThePath) {
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"tangent": [1, 0]})")),
+                         "objects[0].mesh.tangent: expected an array of 3 numbers, got array of 2"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"normal": [0, "z", 1]})")),
+                         "objects[0].mesh.normal[1]: expected a number, got string"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"normal": [0, 0, 1e39]})")),
+                         "objects[0].mesh.normal[2]: expected a finite number"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"tangent": [2e5, 0, 0]})")),
+                         "objects[0].mesh.tangent: components must be within ±100000, got"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"type": "cube", "normal": [0, 0, 1]})")),
+                         "objects[0].mesh.normal: only a plane takes an authored frame"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"displaced": true, "tangent": [1, 0, 0]})")),
+                         "objects[0].mesh.tangent: a displaced plane keeps the plane's frame"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"tangnet": [1, 0, 0]})")), "tangent"));
+}
+
+}  // namespace
+}  // namespace px

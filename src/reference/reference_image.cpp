@@ -266,11 +266,31 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         if (!(std::fabs(det3) > 0.0))
             return make_error("reference: object '" + o.name + "' has a singular transform");
         p.winding_sign = det3 < 0.0 ? -1.0 : 1.0;
-        // surface.vert's frame: n from the normal matrix, t Gram-Schmidt
-        // against it, b = handedness * cross(n, t) (mesh tangent w = +1).
-        p.n = glm::normalize(glm::inverseTranspose(model3) * glm::dvec3(0.0, 0.0, 1.0));
-        glm::dvec3 t = model3 * glm::dvec3(1.0, 0.0, 0.0);
-        p.t = glm::normalize(t - p.n * glm::dot(p.n, t));
+        // surface.vert's frame, with its fallbacks, from the vertices'
+        // tangent and normal (the mesh's, or the authored ones as make_plane
+        // gives them to every vertex, in float): n from the normal matrix (a
+        // normal under 1e-6 long: the model's +z); t Gram-Schmidt against it
+        // (under 1e-3 of it left, or a tangent under 1e-6 long: the model's
+        // +x, then +y); b = handedness * cross(n, t) (mesh tangent w = +1).
+        const glm::dvec3 authored_n(o.mesh.normal.value_or(glm::vec3(0.0f, 0.0f, 1.0f)));
+        const glm::dvec3 authored_t(o.mesh.tangent.value_or(glm::vec3(1.0f, 0.0f, 0.0f)));
+        p.n = glm::normalize(glm::inverseTranspose(model3) *
+                             (glm::dot(authored_n, authored_n) < 1e-12 ? glm::dvec3(0.0, 0.0, 1.0) : authored_n));
+        const auto perp = [&](const glm::dvec3& t) { return t - p.n * glm::dot(p.n, t); };
+        const auto degenerate = [](const glm::dvec3& t, const glm::dvec3& t_perp) {
+            return glm::dot(t_perp, t_perp) <= 1e-6 * glm::dot(t, t);
+        };
+        glm::dvec3 t = model3 * authored_t;
+        glm::dvec3 t_perp = perp(t);
+        if (glm::dot(authored_t, authored_t) < 1e-12 || degenerate(t, t_perp)) {
+            t = model3[0];
+            t_perp = perp(t);
+            if (degenerate(t, t_perp)) {
+                t = model3[1];
+                t_perp = perp(t);
+            }
+        }
+        p.t = glm::normalize(t_perp);
         p.b = p.winding_sign * glm::cross(p.n, p.t);
         f.planes.push_back(p);
     }

@@ -75,7 +75,7 @@ void point_attributes() {
 
 Mesh build_mesh(const MeshDesc& d) {
     switch (d.kind) {
-        case MeshKind::plane: return make_plane(d.size, d.segments);
+        case MeshKind::plane: return make_plane(d.size, d.segments, d.tangent, d.normal);
         case MeshKind::cube: return make_cube(d.size);
         case MeshKind::sphere: return make_uv_sphere(d.radius);
         case MeshKind::torus: return make_torus(d.radius, d.tube_radius);
@@ -398,10 +398,11 @@ Status Renderer::load_checked(const SceneDesc& scene) {
                 return make_error(what + ": only planes can be displaced (mesh.displaced)");
             const GpuMaterial& material = gpu->materials[material_index];
             const MaterialDesc& m = *material.desc;
-            const float tiles = m.uv.area_scale<float>();
-            const float scale = m.height_scale;
-            Result<Mesh> displaced = make_displaced_plane(o.mesh.size, material.field, scale,
-                                                          static_cast<float>(m.polygon_height()), o.mesh.size / tiles);
+            // The relief under the shading's uv' (the material's uv transform), a
+            // tile size / area_scale mesh units as the units_per_tile uniform says.
+            Result<Mesh> displaced =
+                make_displaced_plane(o.mesh.size, material.field, m.uv.matrix<double>(), glm::dvec2(m.uv.offset),
+                                     m.height_scale, static_cast<float>(m.polygon_height()));
             if (!displaced) return with_context(what, displaced.error());
             mesh = std::move(*displaced);
         } else {

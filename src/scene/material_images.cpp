@@ -93,11 +93,15 @@ Status check_scene_resources(const SceneDesc& scene, bool read_file_headers) {
         switch (o.mesh.kind) {
             case MeshKind::plane: {
                 std::int64_t columns = o.mesh.segments, rows = o.mesh.segments;
-                if (o.mesh.displaced) {  // one vertex per texel corner of the traced field
+                if (o.mesh.displaced) {  // about one vertex per texel of the material's transformed uv
                     const std::size_t k = scene.material_index(o.material);
                     const ImageInfo field = k < traced.size() ? traced[k] : ImageInfo{4, 4};
-                    columns = field.width;
-                    rows = field.height;
+                    const glm::dmat2 uv_matrix =
+                        k < traced.size() ? scene.materials[k].uv.matrix<double>() : glm::dmat2(1.0);
+                    // The grid make_displaced_plane builds, from sizes alone.
+                    const DisplacedGrid grid = displaced_plane_grid(field.width, field.height, uv_matrix);
+                    columns = grid.columns;
+                    rows = grid.rows;
                 }
                 n = (std::max<std::int64_t>(columns, 1) + 1) * (std::max<std::int64_t>(rows, 1) + 1);
                 break;
@@ -110,7 +114,7 @@ Status check_scene_resources(const SceneDesc& scene, bool read_file_headers) {
         if (vertices > kMaxSceneVertices)
             return make_error(index_path("objects", i) + ".mesh: the scene's meshes pass the limit of " +
                               count_text(kMaxSceneVertices) + " vertices in all (this one adds " + count_text(n) +
-                              (o.mesh.displaced ? ", one per texel corner of its material's height field" : "") + ")");
+                              (o.mesh.displaced ? ", about one per texel of its material's height field under the uv transform" : "") + ")");
     }
     return {};
 }

@@ -254,7 +254,8 @@ Status generate_tangents(Mesh& mesh) {
     return {};
 }
 
-Mesh make_plane(float size, int segments) {
+Mesh make_plane(float size, int segments, const std::optional<glm::vec3>& tangent,
+                const std::optional<glm::vec3>& normal) {
     const int n = std::max(segments, 1);
     const auto row = static_cast<std::uint32_t>(n + 1);
     Mesh mesh;
@@ -275,6 +276,12 @@ Mesh make_plane(float size, int segments) {
             push_quad(mesh, a, a + 1, a + row + 1, a + row);
         }
     (void)generate_tangents(mesh);  // cannot fail: indices are in range by construction
+    // The authored frame as given: generate_tangents would repair it, and the
+    // point of authoring one is to reach the shader's own fallbacks.
+    for (Vertex& v : mesh.vertices) {
+        if (tangent) v.tangent = glm::vec4(*tangent, 1.0f);
+        if (normal) v.normal = *normal;
+    }
     return mesh;
 }
 
@@ -397,25 +404,49 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
 
 namespace px {
 
-Result<Mesh> make_displaced_plane(float size, const HeightField& field, float height_scale, float polygon_height,
-                                  float units_per_tile) {
+DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix) {
+    // Texels crossed along a mesh edge: the edge's image in texel space. The
+    // small slack keeps an exact count (512.0000000001 from a rotation's
+    // rounding) from gaining a quad.
+    const auto quads = [&](const glm::dvec2& mesh_edge) {
+        const glm::dvec2 tiles = uv_matrix * mesh_edge;
+        const double texels = glm::length(tiles * glm::dvec2(field_width, field_height));
+        // Clamped before the conversion: a uv scale of 16384 on a 4096 field is
+        // 2^26 quads a side, far over any budget, but must not overflow.
+        return static_cast<std::int64_t>(std::clamp(std::ceil(texels - 1e-6), 1.0, 1e9));
+    };
+    return DisplacedGrid{quads({1.0, 0.0}), quads({0.0, 1.0})};
+}
+
+Result<Mesh> make_displaced_plane(float size, const HeightField& field, const glm::dmat2& uv_matrix,
+                                  const glm::dvec2& uv_offset, float height_scale, float polygon_height) {
     if (field.width < 1 || field.height < 1) return make_error("displaced plane: the height field is empty");
-    const std::int64_t vertex_count = (static_cast<std::int64_t>(field.width) + 1) * (static_cast<std::int64_t>(field.height) + 1);
+    const DisplacedGrid grid = displaced_plane_grid(field.width, field.height, uv_matrix);
+    const std::int64_t vertex_count = grid.vertex_count();
     if (vertex_count > kMaxSceneVertices)
         return make_error("displaced plane: a " + std::to_string(field.width) + "x" + std::to_string(field.height) +
-                          " height field needs " + std::to_string(vertex_count) + " vertices, over the limit of " +
+                          " height field under this uv transform needs a " + std::to_string(grid.columns) + "x" +
+                          std::to_string(grid.rows) + " grid (one vertex per texel of the transformed uv), " +
+                          std::to_string(vertex_count) + " vertices, over the limit of " +
                           std::to_string(kMaxSceneVertices));
-    const int columns = field.width;
-    const int rows = field.height;
+    const double area_scale = std::sqrt(std::fabs(glm::determinant(uv_matrix)));
+    if (!(area_scale > 0.0) || !std::isfinite(area_scale))
+        return make_error("displaced plane: the uv transform is singular");
+    // Mesh units per tile: the relief is height_scale tiles deep.
+    const double units_per_tile = static_cast<double>(size) / area_scale;
+    const int columns = static_cast<int>(grid.columns);
+    const int rows = static_cast<int>(grid.rows);
     Mesh mesh;
-    mesh.vertices.reserve(static_cast<size_t>(columns + 1) * (rows + 1));
+    mesh.vertices.reserve(static_cast<size_t>(vertex_count));
     for (int j = 0; j <= rows; ++j)
         for (int i = 0; i <= columns; ++i) {
+            const glm::dvec2 uv(static_cast<double>(i) / columns, static_cast<double>(j) / rows);
+            const glm::dvec2 tiled = uv_matrix * uv + uv_offset;
+            const double h = field.sample_bilinear(tiled.x, tiled.y);
             Vertex v;
-            v.uv = glm::vec2(static_cast<float>(i) / static_cast<float>(columns), static_cast<float>(j) / static_cast<float>(rows));
-            const double h = field.sample_bilinear(v.uv.x, v.uv.y);
-            v.position = glm::vec3((v.uv.x - 0.5f) * size, (v.uv.y - 0.5f) * size,
-                                   static_cast<float>(h - polygon_height) * height_scale * units_per_tile);
+            v.uv = glm::vec2(uv);
+            v.position = glm::vec3(static_cast<float>((uv.x - 0.5) * size), static_cast<float>((uv.y - 0.5) * size),
+                                   static_cast<float>((h - polygon_height) * height_scale * units_per_tile));
             v.normal = glm::vec3(0.0f, 0.0f, 1.0f);
             v.tangent = glm::vec4(1.0f, 0.0f, 0.0f, 1.0f);
             mesh.vertices.push_back(v);

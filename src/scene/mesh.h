@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,8 +36,11 @@ const char* mesh_kind_name(MeshKind kind);
 Result<MeshKind> parse_mesh_kind(const std::string& name);
 
 // Plane in the xy plane facing +z, centred on the origin, `size` wide,
-// uv 0..1 across it, `segments` quads per side.
-Mesh make_plane(float size = 2.0f, int segments = 1);
+// uv 0..1 across it, `segments` quads per side. An authored tangent or
+// normal replaces every vertex's (+x, +z) as given, unnormalised and
+// unchecked (tangent w stays +1): surface.vert makes a frame of anything.
+Mesh make_plane(float size = 2.0f, int segments = 1, const std::optional<glm::vec3>& tangent = std::nullopt,
+                const std::optional<glm::vec3>& normal = std::nullopt);
 // Axis-aligned cube, `size` wide, each face uv 0..1.
 Mesh make_cube(float size = 2.0f);
 // UV sphere: u around the equator, v from south to north pole.
@@ -45,14 +49,29 @@ Mesh make_uv_sphere(float radius = 1.0f, int slices = 48, int stacks = 24);
 Mesh make_torus(float ring_radius = 1.0f, float tube_radius = 0.35f, int ring_segments = 64,
                 int tube_segments = 32);
 
-// A plane like make_plane(size) whose vertices, one per texel of `field`
-// (at uv i/width, j/height, heights sampled bilinearly with wrap), move
-// along the normal to where the relief is: z = (h - polygon_height) *
-// height_scale * units_per_tile, with height_scale in tile units. The
-// tangent frame stays the plane's: the normal map shades it, as with
-// parallax. Errors: an empty field.
-Result<Mesh> make_displaced_plane(float size, const HeightField& field, float height_scale, float polygon_height,
-                                  float units_per_tile);
+// The grid of a displaced plane: about one vertex per texel of the
+// material's uv' = uv_matrix * uv + offset along each side, i.e. quads
+// along u = ceil(|diag(width, height) * uv_matrix * (1, 0)|), at least 1
+// (width * |scale.x| without rotation), and likewise along v. Computed from
+// sizes alone, so the vertex budget is checked before anything is allocated.
+struct DisplacedGrid {
+    std::int64_t columns = 1;  // quads along u
+    std::int64_t rows = 1;     // quads along v
+    std::int64_t vertex_count() const { return (columns + 1) * (rows + 1); }
+};
+DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix);
+
+// A plane like make_plane(size) whose vertices (the grid above, at mesh uv
+// i/columns, j/rows) move along the normal to where the relief is: heights
+// sampled bilinearly with repeat at the material's uv' = uv_matrix * uv +
+// uv_offset (as the GPU samples the texture the shading reads), z = (h -
+// polygon_height) * height_scale * units_per_tile, with height_scale in tile
+// units and a tile size / sqrt(|det uv_matrix|) mesh units (the renderer's
+// units per tile). The tangent frame stays the plane's: the normal map shades
+// it, as with parallax. Errors: an empty field, a grid over kMaxSceneVertices
+// (checked before allocating).
+Result<Mesh> make_displaced_plane(float size, const HeightField& field, const glm::dmat2& uv_matrix,
+                                  const glm::dvec2& uv_offset, float height_scale, float polygon_height);
 
 // Recomputes every vertex tangent from positions, normals and uvs of an
 // indexed triangle list (per-triangle uv derivatives, accumulated and

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -182,6 +183,15 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
               "only a plane can be displaced");
     c.require(in_range(mesh.tube_radius, kMinExtent, kMaxExtent), path + ".mesh.tube_radius",
               extent + num(mesh.tube_radius));
+    // Any direction, zero and parallel ones included (surface.vert falls
+    // back); only the magnitude is bounded, as every coordinate is.
+    for (auto [key, v] : {std::pair{".mesh.tangent", &mesh.tangent}, std::pair{".mesh.normal", &mesh.normal}})
+        if (v->has_value()) {
+            c.require(mesh.kind == MeshKind::plane, path + key, "only a plane takes an authored frame");
+            c.require(!mesh.displaced, path + key, "a displaced plane keeps the plane's frame (+u, +z)");
+            c.require(bounded(**v, kMaxCoordinate), path + key,
+                      "components must be within ±" + num(kMaxCoordinate) + ", got " + num(**v));
+        }
     if (mesh.kind == MeshKind::torus)  // a thicker tube passes through the axis and folds over itself
         c.require(mesh.tube_radius < mesh.radius, path + ".mesh.tube_radius",
                   "must be less than radius (" + num(mesh.radius) + "), got " + num(mesh.tube_radius));

@@ -121,6 +121,12 @@ struct MeshDesc {
     // object's material displaced into a grid of one vertex per texel (the
     // accuracy benchmark's baseline). Drawn with the material's shading.
     bool displaced = false;
+    // plane only: the vertices' tangent and normal as authored, instead of
+    // +u and +z (tangent w stays +1). Any value is accepted, zero and
+    // parallel vectors included: the renderer falls back to a usable frame
+    // (shaders_es/surface.vert says how), and so does the exact reference.
+    std::optional<glm::vec3> tangent;
+    std::optional<glm::vec3> normal;
 };
 
 struct ObjectDesc {

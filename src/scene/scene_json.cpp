@@ -520,6 +520,12 @@ void read_object(Reader& r, const json& j, const std::string& path, ObjectDesc& 
     mesh.read("radius", o.mesh.radius);
     mesh.read("tube_radius", o.mesh.tube_radius);
     mesh.read("displaced", o.mesh.displaced);
+    for (auto [key, out] : {std::pair{"tangent", &o.mesh.tangent}, std::pair{"normal", &o.mesh.normal}})
+        if (mesh.has(key)) {
+            glm::vec3 v(0.0f);
+            mesh.read(key, v);
+            *out = v;
+        }
 
     Fields t(r, f.get("transform"), f.sub("transform"));
     t.read("translate", o.transform.translate);
