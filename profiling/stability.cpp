@@ -298,6 +298,8 @@ Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& tec
     o.mesh.size = c.plane_size;
     o.mesh.segments = c.segments;
     o.transform.scale = c.model_scale;
+    o.mesh.tangent = c.tangent;
+    o.mesh.normal = c.normal;
     o.material = "surface";
     s.objects = {o};
     Status valid = validate_scene(s);

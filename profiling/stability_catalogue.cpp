@@ -217,6 +217,12 @@ void read_case(Reader r, StabilityCase& c, bool defaults) {
         uv.finish();
     }
     r.vec<3>("model_scale", c.model_scale, 1e4);
+    for (auto [key, slot] : {std::pair{"tangent", &c.tangent}, std::pair{"normal", &c.normal}}) {
+        if (!r.has(key)) continue;
+        glm::vec3 v(0.0f);
+        r.vec<3>(key, v, 1e5);
+        *slot = v;
+    }
     if (r.has("lod")) {
         Reader l = r.child("lod");
         c.lod = true;

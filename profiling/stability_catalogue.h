@@ -71,6 +71,7 @@ struct StabilityCase {
     ShadowMode shadow = ShadowMode::none;
     UvTransform uv;
     glm::vec3 model_scale{1.0f};
+    std::optional<glm::vec3> tangent, normal;  // the plane's authored vertex frame (degenerate on purpose)
     bool lod = false;
     float lod_threshold = 3.0f, lod_band = 1.0f;
     std::optional<bool> exact_view;        // unset: the technique's default
