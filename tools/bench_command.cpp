@@ -34,20 +34,6 @@ struct BenchArgs {
     std::string command;
 };
 
-// A progress bar on a terminal; a line per tenth of the work otherwise.
-void show_progress(int done, int total, const std::string& what) {
-    static const bool terminal = isatty(STDERR_FILENO) != 0;
-    if (terminal) {
-        const int width = 30;
-        const int filled = total > 0 ? done * width / total : width;
-        std::fprintf(stderr, "\r[%s%s] %d/%d %-40.40s", std::string(static_cast<size_t>(filled), '#').c_str(),
-                     std::string(static_cast<size_t>(width - filled), '.').c_str(), done, total, what.c_str());
-        if (done == total) std::fprintf(stderr, "\n");
-    } else if (total > 0 && (done * 10 / total != (done - 1) * 10 / total || done == total)) {
-        std::fprintf(stderr, "bench: %d/%d (%s)\n", done, total, what.c_str());
-    }
-    std::fflush(stderr);
-}
 
 int run(BenchArgs a) {
     profiling::BenchOptions o;
@@ -86,7 +72,9 @@ int run(BenchArgs a) {
     auto target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
     auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
-                                       show_progress);
+                                       [](int done, int total, const std::string& what) {
+                                           show_progress("bench", done, total, what);
+                                       });
     if (!result) return fail(result.error().message);
 
     const std::string base = a.out + "/";

@@ -1,6 +1,8 @@
 // Helpers every subcommand shares: the error line and WIDTHxHEIGHT sizes.
 #pragma once
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <string>
 
@@ -34,6 +36,22 @@ inline bool parse_size(const std::string& text, int& width, int& height, int lim
         *out[side] = static_cast<int>(value);
     }
     return i == text.size();
+}
+
+// A progress bar on a terminal; a line per tenth of the work otherwise
+// ("LABEL: done/total (what)"), both on stderr.
+inline void show_progress(const char* label, int done, int total, const std::string& what) {
+    static const bool terminal = isatty(STDERR_FILENO) != 0;
+    if (terminal) {
+        const int width = 30;
+        const int filled = total > 0 ? done * width / total : width;
+        std::fprintf(stderr, "\r[%s%s] %d/%d %-50.50s", std::string(static_cast<size_t>(filled), '#').c_str(),
+                     std::string(static_cast<size_t>(width - filled), '.').c_str(), done, total, what.c_str());
+        if (done == total) std::fprintf(stderr, "\n");
+    } else if (total > 0 && (done * 10 / total != (done - 1) * 10 / total || done == total)) {
+        std::fprintf(stderr, "%s: %d/%d (%s)\n", label, done, total, what.c_str());
+    }
+    std::fflush(stderr);
 }
 
 }  // namespace px::tools

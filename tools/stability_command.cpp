@@ -37,19 +37,6 @@ struct StabilityArgs {
     std::string command;
 };
 
-void show_progress(int done, int total, const std::string& what) {
-    static const bool terminal = isatty(STDERR_FILENO) != 0;
-    if (terminal) {
-        const int width = 30;
-        const int filled = total > 0 ? done * width / total : width;
-        std::fprintf(stderr, "\r[%s%s] %d/%d %-50.50s", std::string(static_cast<size_t>(filled), '#').c_str(),
-                     std::string(static_cast<size_t>(width - filled), '.').c_str(), done, total, what.c_str());
-        if (done == total) std::fprintf(stderr, "\n");
-    } else if (total > 0 && (done * 10 / total != (done - 1) * 10 / total || done == total)) {
-        std::fprintf(stderr, "stability: %d/%d (%s)\n", done, total, what.c_str());
-    }
-    std::fflush(stderr);
-}
 
 int run(const StabilityArgs& a) {
     // The precisions: native (this driver, declarations in force) and the
@@ -106,7 +93,9 @@ int run(const StabilityArgs& a) {
         co.es_major = es;
         auto context = platform::HeadlessContext::create(co);
         if (!context) return fail(context.error().message);
-        auto result = profiling::run_stability(*catalogue, o, show_progress);
+        auto result = profiling::run_stability(*catalogue, o, [](int done, int total, const std::string& what) {
+            show_progress("stability", done, total, what);
+        });
         if (!result) {
             std::filesystem::remove_all(scratch, ec);
             return fail(result.error().message);
