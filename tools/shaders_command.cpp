@@ -83,7 +83,7 @@ void add_shaders_command(CLI::App& app) {
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
     cmd->add_option("--emulate", args->emulate,
-                    "Write them as rewritten for a precision profile: fp32, fp16, lowp or nohighp");
+                    "Write them as rewritten for a precision profile: identity, fp32, fp16, lowp, nohighp or lowp_all");
     cmd->callback([args]() { set_exit_status(run_shaders(*args)); });
 }
 
