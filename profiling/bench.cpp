@@ -90,6 +90,15 @@ SceneDesc with_setting(const SceneDesc& base, const Setting& setting, ShadowMode
 
 }  // namespace
 
+LightDesc sun_light(double elevation_deg, double azimuth_deg) {
+    const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
+    LightDesc light;
+    light.direction = -glm::vec3(static_cast<float>(std::cos(el) * std::cos(az)),
+                                 static_cast<float>(std::cos(el) * std::sin(az)), static_cast<float>(std::sin(el)));
+    light.angular_radius_deg = 2.0f;
+    return light;
+}
+
 std::vector<std::string> bench_scene_names() {
     std::vector<std::string> names;
     for (const SceneSpec& s : scene_specs()) names.push_back(s.name);
@@ -127,13 +136,7 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
     s.camera.target = glm::vec3(0.0f);
     s.camera.up = angle_deg < 1.0 ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f);
     s.camera.fov_y_deg = 45.0f;
-    LightDesc light;
-    const double azimuth = 30.0 * M_PI / 180.0, elevation = 35.0 * M_PI / 180.0;
-    light.direction = -glm::vec3(static_cast<float>(std::cos(elevation) * std::cos(azimuth)),
-                                 static_cast<float>(std::cos(elevation) * std::sin(azimuth)),
-                                 static_cast<float>(std::sin(elevation)));
-    light.angular_radius_deg = 2.0f;
-    s.lights = {light};
+    s.lights = {sun_light(35.0, 30.0)};
 
     MaterialDesc m;
     m.name = "surface";

@@ -15,6 +15,11 @@
 
 namespace px::profiling {
 
+// A directional light `elevation_deg` above the horizon, turned `azimuth_deg`
+// from +x toward +y, with a 2-degree disc: the bench scenes' and the
+// stability catalogue's.
+LightDesc sun_light(double elevation_deg, double azimuth_deg);
+
 // Bench scenes: one plane, one material, seen from `angle_deg` off its normal.
 std::vector<std::string> bench_scene_names();
 // `segments`: quads per side of the plane (see bench.cpp for why 64).

@@ -1,5 +1,7 @@
 #include "profiling/stability.h"
 
+#include "profiling/bench.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -208,6 +210,9 @@ std::vector<const TechniqueInfo*> techniques_of(const StabilityCase& c) {
     return out;
 }
 
+
+}  // namespace
+
 Result<std::string> write_height_image(const StabilityCase& c, const std::string& scratch_dir) {
     FieldSpec spec = c.field;
     spec.size = std::max(*c.image_width, *c.image_height);
@@ -234,10 +239,8 @@ Result<std::string> write_height_image(const StabilityCase& c, const std::string
     return path;
 }
 
-}  // namespace
-
 Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& technique, double angle,
-                                  double distance, const std::string& scratch_dir) {
+                                  double distance, const std::string& height_image) {
     SceneDesc s;
     s.name = c.name;
     const double a = angle * M_PI / 180.0;
@@ -258,22 +261,17 @@ Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& tec
     const float eye_distance = glm::length(s.camera.position - s.camera.target);
     s.camera.near_plane = std::clamp(0.1f * eye_distance, 1e-4f, 0.05f);
     s.camera.far_plane = std::max(50.0f, 4.0f * eye_distance);
-    LightDesc light;
-    const double az = c.light_azimuth_deg * M_PI / 180.0, el = c.light_elevation_deg * M_PI / 180.0;
-    light.direction = -glm::vec3(static_cast<float>(std::cos(el) * std::cos(az)),
-                                 static_cast<float>(std::cos(el) * std::sin(az)), static_cast<float>(std::sin(el)));
-    light.angular_radius_deg = 2.0f;
-    s.lights = {light};
+    s.lights = {sun_light(c.light_elevation_deg, c.light_azimuth_deg)};
 
     MaterialDesc m;
     m.name = "surface";
     m.albedo.kind = TextureSource::Kind::color;
     m.albedo.color = glm::vec3(0.75f, 0.7f, 0.65f);
     if (c.image_width) {
-        Result<std::string> path = write_height_image(c, scratch_dir);
-        if (!path) return path.error();
+        if (height_image.empty())
+            return make_error("case '" + c.name + "': its height image has not been written (write_height_image)");
         m.height.kind = TextureSource::Kind::file;
-        m.height.path = *path;
+        m.height.path = height_image;
     } else {
         m.height.kind = TextureSource::Kind::procedural;
         m.height.field = c.field;
@@ -527,11 +525,17 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
     const int size = options.image_size;
     for (const Work& w : work) {
         const StabilityCase& c = *w.c;
+        std::string height_image;  // written once per case, read by every frame
+        if (c.image_width) {
+            Result<std::string> path = write_height_image(c, options.scratch_dir);
+            if (!path) return path.error();
+            height_image = *path;
+        }
         // The reference of each frame, shared by every technique and run.
         std::vector<reference::ReferenceImage> refs;
         std::vector<std::vector<SearchBound>> searches;
         for (const Frame& f : w.frames) {
-            Result<SceneDesc> scene = stability_scene(c, "pom", f.angle, f.distance, options.scratch_dir);
+            Result<SceneDesc> scene = stability_scene(c, "pom", f.angle, f.distance, height_image);
             if (!scene) return scene.error();
             reference::ReferenceOptions ro;
             ro.shadow = c.shadow;
@@ -563,7 +567,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                 for (size_t fi = 0; fi < w.frames.size(); ++fi) {
                     const Frame& f = w.frames[fi];
                     auto capture = [&](const std::string& technique) -> Result<SurfaceImage> {
-                        Result<SceneDesc> scene = stability_scene(c, technique, f.angle, f.distance, options.scratch_dir);
+                        Result<SceneDesc> scene = stability_scene(c, technique, f.angle, f.distance, height_image);
                         if (!scene) return scene.error();
                         Status loaded = (*renderer)->load(*scene);
                         if (!loaded) return with_context("case '" + w.label + "' " + technique + " " + row.context + " " + run.precision,

@@ -13,8 +13,12 @@ namespace px::profiling {
 
 // The scene of one frame of a case: a plane at the origin facing +z, the
 // camera `angle` degrees off its normal (or the case's explicit camera).
+// `height_image`: the case's generated height image file (write_height_image),
+// for a case with `image`; empty otherwise.
 Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& technique, double angle,
-                                  double distance, const std::string& scratch_dir);
+                                  double distance, const std::string& height_image = "");
+// Writes a case's non-square height image into `scratch_dir` once; returns its path.
+Result<std::string> write_height_image(const StabilityCase& c, const std::string& scratch_dir);
 
 // What the renderer is created with for a precision profile and the
 // variant's ES version (the tool supplies shader transforms for emulated
