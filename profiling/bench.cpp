@@ -32,6 +32,8 @@ const std::vector<SceneSpec>& scene_specs() {
         {"bricks", FieldKind::bricks, 256, 0.06f, ShadowMode::none},
         {"text", FieldKind::text, 512, 0.05f, ShadowMode::none},
         {"hemispheres", FieldKind::hemispheres, 256, 0.1f, ShadowMode::none},
+        // 1-texel lines: the thinnest feature a field can have.
+        {"lines", FieldKind::lines, 256, 0.05f, ShadowMode::none},
         {"bricks_shadowed", FieldKind::bricks, 256, 0.06f, ShadowMode::hard},
         {"bricks_soft", FieldKind::bricks, 256, 0.06f, ShadowMode::soft},
     };
@@ -47,6 +49,7 @@ const SceneSpec* find_spec(const std::string& name) {
 struct Setting {
     std::string technique;  // catalogue name or kDisplacedMesh
     int samples = 0;
+    int shadow_samples = 0;  // 0: the material's default
 };
 
 double median(std::vector<double> v) {
@@ -84,6 +87,7 @@ SceneDesc with_setting(const SceneDesc& base, const Setting& setting, ShadowMode
     m.technique.technique = parse_technique(setting.technique).value();
     if (setting.samples > 0) m.technique.min_samples = m.technique.max_samples = setting.samples;
     m.technique.shadow = shadow;
+    if (setting.shadow_samples > 0) m.technique.shadow_samples = setting.shadow_samples;
     m.technique.exact_view = exact_view;
     return s;
 }
@@ -125,10 +129,26 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
         for (const std::string& n : bench_scene_names()) known += (known.empty() ? "" : ", ") + n;
         return make_error("unknown bench scene '" + name + "' (known: " + known + ")");
     }
+    MaterialDesc m;
+    m.name = "surface";
+    m.albedo.kind = TextureSource::Kind::color;
+    m.albedo.color = glm::vec3(0.75f, 0.7f, 0.65f);
+    m.height.kind = TextureSource::Kind::procedural;
+    m.height.field.kind = spec->kind;
+    m.height.field.size = spec->size;
+    if (spec->kind == FieldKind::text) m.height.field.text = "PARALLAX";
+    if (spec->kind == FieldKind::lines) m.height.field.count = 16;
+    m.height_scale = spec->height_scale;
+    return bench_scene_of(spec->name, m, "", angle_deg, segments);
+}
+
+Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& material, const std::string& base_dir,
+                                 double angle_deg, int segments) {
     if (!(angle_deg >= 0.0 && angle_deg < 90.0))
         return make_error("view angle " + std::to_string(angle_deg) + " is outside [0, 90) degrees");
     SceneDesc s;
-    s.name = spec->name;
+    s.name = name;
+    s.base_dir = base_dir;
     const double a = angle_deg * M_PI / 180.0;
     const float distance = 2.2f;
     s.camera.position = glm::vec3(0.0f, static_cast<float>(-distance * std::sin(a)),
@@ -138,15 +158,11 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
     s.camera.fov_y_deg = 45.0f;
     s.lights = {sun_light(35.0, 30.0)};
 
-    MaterialDesc m;
+    MaterialDesc m = material;
     m.name = "surface";
-    m.albedo.kind = TextureSource::Kind::color;
-    m.albedo.color = glm::vec3(0.75f, 0.7f, 0.65f);
-    m.height.kind = TextureSource::Kind::procedural;
-    m.height.field.kind = spec->kind;
-    m.height.field.size = spec->size;
-    if (spec->kind == FieldKind::text) m.height.field.text = "PARALLAX";
-    m.height_scale = spec->height_scale;
+    m.effects.reset();
+    m.uv = UvTransform{};  // one tile over the plane: texels per pixel as the bench's
+    m.technique = TechniqueOptions{};
     m.technique.technique = Technique::pom;  // marks the plane as relief for the reference
     s.materials = {m};
     ObjectDesc o;
@@ -164,13 +180,27 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
 
 Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& target,
                            const std::function<Result<Image>()>& read_color, const Progress& progress) {
-    const std::vector<std::string> scenes = options.scenes.empty() ? bench_scene_names() : options.scenes;
+    std::vector<std::string> scenes = options.scenes.empty() && options.materials.empty() ? bench_scene_names() : options.scenes;
     const std::vector<std::string> techniques =
         options.techniques.empty() ? bench_technique_names() : options.techniques;
     if (options.frames < 1) return make_error("frames must be at least 1");
     if (options.segments < 1 || options.segments > 1024) return make_error("segments must be within 1..1024");
     for (const std::string& s : scenes)
         if (!find_spec(s)) return bench_scene(s, 0.0).error();
+    for (const BenchMaterial& m : options.materials) scenes.push_back(m.name);
+    auto scene_at = [&](const std::string& name, double angle) -> Result<SceneDesc> {
+        for (const BenchMaterial& m : options.materials)
+            if (m.name == name) return bench_scene_of(name, m.material, m.base_dir, angle, options.segments);
+        return bench_scene(name, angle, options.segments);
+    };
+    auto shadow_of = [&](const std::string& name) {
+        for (const BenchMaterial& m : options.materials)
+            if (m.name == name) return m.shadow;
+        return bench_scene_shadow(name);
+    };
+    if (options.shadow_samples.empty()) return make_error("shadow_samples: needs at least one count");
+    for (int k : options.shadow_samples)
+        if (k < 1 || k > 128) return make_error("shadow_samples: " + std::to_string(k) + " is outside 1..128");
 
     std::vector<Setting> settings;
     for (const std::string& name : techniques) {
@@ -202,13 +232,16 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
     run.width = target.width;
     run.height = target.height;
     run.frames = options.frames;
-    const int total = static_cast<int>(scenes.size() * options.angles.size() * settings.size());
+    int total = 0;
+    for (const std::string& scene_name : scenes)
+        total += static_cast<int>(options.angles.size() * settings.size() *
+                                  (shadow_of(scene_name) == ShadowMode::none ? 1 : options.shadow_samples.size()));
     int done = 0;
 
     for (const std::string& scene_name : scenes) {
-        const ShadowMode shadow = bench_scene_shadow(scene_name);
+        const ShadowMode shadow = shadow_of(scene_name);
         for (double angle : options.angles) {
-            Result<SceneDesc> base = bench_scene(scene_name, angle, options.segments);
+            Result<SceneDesc> base = scene_at(scene_name, angle);
             if (!base) return base.error();
             reference::ReferenceOptions reference_options;
             reference_options.shadow = shadow;
@@ -224,7 +257,19 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
             Result<std::unique_ptr<Renderer>> normal = load_renderer(normal_scene);
             if (!normal) return normal.error();
 
+            std::vector<Setting> scene_settings;
             for (const Setting& setting : settings) {
+                if (shadow == ShadowMode::none || setting.technique == kDisplacedMesh) {
+                    scene_settings.push_back(setting);
+                    continue;
+                }
+                for (int k : options.shadow_samples) {
+                    Setting with_shadow = setting;
+                    with_shadow.shadow_samples = k;
+                    scene_settings.push_back(with_shadow);
+                }
+            }
+            for (const Setting& setting : scene_settings) {
                 const SceneDesc scene = with_setting(*base, setting, shadow, options.exact_view);
                 Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene);
                 if (!renderer) return with_context(setting.technique, renderer.error());
@@ -268,6 +313,8 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 row.angle_deg = angle;
                 row.technique = setting.technique;
                 row.samples = setting.samples;
+                row.shadow = shadow;
+                row.shadow_samples = shadow == ShadowMode::none ? 0 : scene.materials[0].technique.shadow_samples;
                 row.pixels = error->pixels;
                 row.uv_error_mean = error->uv_error_mean;
                 row.uv_error_p95 = error->uv_error_p95;

@@ -27,6 +27,19 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
 // The shadow mode a bench scene measures (and its reference uses).
 ShadowMode bench_scene_shadow(const std::string& name);
 
+// The bench's plane and camera with another material (its uv transform and
+// technique reset): how `parallax plan --calibrate` measures a relief.
+Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& material, const std::string& base_dir,
+                                 double angle_deg, int segments = 64);
+
+// A material to bench beside the built-in bench scenes.
+struct BenchMaterial {
+    std::string name;
+    MaterialDesc material;
+    std::string base_dir;  // for its texture files
+    ShadowMode shadow = ShadowMode::none;
+};
+
 // Every benched technique of the catalogue, then kDisplacedMesh.
 std::vector<std::string> bench_technique_names();
 
@@ -42,6 +55,9 @@ struct BenchOptions {
     int threads = 0;         // recorded: llvmpipe's thread count
     int segments = 64;       // quads per side of each bench plane
     bool exact_view = true;  // false: every technique with the per-vertex normalised view vector
+    // Shadowed scenes: each setting at each of these shadow-ray sample counts.
+    std::vector<int> shadow_samples{16};
+    std::vector<BenchMaterial> materials;  // benched after `scenes`
 };
 
 // Called after each setting: done, total, and what was just measured.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "effects/technique.h"
 
 namespace px::profiling {
 
@@ -17,6 +18,8 @@ struct BenchRow {
     double angle_deg = 0.0;   // view angle from the normal
     std::string technique;    // catalogue name, or "displaced_mesh" for the real-geometry baseline
     int samples = 0;          // max_samples (0 where the technique has none)
+    ShadowMode shadow = ShadowMode::none;
+    int shadow_samples = 0;   // shadowed scenes: samples along the shadow ray
     // Error against the exact reference (see src/reference/metrics.h).
     long pixels = 0;
     double uv_error_mean = 0.0;  // texels

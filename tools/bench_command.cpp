@@ -10,7 +10,9 @@
 #include <thread>
 #include <vector>
 
+#include "core/files.h"
 #include "profiling/bench.h"
+#include "profiling/planner_table.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "platform/headless_context.h"
@@ -31,9 +33,45 @@ struct BenchArgs {
     int segments = 64;
     bool per_vertex_view = false;
     std::string out = "out/bench";
+    std::string planner_table;  // write the planner's cost table here instead of the bench report
     std::string command;
 };
 
+
+// The planner's cost table: the grid of profiling/planner_table.h, or the
+// options given (--scenes, --angles, --samples, --frames, --size).
+int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
+    profiling::TableGrid grid;
+    if (!a.scenes.empty()) grid.scenes = a.scenes;
+    if (!a.angles.empty()) grid.angles = a.angles;
+    if (!a.samples.empty()) grid.samples = a.samples;
+    if (a.frames > 0) grid.frames = a.frames;
+    grid.width = o.width;
+    grid.height = o.height;
+    if (a.quick) {
+        grid.scenes = {"bricks", "lines"};
+        grid.angles = {30, 85};
+        grid.samples = {8, 32};
+        grid.shadow_scenes = {"bricks_shadowed"};
+        grid.shadow_samples = {8, 16};
+        grid.frames = 2;
+    }
+    platform::ContextOptions context_options;
+    context_options.es_major = 3;
+    auto context = platform::HeadlessContext::create(context_options);
+    if (!context) return fail(context.error().message);
+    auto target = OffscreenTarget::create(grid.width, grid.height);
+    if (!target) return fail(target.error().message);
+    Result<CostTable> table = profiling::measure_cost_table(
+        grid, a.command, target->target(), [&target]() { return target->read_pixels(); },
+        [](int done, int total, const std::string& what) { show_progress("planner table", done, total, what); });
+    if (!table) return fail(table.error().message);
+    Status written = write_file_atomically(a.planner_table, cost_table_json(*table));
+    if (!written) return fail(written.error().message);
+    std::printf("planner table: %zu rows over %zu reliefs measured on %s; wrote %s\n", table->rows.size(),
+                table->reliefs.size(), table->renderer.c_str(), a.planner_table.c_str());
+    return 0;
+}
 
 int run(BenchArgs a) {
     profiling::BenchOptions o;
@@ -61,6 +99,7 @@ int run(BenchArgs a) {
     const char* threads = std::getenv("LP_NUM_THREADS");
     o.threads = threads ? std::atoi(threads) : static_cast<int>(std::thread::hardware_concurrency());
 
+    if (!a.planner_table.empty()) return run_planner_table(a, o);
     std::error_code ec;
     std::filesystem::create_directories(a.out, ec);
     if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
@@ -110,6 +149,9 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
                   "Every technique with the view vector normalised per vertex (\"exact_view\": false) "
                   "instead of the exact one");
     cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+    cmd->add_option("--planner-table", args->planner_table,
+                    "Measure the effect planner's cost table and write it to this file "
+                    "(the library's is src/planner/cost_table.json)");
     cmd->callback([args]() { set_exit_status(run(*args)); });
 }
 

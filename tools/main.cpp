@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     px::tools::add_shaders_command(app);
     px::tools::add_bench_command(app, argc, argv);
     px::tools::add_stability_command(app, argc, argv);
+    px::tools::add_plan_command(app, argc, argv);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -13,6 +13,9 @@
 #include "platform/headless_context.h"
 #include "render/offscreen_target.h"
 #include "render/renderer.h"
+#include "plan_report.h"
+
+#include <glm/glm.hpp>
 
 namespace px::tools {
 
@@ -28,7 +31,31 @@ struct RenderArgs {
     int es = 3;
     int frames = 5;
     bool list = false;
+    bool explain = false;
+    std::string camera_path;        // "", orbit or dolly
+    std::string calibration_cache;  // "": the default folder; off: none
 };
+
+// The camera of frame i of n along a path: orbit turns it around the
+// target's vertical axis through 60 degrees (-30 to +30); dolly moves it
+// toward the target, to 40 % of its distance.
+CameraDesc camera_on_path(const CameraDesc& start, const std::string& path, int i, int n) {
+    CameraDesc c = start;
+    const double t = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
+    const glm::vec3 offset = start.position - start.target;
+    if (path == "orbit") {
+        const double a = glm::radians(-30.0 + 60.0 * t);
+        const glm::vec3 axis = glm::length(start.up) > 0.0f ? glm::normalize(start.up) : glm::vec3(0, 0, 1);
+        // Rodrigues' rotation of the offset about the up axis.
+        const glm::vec3 rotated = offset * static_cast<float>(std::cos(a)) +
+                                  glm::cross(axis, offset) * static_cast<float>(std::sin(a)) +
+                                  axis * glm::dot(axis, offset) * static_cast<float>(1.0 - std::cos(a));
+        c.position = start.target + rotated;
+    } else {
+        c.position = start.target + offset * static_cast<float>(1.0 - 0.6 * t);
+    }
+    return c;
+}
 
 void list_everything() {
     std::printf("techniques:\n");
@@ -48,6 +75,8 @@ int run_render(const RenderArgs& a) {
         return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
     if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
 
+    if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
+        return fail("--camera-path must be orbit or dolly, got '" + a.camera_path + "'");
     Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene);
     if (!scene) return fail(scene.error().message);
     if (!a.technique.empty()) {
@@ -62,6 +91,8 @@ int run_render(const RenderArgs& a) {
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
+    renderer_options.planner.calibrations =
+        load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
@@ -70,21 +101,58 @@ int run_render(const RenderArgs& a) {
     Status loaded = (*renderer)->load(*scene);
     if (!loaded) return fail(loaded.error().message);
 
+    // A camera path: every frame's plan is known before the first, so the
+    // variants it needs compile now, not in a frame.
+    int plan_changes = 0;
+    std::vector<double> plan_us;  // per object
+    std::vector<CameraDesc> cameras;
+    std::vector<DrawReport> first_reports;
+    if (!a.camera_path.empty()) {
+        std::vector<VariantKey> keys;
+        for (int i = 0; i < a.frames; ++i) {
+            cameras.push_back(camera_on_path(scene->camera, a.camera_path, i, a.frames));
+            Result<std::vector<ObjectPlan>> plans = (*renderer)->plan_view(cameras.back(), width, height);
+            if (!plans) return fail("frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " + plans.error().message);
+            for (const ObjectPlan& p : *plans) {
+                VariantKey k = p.key;
+                bool seen = false;
+                for (const VariantKey& e : keys) seen = seen || e == k;
+                if (!seen) keys.push_back(k);
+            }
+        }
+        Status prepared = (*renderer)->prepare(keys);
+        if (!prepared) return fail(prepared.error().message);
+        Result<int> first = (*renderer)->set_view(cameras.front(), width, height);
+        if (!first) return fail(first.error().message);
+        first_reports = (*renderer)->reports();
+    }
     // The first draw compiles the shaders (Mesa JITs at first use): keep it
     // out of the timing, then time whole frames around glFinish.
     Status drawn = (*renderer)->draw(target->target());
     if (!drawn) return fail(drawn.error().message);
     glFinish();
+    if (first_reports.empty()) first_reports = (*renderer)->reports();
     std::vector<double> times_ms;
     for (int i = 0; i < a.frames; ++i) {
         const auto start = std::chrono::steady_clock::now();
+        if (!cameras.empty()) {
+            const auto plan_start = std::chrono::steady_clock::now();
+            Result<int> changed = (*renderer)->set_view(cameras[static_cast<size_t>(i)], width, height);
+            const auto plan_end = std::chrono::steady_clock::now();
+            if (!changed) return fail(changed.error().message);
+            if (i > 0) plan_changes += *changed;
+            plan_us.push_back(std::chrono::duration<double, std::micro>(plan_end - plan_start).count() /
+                              static_cast<double>(std::max<size_t>(1, scene->objects.size())));
+        }
         drawn = (*renderer)->draw(target->target());
         glFinish();
         const auto end = std::chrono::steady_clock::now();
         if (!drawn) return fail(drawn.error().message);
         times_ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
     }
+    const double longest_ms = *std::max_element(times_ms.begin(), times_ms.end());
     std::sort(times_ms.begin(), times_ms.end());
+    std::sort(plan_us.begin(), plan_us.end());
 
     // Default output: out/<scene>.png, named after the built-in scene or file.
     std::string output = a.output;
@@ -107,15 +175,28 @@ int run_render(const RenderArgs& a) {
     std::printf("scene      %s%s\n", scene->name.c_str(), a.technique.empty() ? "" : (" (every material: " + a.technique + ")").c_str());
     std::printf("context    %s | %s | %s\n", caps.version.c_str(), caps.renderer.c_str(),
                 (*context)->display_description().c_str());
-    for (const DrawReport& r : (*renderer)->reports()) {
-        std::printf("object     %-10s material %-10s technique %s -> %s\n", r.object.c_str(), r.material.c_str(),
-                    technique_name(r.requested), r.variant.describe().c_str());
-        for (const std::string& note : r.notes) std::printf("             note: %s\n", note.c_str());
+    if (a.explain) {
+        std::vector<ObjectPlan> plans;
+        for (const DrawReport& r : first_reports) plans.push_back(r.plan);
+        std::printf("plan       for %dx%d%s\n", width, height, cameras.empty() ? "" : " (the path's first frame)");
+        std::fputs(plans_table(plans).c_str(), stdout);
+    } else {
+        for (const DrawReport& r : first_reports) {
+            std::printf("object     %-10s material %-10s %s -> %s\n", r.object.c_str(), r.material.c_str(),
+                        r.plan.planned ? "effects" : (std::string("technique ") + technique_name(r.requested)).c_str(),
+                        r.variant.describe().c_str());
+            for (const std::string& note : r.notes) std::printf("             note: %s\n", note.c_str());
+        }
     }
     std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
     std::printf("frame      %.2f ms median of %d (min %.2f, max %.2f), %d program(s); wall clock around glFinish\n",
                 times_ms[times_ms.size() / 2], a.frames, times_ms.front(), times_ms.back(),
                 static_cast<int>((*renderer)->program_count()));
+    if (!cameras.empty())
+        std::printf("path       %s: %d plan change(s) over %d frames; planning %.1f us per object (median); "
+                    "longest frame %.2f ms = %.2fx the median\n",
+                    a.camera_path.c_str(), plan_changes, a.frames, plan_us[plan_us.size() / 2], longest_ms,
+                    longest_ms / std::max(1e-9, times_ms[times_ms.size() / 2]));
     return 0;
 }
 
@@ -134,6 +215,13 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed frames after the warm-up frame")->capture_default_str();
     cmd->add_flag("--list", args->list, "List techniques and built-in scenes");
+    cmd->add_flag("--explain", args->explain,
+                  "Print the plan per object: effects asked for, variant chosen, prediction, what was dropped and why");
+    cmd->add_option("--camera-path", args->camera_path,
+                    "Move the camera over the --frames (orbit: 60 degrees around the target; dolly: toward it), "
+                    "planning every frame");
+    cmd->add_option("--calibration-cache", args->calibration_cache,
+                    "Folder of `parallax plan --calibrate` results (default $XDG_CACHE_HOME/parallaxes/calibration; off: none)");
     cmd->callback([args]() { set_exit_status(run_render(*args)); });
 }
 

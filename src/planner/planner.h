@@ -1,13 +1,23 @@
-// The planner: turns what a material asks for into the shader variant that a
-// context with these capabilities draws, and says why wherever the two differ.
+// The planner: turns what a material asks for into the shader variant each
+// object is drawn with on a given context, camera and image size, and says
+// why. A material either names its technique (plan_variant adjusts that
+// request to the context) or declares effects (EffectRequest), and then the
+// ScenePlanner chooses per object the cheapest variant that its measured
+// cost table (planner/cost_table.h) predicts meets the material's targets,
+// from what the camera sees of the object. GL-free: cheap enough to run
+// every frame (docs/planner.md has the measured time per object).
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/caps.h"
 #include "core/result.h"
 #include "effects/variant.h"
+#include "planner/cost_table.h"
+#include "planner/relief.h"
 #include "scene/scene.h"
 
 namespace px {
@@ -19,16 +29,94 @@ struct VariantPlan {
     std::vector<std::string> notes;
 };
 
-// Picks the variant for a material on a context with these capabilities:
-// options the technique does not have are dropped, options the context cannot
-// run are dropped with the reason (e.g. depth write on ES 2.0 without
-// GL_EXT_frag_depth), a relief with zero depth falls back to normal mapping.
-// Errors: the technique needs a newer ES version than the context has.
-// `traced_width` and `traced_height`: the size of the height field the
-// technique traces, when known (0: unknown); maxmip's pyramid halves every
-// level exactly, so a field that is not a power of two in both gets the
-// table's fallback, with the reason.
+// Picks the variant for a material that names its technique, on a context
+// with these capabilities: options the technique does not have are dropped,
+// options the context cannot run are dropped with the reason (e.g. depth
+// write on ES 2.0 without GL_EXT_frag_depth), a relief with zero depth falls
+// back to normal mapping. Errors: the technique needs a newer ES version
+// than the context has. `traced_width` and `traced_height`: the size of the
+// height field the technique traces, when known (0: unknown); maxmip's
+// pyramid halves every level exactly, so a field that is not a power of two
+// in both gets the table's fallback, with the reason.
 Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps, int traced_width = 0,
                                  int traced_height = 0);
+
+// What the camera sees of one object, over the visible part of its surface
+// (front-facing, inside the view frustum), from a few hundred points spread
+// over its triangles and weighted by their area on screen.
+struct ObjectView {
+    bool visible = false;
+    double pixels = 0.0;  // area on screen
+    double angle_min_deg = 0.0, angle_max_deg = 0.0;  // view angle from the surface normal
+    double distance_min = 0.0, distance_max = 0.0;
+    double mip_min = 0.0, mip_max = 0.0;  // log2 of texels per pixel (GL's level selection)
+    // Per-vertex view normalisation (the PowerVR whitepaper's saving): the
+    // 95th percentile of the hit displacement it adds, in texels, on this
+    // object's triangles at this distance.
+    double per_vertex_view_error = 0.0;
+    int lights_above_horizon = 0;  // lights that reach some visible point
+};
+
+// The planner's answer for one object.
+struct ObjectPlan {
+    std::string object;
+    std::string material;
+    bool planned = false;  // the material declared effects (else it named a technique)
+    EffectRequest request;  // what it asked for (planned only)
+    VariantKey key;
+    // The options the draw uses with the key: sample range, LOD threshold.
+    TechniqueOptions options;
+    // Every decision, with its reason: dropped effects, the chosen
+    // candidate against the others, the view vector's interpolation.
+    std::vector<std::string> notes;
+    ObjectView view;
+    // Planned objects: the prediction behind the choice. -1: not predicted.
+    double predicted_error = -1.0;         // texels of the level sampled, p95 (see EffectRequest)
+    double predicted_cost = -1.0;          // per pixel, relative to normal mapping
+    double predicted_shadow_error = -1.0;  // mean |visibility difference|
+    std::string prediction_source;         // "table: bricks (depth 15.4 texels, ...)" or "calibrated ..."
+    // Where a calibration changed the choice: what the generic table alone picks.
+    std::optional<VariantKey> generic_key;
+    double generic_error = -1.0, generic_cost = -1.0;
+};
+
+// Per material, what the planner knows of its relief, measured once.
+struct MaterialRelief {
+    ReliefFeatures features;  // of the traced field, 8-bit as the GPU samples it
+    int traced_width = 0, traced_height = 0;
+};
+
+struct PlannerOptions {
+    const CostTable* table = nullptr;  // null: the built-in table
+    // Tables measured on single materials' reliefs (`parallax plan
+    // --calibrate`): a material whose relief's hash and depth match one is
+    // predicted from it instead of the generic table.
+    std::vector<CostTable> calibrations;
+};
+
+class ScenePlanner {
+public:
+    // `reliefs`: one per scene material, in order. Errors: a broken table.
+    static Result<std::unique_ptr<ScenePlanner>> create(const SceneDesc& scene, const Caps& caps,
+                                                        std::vector<MaterialRelief> reliefs,
+                                                        PlannerOptions options = {});
+    ~ScenePlanner();
+    // One plan per scene object, in order, for this camera and image size.
+    // Errors name the object and the JSON path of the field: an impossible
+    // target (no candidate reaches it here), a technique the context cannot run.
+    Result<std::vector<ObjectPlan>> plan(const CameraDesc& camera, int width, int height) const;
+
+    struct Impl;
+
+private:
+    ScenePlanner() = default;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Measures a material's relief the way the planner needs it, from its images.
+MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDesc& material);
+
+// "pom samples=32 shadow=soft x16 depth exact-view" plus a one-line reason list.
+std::string describe_plan(const ObjectPlan& plan);
 
 }  // namespace px

@@ -42,7 +42,8 @@ struct GpuMaterial {
     // Texels of the texture the trace reads (u_texture_size): the height map
     // where there is one, which need not be the normal map's size.
     glm::vec2 traced_size{0.0f};
-    VariantPlan plan;
+    VariantPlan plan;   // a material that names its technique: what the context draws of it
+    bool planned = false;  // declares effects: each object's plan picks the variant
     HeightField field;  // 8-bit quantised, as uploaded: for displaced meshes
 };
 
@@ -50,6 +51,7 @@ struct GpuObject {
     const ObjectDesc* desc = nullptr;
     size_t mesh = 0;
     size_t material = 0;
+    ObjectPlan plan;  // this frame's variant and options
 };
 
 // Where each attribute's data sits in a Vertex.
@@ -71,16 +73,6 @@ void point_attributes() {
         glVertexAttribPointer(slot_index, a.components, GL_FLOAT, GL_FALSE, sizeof(Vertex),
                               reinterpret_cast<void*>(vertex_offset(a.id)));
     }
-}
-
-Mesh build_mesh(const MeshDesc& d) {
-    switch (d.kind) {
-        case MeshKind::plane: return make_plane(d.size, d.segments, d.tangent, d.normal);
-        case MeshKind::cube: return make_cube(d.size);
-        case MeshKind::sphere: return make_uv_sphere(d.radius);
-        case MeshKind::torus: return make_torus(d.radius, d.tube_radius);
-    }
-    return make_plane();
 }
 
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what) {
@@ -129,9 +121,8 @@ struct FrameValues {
     std::array<float, kMaxLights> light_radii{};        // angular radius, radians
 };
 
-FrameValues frame_values(const SceneDesc& scene, const RenderTarget& target) {
+FrameValues frame_values(const SceneDesc& scene, const CameraDesc& cam, const RenderTarget& target) {
     FrameValues f;
-    const CameraDesc& cam = scene.camera;
     const float aspect = static_cast<float>(target.width) / static_cast<float>(target.height);
     f.view = glm::lookAt(cam.position, cam.target, cam.up);
     f.projection = glm::perspective(glm::radians(cam.fov_y_deg), aspect, cam.near_plane, cam.far_plane);
@@ -180,7 +171,8 @@ void bind_texture_unit(shader::Sampler sampler, const Texture& texture) {
     bind_texture(texture);
 }
 
-void set_material_uniforms(const Program& p, const GpuMaterial& material, const VariantKey& key) {
+void set_material_uniforms(const Program& p, const GpuMaterial& material, const VariantKey& key,
+                           const TechniqueOptions& options) {
     const MaterialDesc& m = *material.desc;
     p.set(slot::uv_matrix, m.uv.matrix<float>());
     // Whole tiles of offset change no texel (GL_REPEAT), but uvs 1000 tiles
@@ -196,9 +188,9 @@ void set_material_uniforms(const Program& p, const GpuMaterial& material, const 
     p.set(slot::texture_size, material.traced_size);
     // The planner's loop bound is the top of the dynamic range (it may
     // differ from the material's, e.g. on a fallback technique).
-    const float top = static_cast<float>(key.max_samples > 0 ? key.max_samples : m.technique.max_samples);
-    p.set(slot::sample_range, glm::vec2(std::min(static_cast<float>(m.technique.min_samples), top), top));
-    p.set(slot::lod_range, glm::vec2(m.technique.lod_threshold, m.technique.lod_band));
+    const float top = static_cast<float>(key.max_samples > 0 ? key.max_samples : options.max_samples);
+    p.set(slot::sample_range, glm::vec2(std::min(static_cast<float>(options.min_samples), top), top));
+    p.set(slot::lod_range, glm::vec2(options.lod_threshold, options.lod_band));
     p.set(slot::specular, m.specular);
     p.set(slot::shininess, m.shininess);
     p.set(slot::max_levels, material.max_levels);
@@ -257,6 +249,9 @@ struct Renderer::GpuScene {
     std::vector<GpuMaterial> materials;
     std::vector<GpuObject> objects;
     ProgramCache programs;
+    std::unique_ptr<ScenePlanner> planner;
+    CameraDesc camera;             // the view the plans are for
+    int plan_width = 512, plan_height = 512;  // and the image size
 };
 
 Renderer::~Renderer() { release(); }
@@ -302,6 +297,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     }
     if (options.emulate_no_fragment_highp && r->caps_.es_major < 3) r->caps_.fragment_highp = false;
     r->shader_transform_ = options.shader_transform;
+    r->planner_options_ = options.planner;
     install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
     return r;
 }
@@ -345,26 +341,39 @@ Status Renderer::load_checked(const SceneDesc& scene) {
     gpu->programs = ProgramCache(shader_transform_);
     gpu->desc = scene;
     const SceneDesc& desc = gpu->desc;
-    std::vector<DrawReport> reports;
 
+    std::vector<MaterialRelief> reliefs;
     for (const MaterialDesc& m : desc.materials) {
         GpuMaterial g;
         g.desc = &m;
         Result<MaterialImages> images = build_material_images(m, desc.base_dir);
         if (!images) return images.error();
-        Result<VariantPlan> plan = plan_variant(m, caps_, images->field.width, images->field.height);
-        if (!plan) return with_context("material '" + echo(m.name) + "'", plan.error());
-        g.plan = std::move(*plan);
         const std::string what = "material '" + echo(m.name) + "'";
         g.field = quantized_8bit(images->field);
+        reliefs.push_back(material_relief(g.field, m));
+        g.planned = m.effects.has_value();
+        bool traced = false, pyramid = false;
+        if (g.planned) {
+            // Any technique may be chosen as the camera moves: upload what
+            // tracing needs wherever there is a relief to trace.
+            traced = m.effects->parallax && m.height_scale > 0.0f;
+            pyramid = traced && caps_.es_major >= 3 && (g.field.width & (g.field.width - 1)) == 0 &&
+                      (g.field.height & (g.field.height - 1)) == 0;
+        } else {
+            Result<VariantPlan> plan = plan_variant(m, caps_, images->field.width, images->field.height);
+            if (!plan) return with_context(what, plan.error());
+            g.plan = std::move(*plan);
+            traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
+            // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
+            pyramid = (technique_info(g.plan.key.technique).options & kOptSteps) != 0;
+        }
         Result<Texture> albedo = upload_texture(images->albedo, caps_, what + " albedo (" + source_label(m.albedo) + ")");
         if (!albedo) return albedo.error();
         g.albedo = std::move(*albedo);
         Result<Texture> normal = upload_texture(images->normal, caps_, what + " normal map (" + normal_label(m) + ")");
         if (!normal) return normal.error();
         g.normal = std::move(*normal);
-        const bool traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
-        const bool base_level_trace = traced && g.plan.key.es_major < 3;
+        const bool base_level_trace = traced && caps_.es_major < 3;
         const Image* trace_image = images->height ? &*images->height
                                    : base_level_trace ? &images->normal
                                                       : nullptr;
@@ -375,20 +384,20 @@ Status Renderer::load_checked(const SceneDesc& scene) {
         }
         const Texture& traced_texture = g.height.handle ? g.height : g.normal;
         g.traced_size = glm::vec2(static_cast<float>(traced_texture.width), static_cast<float>(traced_texture.height));
-        // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
-        if (technique_info(g.plan.key.technique).options & kOptSteps) {
-            Result<MaxMipmap> pyramid = build_max_mipmap(g.field);
-            if (!pyramid) return with_context(what + " height (" + source_label(m.height) + ")", pyramid.error());
-            Result<Texture> max_map = upload_max_mipmap(*pyramid, caps_, what + " max pyramid of the height (" + source_label(m.height) + ")");
+        if (pyramid) {
+            Result<MaxMipmap> max_pyramid = build_max_mipmap(g.field);
+            if (!max_pyramid) return with_context(what + " height (" + source_label(m.height) + ")", max_pyramid.error());
+            Result<Texture> max_map = upload_max_mipmap(*max_pyramid, caps_, what + " max pyramid of the height (" + source_label(m.height) + ")");
             if (!max_map) return max_map.error();
             g.max_map = std::move(*max_map);
-            g.max_levels = pyramid->level_count();
+            g.max_levels = max_pyramid->level_count();
         }
-        // Build the colour program now, so a shader error surfaces at load.
-        Result<const Program*> program = gpu->programs.get(g.plan.key);
-        if (!program) return with_context(what, program.error());
         gpu->materials.push_back(std::move(g));
     }
+    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(desc, caps_, std::move(reliefs), planner_options_);
+    if (!planner) return planner.error();
+    gpu->planner = std::move(*planner);
+    gpu->camera = desc.camera;
     for (const ObjectDesc& o : desc.objects) {
         const std::string what = "object '" + echo(o.name) + "'";
         const size_t material_index = desc.material_index(o.material);  // validate_scene checked it exists
@@ -406,7 +415,7 @@ Status Renderer::load_checked(const SceneDesc& scene) {
             if (!displaced) return with_context(what, displaced.error());
             mesh = std::move(*displaced);
         } else {
-            mesh = build_mesh(o.mesh);
+            mesh = build_object_mesh(o.mesh);
         }
         Result<GpuMesh> g = upload_mesh(mesh, caps_, what);
         if (!g) return g.error();
@@ -416,12 +425,61 @@ Status Renderer::load_checked(const SceneDesc& scene) {
         object.mesh = gpu->meshes.size() - 1;
         object.material = material_index;
         gpu->objects.push_back(object);
-        const GpuMaterial& material = gpu->materials[object.material];
-        reports.push_back(DrawReport{o.name, o.material, material.desc->technique.technique, material.plan.key,
-                                     material.plan.notes});
     }
     scene_ = std::move(gpu);
+    // Plan for the scene's camera at the nominal size, and build those
+    // programs now, so that a shader error surfaces at load.
+    Result<int> planned = apply_plans(scene_->camera, scene_->plan_width, scene_->plan_height);
+    if (!planned) {
+        scene_.reset();
+        return planned.error();
+    }
+    return {};
+}
+
+Result<std::vector<ObjectPlan>> Renderer::plan_view(const CameraDesc& camera, int width, int height) const {
+    if (!scene_) return make_error("plan: no scene loaded");
+    return scene_->planner->plan(camera, width, height);
+}
+
+Result<int> Renderer::apply_plans(const CameraDesc& camera, int width, int height) {
+    Result<std::vector<ObjectPlan>> plans = scene_->planner->plan(camera, width, height);
+    if (!plans) return plans.error();
+    int changed = 0;
+    std::vector<DrawReport> reports;
+    for (size_t i = 0; i < scene_->objects.size(); ++i) {
+        GpuObject& object = scene_->objects[i];
+        ObjectPlan& plan = (*plans)[i];
+        if (!(plan.key == object.plan.key)) ++changed;
+        Result<const Program*> program = scene_->programs.get(plan.key);
+        if (!program) return with_context("material '" + echo(scene_->materials[object.material].desc->name) + "'", program.error());
+        object.plan = std::move(plan);
+        const MaterialDesc& m = *scene_->materials[object.material].desc;
+        reports.push_back(DrawReport{object.desc->name, object.desc->material, m.technique.technique, object.plan.key,
+                                     object.plan.notes, object.plan});
+    }
+    scene_->camera = camera;
+    scene_->plan_width = width;
+    scene_->plan_height = height;
     reports_ = std::move(reports);
+    return changed;
+}
+
+Result<int> Renderer::set_view(const CameraDesc& camera, int width, int height) {
+    if (!scene_) return make_error("set_view: no scene loaded");
+    if (width < 1 || height < 1)
+        return make_error("set_view: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
+    SavedGlState saved(caps_);
+    return apply_plans(camera, width, height);
+}
+
+Status Renderer::prepare(const std::vector<VariantKey>& keys) {
+    if (!scene_) return make_error("prepare: no scene loaded");
+    SavedGlState saved(caps_);
+    for (const VariantKey& key : keys) {
+        Result<const Program*> program = scene_->programs.get(key);
+        if (!program) return program.error();
+    }
     return {};
 }
 
@@ -440,12 +498,18 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
     // Debug outputs: alpha marks drawn pixels, -1 (float target) or 0 (packed) where nothing is.
     const glm::vec4 clear = debug_output == 0 ? glm::vec4(scene.background, 1.0f)
                                               : glm::vec4(0.0f, 0.0f, 0.0f, debug_output == 1 ? -1.0f : 0.0f);
+    if (target.width != scene_->plan_width || target.height != scene_->plan_height) {
+        // The plan depends on the image size (texels per pixel): plan again.
+        Result<int> planned = apply_plans(scene_->camera, target.width, target.height);
+        if (!planned) return planned.error();
+        glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
+    }
     set_draw_state(caps_, target, clear);
-    const FrameValues frame = frame_values(scene, target);
+    const FrameValues frame = frame_values(scene, scene_->camera, target);
 
     for (const GpuObject& object : scene_->objects) {
         const GpuMaterial& material = scene_->materials[object.material];
-        VariantKey key = material.plan.key;
+        VariantKey key = object.plan.key;
         key.debug_output = debug_output;
         Result<const Program*> program = scene_->programs.get(key);
         if (!program) return with_context("material '" + material.desc->name + "'", program.error());
@@ -457,7 +521,7 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
         // A mirroring model matrix reverses the triangles' winding on screen:
         // flip the front face so the object's outside stays the drawn side.
         glFrontFace(mirrored ? GL_CW : GL_CCW);
-        set_material_uniforms(p, material, key);
+        set_material_uniforms(p, material, key, object.plan.options);
         draw_mesh(mesh);
         Status s = check_gl("drawing object '" + object.desc->name + "' with " + p.description());
         if (!s) return s;

@@ -36,6 +36,9 @@ struct RendererOptions {
     // compiled (gl/program.h ShaderTransform); empty: none. Uniform names
     // and types must survive it: the typed interface is checked as ever.
     ShaderTransform shader_transform;
+    // The effect planner's cost table and calibrations (materials that
+    // declare effects); default: the table built into the library.
+    PlannerOptions planner;
 };
 
 // What the renderer decided for one object: shown by `parallax render` and
@@ -46,6 +49,7 @@ struct DrawReport {
     Technique requested = Technique::normal;
     VariantKey variant;
     std::vector<std::string> notes;  // why the variant differs from the request
+    ObjectPlan plan;                 // the planner's whole answer: view, prediction, notes
 };
 
 class Renderer {
@@ -68,7 +72,19 @@ public:
     // set aside for the draw. `load` restores the host's state the same way.
     // `debug_output` (VariantKey::debug_output) draws what each shader
     // computed instead of colour; see render/surface_capture.h.
+    // A target of another size than the plans were made for is planned
+    // again first (the plan depends on texels per pixel).
     Status draw(const RenderTarget& target, std::uint8_t debug_output = 0);
+
+    // Moving cameras: plans every object again for this camera and image
+    // size, and draws from then on with that camera. Returns how many
+    // objects changed variant. Cheap (no GL unless a new variant must be
+    // compiled: call prepare() first to keep compiles out of the frame).
+    Result<int> set_view(const CameraDesc& camera, int width, int height);
+    // The plans for a view, without applying them.
+    Result<std::vector<ObjectPlan>> plan_view(const CameraDesc& camera, int width, int height) const;
+    // Compiles these variants now (e.g. every one a camera path will need).
+    Status prepare(const std::vector<VariantKey>& keys);
 
     const std::vector<DrawReport>& reports() const { return reports_; }
     size_t program_count() const;
@@ -82,9 +98,11 @@ public:
 
 private:
     Status load_checked(const SceneDesc& scene);
+    Result<int> apply_plans(const CameraDesc& camera, int width, int height);
     Renderer() = default;
     Caps caps_;
     ShaderTransform shader_transform_;
+    PlannerOptions planner_options_;
     std::unique_ptr<GpuScene> scene_;
     std::vector<DrawReport> reports_;
 };

@@ -102,7 +102,9 @@ const glm::vec3 kPaleStone{0.82f, 0.79f, 0.72f};
 SceneDesc default_scene() {
     SceneDesc s;
     s.name = "default";
-    s.camera = orbit({0.0f, 0.0f, 0.0f}, 2.9f, -90.0f, 24.0f);
+    // 40 degrees up: the glyphs' own relief (0.025 deep) stays shorter than
+    // their strokes are wide, so the word reads while the parallax shows.
+    s.camera = orbit({0.0f, -0.2f, 0.0f}, 2.9f, -90.0f, 40.0f);
     s.ambient = glm::vec3(0.10f);
     s.background = {0.05f, 0.06f, 0.09f};
     // From the left and slightly in front, 20 degrees up: vertical joints are
@@ -117,10 +119,83 @@ SceneDesc default_scene() {
     FieldSpec text = field(FieldKind::text, 512);  // 8 glyphs across: 512 texels keep their edges crisp
     text.text = "PARALLAX";
     s.materials = {material("bricks", kBrickRed, bricks, 0.06f, pom, glm::vec2(3.0f)),
-                   material("lettering", kPaleStone, text, 0.06f, pom)};
+                   material("lettering", kPaleStone, text, 0.025f, pom)};
     // The lettering in front, the brick floor running away behind it.
     s.objects = {object("brick floor", plane(2.6f), "bricks", {0.0f, 1.25f, -0.001f}),
                  object("text slab", plane(2.0f), "lettering", {0.0f, -1.05f, 0.0f})};
+    return s;
+}
+
+// A material that declares effects: the planner chooses its technique.
+MaterialDesc effects_material(std::string name, glm::vec3 albedo, FieldSpec height, float height_scale,
+                              EffectRequest effects, glm::vec2 uv_scale = glm::vec2(1.0f)) {
+    MaterialDesc m = material(std::move(name), albedo, std::move(height), height_scale, TechniqueOptions{}, uv_scale);
+    m.effects = effects;
+    return m;
+}
+
+EffectRequest parallax_within(float texels, ShadowMode shadow = ShadowMode::none, float shadow_error = 0.1f) {
+    EffectRequest e;
+    e.max_error_texels = texels;
+    e.shadow = shadow;
+    e.shadow_max_error = shadow_error;
+    return e;
+}
+
+// Surfaces that call for different effects, every material declaring what
+// it needs and the planner choosing (docs/planner.md): a brick floor running
+// far away, a stone wall seen at a grazing angle, raised text close up under
+// a low light, a flat painted panel, and a board leaning on a deep brick
+// wall, whose relief it meets. Planes only, so the exact reference
+// covers every surface.
+SceneDesc showcase_scene() {
+    SceneDesc s;
+    s.name = "showcase";
+    s.camera.position = {0.0f, -3.2f, 1.35f};
+    s.camera.target = {0.25f, 2.5f, 0.75f};
+    s.camera.fov_y_deg = 55.0f;
+    s.ambient = glm::vec3(0.12f);
+    s.background = {0.05f, 0.06f, 0.09f};
+    // Low, from the left and behind the camera: it rakes across the text
+    // panel, reaches the floor and the back wall, and is behind the grazing
+    // wall on the right (which faces -x, away from it).
+    LightDesc sun_light = sun(200.0f, 18.0f, 1.4f, {1.0f, 0.95f, 0.88f});
+    sun_light.angular_radius_deg = 1.5f;
+    s.lights = {sun_light};
+
+    FieldSpec text = field(FieldKind::text, 256);
+    text.text = "ES";
+    FieldSpec waves = field(FieldKind::sine, 256);
+    waves.frequency = 2.0f;
+    EffectRequest floor = parallax_within(1.0f);
+    EffectRequest side = parallax_within(0.75f);
+    EffectRequest lettering = parallax_within(0.5f, ShadowMode::soft, 0.08f);
+    EffectRequest back = parallax_within(1.0f, ShadowMode::hard, 0.1f);
+    EffectRequest painted = parallax_within(1.0f);
+    EffectRequest plain;
+    plain.parallax = false;
+    s.materials = {
+        effects_material("floor", kBrickRed, field(FieldKind::bricks), 0.03f, floor, glm::vec2(4.4f, 9.2f)),
+        effects_material("side wall", {0.45f, 0.47f, 0.5f}, waves, 0.04f, side, glm::vec2(2.0f)),
+        effects_material("lettering", kPaleStone, text, 0.04f, lettering),
+        effects_material("back wall", {0.62f, 0.36f, 0.26f}, field(FieldKind::bricks), 0.08f, back, glm::vec2(3.0f, 1.5f)),
+        effects_material("paint", {0.25f, 0.45f, 0.62f}, field(FieldKind::flat), 0.0f, painted),
+        effects_material("board", {0.55f, 0.5f, 0.45f}, field(FieldKind::flat), 0.0f, plain),
+    };
+    // The floor ends where the walls begin, and the walls stand 0.02 above
+    // it: nothing meets another surface's relief but the board.
+    ObjectDesc floor_object = object("floor", plane(1.0f), "floor", {0.0f, 2.4f, 0.0f});
+    floor_object.transform.scale = {4.4f, 9.2f, 1.0f};
+    s.objects = {
+        floor_object,
+        // Vertical planes: +z turned to face the camera's side.
+        object("side wall", plane(4.0f), "side wall", {2.2f, 3.0f, 2.02f}, {0.0f, -90.0f, 0.0f}),
+        object("text panel", plane(0.5f), "lettering", {-0.45f, -1.8f, 0.82f}, {72.0f, 0.0f, 20.0f}),
+        object("back wall", plane(4.0f), "back wall", {0.0f, 7.0f, 2.02f}, {90.0f, 0.0f, 0.0f}),
+        object("painted panel", plane(0.8f), "paint", {-1.4f, 1.5f, 0.9f}, {90.0f, 0.0f, -30.0f}),
+        // A board leaning on the back wall, its top edge inside the wall's relief.
+        object("board", plane(1.2f), "board", {0.6f, 6.95f, 1.0f}, {75.0f, 0.0f, 0.0f}),
+    };
     return s;
 }
 
@@ -209,6 +284,7 @@ constexpr Builtin kBuiltins[] = {
     {"bricks", bricks_scene},
     {"pit", pit_scene},
     {"shapes", shapes_scene},
+    {"showcase", showcase_scene},
 };
 
 }  // namespace

@@ -31,6 +31,11 @@ public:
         if (!ok && !error_) error_ = make_error(path + ": " + what);
         return ok;
     }
+    // A check that words its own message (path included).
+    bool require(const Status& s) {
+        if (!s && !error_) error_ = s.error();
+        return s.ok();
+    }
     bool failed() const { return error_.has_value(); }
     Status status() const { return error_ ? Status(*error_) : Status(); }
 
@@ -170,6 +175,7 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
     check_source(c, m.normal, path + ".normal");
     const Status options = validate_options(m.technique);
     c.require(options.ok(), path + ".options", options.ok() ? "" : options.error().message);
+    if (m.effects) c.require(validate_effect_request(*m.effects, path + ".effects"));
 }
 
 void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const std::string& path) {
@@ -268,6 +274,16 @@ Status validate_scene(const SceneDesc& scene) {
     for (std::size_t i = 0; i < scene.objects.size(); ++i)
         check_object(c, scene.objects[i], scene, index_path("objects", i));
     return c.status();
+}
+
+Mesh build_object_mesh(const MeshDesc& d) {
+    switch (d.kind) {
+        case MeshKind::plane: return make_plane(d.size, d.segments, d.tangent, d.normal);
+        case MeshKind::cube: return make_cube(d.size);
+        case MeshKind::sphere: return make_uv_sphere(d.radius);
+        case MeshKind::torus: return make_torus(d.radius, d.tube_radius);
+    }
+    return make_plane();
 }
 
 }  // namespace px

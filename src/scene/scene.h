@@ -12,6 +12,7 @@
 
 #include "assets/heightfield.h"
 #include "core/result.h"
+#include "effects/effects.h"
 #include "effects/technique.h"
 #include "scene/mesh.h"
 
@@ -91,6 +92,10 @@ struct MaterialDesc {
     bool pack_height_in_normal_alpha = true;
     UvTransform uv;
     TechniqueOptions technique;  // technique and its options
+    // Set: the material declares the effects it needs ("effects" in a scene
+    // file) and the planner chooses technique and options per object and
+    // frame (src/planner/planner.h); `technique` is then unused.
+    std::optional<EffectRequest> effects;
     // Lighting: Lambert diffuse plus Blinn-Phong specular, as the renderer's
     // shaders_es/chunks/lighting.glsl and the reference both compute it.
     float specular = 0.25f;   // specular intensity
@@ -150,6 +155,10 @@ struct SceneDesc {
     // Index of the material of that name in `materials`, or materials.size().
     size_t material_index(const std::string& name) const;
 };
+
+// The mesh an object draws (a displaced plane: its flat plane; the
+// renderer displaces it from the material's field).
+Mesh build_object_mesh(const MeshDesc& mesh);
 
 // Scenes built into the program.
 std::vector<std::string> builtin_scene_names();

@@ -483,6 +483,44 @@ void read_options(Reader& r, const json* j, const std::string& path, TechniqueOp
     f.read("lod_band", t.lod_band);
 }
 
+// "parallax": {"max_error_texels": 0.5} or "off"; "shadow": "soft" or
+// {"mode": "soft", "max_error": 0.05}; "depth_correction" and "lod_fade":
+// "auto", "on" or "off" (lod_fade also {"mode", "threshold", "band"}).
+void read_effects(Reader& r, const json& j, const std::string& path, EffectRequest& e) {
+    Fields f(r, &j, path);
+    if (const json* p = f.get("parallax")) {
+        if (p->is_string()) {
+            if (p->get<std::string>() != "off")
+                return r.fail(f.sub("parallax"), "expected \"off\" or an object such as {\"max_error_texels\": 0.5}, got " +
+                                                     describe(*p));
+            e.parallax = false;
+        } else {
+            Fields pf(r, p, f.sub("parallax"));
+            pf.read("max_error_texels", e.max_error_texels);
+        }
+    }
+    if (const json* s = f.get("shadow")) {
+        if (s->is_string()) {
+            r.named(*s, f.sub("shadow"), parse_shadow_mode, e.shadow);
+        } else {
+            Fields sf(r, s, f.sub("shadow"));
+            sf.read_named("mode", parse_shadow_mode, e.shadow);
+            sf.read("max_error", e.shadow_max_error);
+        }
+    }
+    f.read_named("depth_correction", parse_effect_switch, e.depth_correction);
+    if (const json* l = f.get("lod_fade")) {
+        if (l->is_string()) {
+            r.named(*l, f.sub("lod_fade"), parse_effect_switch, e.lod_fade);
+        } else {
+            Fields lf(r, l, f.sub("lod_fade"));
+            lf.read_named("mode", parse_effect_switch, e.lod_fade);
+            lf.read("threshold", e.lod_threshold);
+            lf.read("band", e.lod_band);
+        }
+    }
+}
+
 void read_material(Reader& r, const json& j, const std::string& path, MaterialDesc& m) {
     Fields f(r, &j, path);
     f.read("name", m.name);
@@ -504,6 +542,17 @@ void read_material(Reader& r, const json& j, const std::string& path, MaterialDe
     uv.read("offset", m.uv.offset);
     uv.read("rotation_deg", m.uv.rotation_deg);
 
+    // A material names its technique (and options), or declares the effects
+    // it needs and lets the planner choose: not both.
+    const bool explicit_technique = f.has("technique") || f.has("options");
+    if (const json* e = f.get("effects")) {
+        if (explicit_technique)
+            return r.fail(f.sub("effects"), std::string("a material declares effects or names a technique, not both (") +
+                                                (f.has("technique") ? "\"technique\"" : "\"options\"") +
+                                                " is set too)");
+        read_effects(r, *e, f.sub("effects"), m.effects.emplace());
+        return;
+    }
     f.read_named("technique", parse_technique, m.technique.technique);
     read_options(r, f.get("options"), f.sub("options"), m.technique);
 }

@@ -1,0 +1,155 @@
+#include "profiling/planner_table.h"
+
+#include <map>
+
+#include "scene/material_images.h"
+
+namespace px::profiling {
+
+namespace {
+
+// "bricks_shadowed" and "bricks_soft" are the bricks relief, shadowed.
+std::string relief_name(const std::string& scene) {
+    const size_t cut = scene.find('_');
+    if (cut != std::string::npos && (scene.substr(cut) == "_shadowed" || scene.substr(cut) == "_soft"))
+        return scene.substr(0, cut);
+    return scene;
+}
+
+Result<ReliefFeatures> features_of(const SceneDesc& scene) {
+    Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
+    if (!images) return images.error();
+    return measure_relief(quantized_8bit(images->field), scene.materials[0].height_scale);
+}
+
+}  // namespace
+
+Result<CostTable> cost_table_from_runs(const std::vector<BenchRun>& runs, const std::vector<BenchMaterial>& materials) {
+    CostTable table;
+    std::map<std::string, int> relief_index;
+    for (const BenchRun& run : runs) {
+        if (table.date.empty()) {
+            table.date = run.date;
+            table.renderer = run.gl_renderer;
+            table.version = run.gl_version;
+            table.width = run.width;
+            table.height = run.height;
+        }
+        for (const BenchRow& row : run.rows) {
+            if (row.technique == kDisplacedMesh) continue;
+            bool custom_row = false;
+            for (const BenchMaterial& m : materials) custom_row = custom_row || m.name == row.scene;
+            const std::string relief = custom_row ? row.scene : relief_name(row.scene);
+            auto it = relief_index.find(relief);
+            if (it == relief_index.end()) {
+                Result<SceneDesc> scene = make_error("");
+                bool custom = false;
+                for (const BenchMaterial& m : materials)
+                    if (m.name == row.scene) {
+                        scene = bench_scene_of(m.name, m.material, m.base_dir, 0.0, 1);
+                        custom = true;
+                    }
+                if (!custom) scene = bench_scene(relief, 0.0, 1);
+                if (!scene) return scene.error();
+                Result<ReliefFeatures> f = features_of(*scene);
+                if (!f) return f.error();
+                table.reliefs.push_back({relief, *f});
+                it = relief_index.emplace(relief, static_cast<int>(table.reliefs.size() - 1)).first;
+            }
+            CostSample s;
+            s.relief = it->second;
+            s.angle_deg = row.angle_deg;
+            Result<Technique> t = parse_technique(row.technique);
+            if (!t) return t.error();
+            s.technique = *t;
+            s.samples = (technique_info(*t).options & (kOptSamples | kOptSteps)) ? row.samples : 0;
+            if (technique_info(*t).options & kOptSteps && s.samples == 0) s.samples = TechniqueOptions{}.max_steps;
+            s.shadow = row.shadow;
+            s.shadow_samples = row.shadow_samples;
+            s.error_p95 = row.uv_error_p95;
+            s.visibility_error = row.shadow_disagreement;
+            s.cost = row.ratio_to_normal > 0.0 ? row.ratio_to_normal : 1.0;
+            table.rows.push_back(s);
+        }
+    }
+    if (table.reliefs.empty()) return make_error("no bench rows to make a table of");
+    return table;
+}
+
+namespace {
+
+BenchOptions grid_options(const TableGrid& grid, const std::string& command) {
+    BenchOptions o;
+    o.angles = grid.angles;
+    o.samples = grid.samples;
+    o.frames = grid.frames;
+    o.width = grid.width;
+    o.height = grid.height;
+    o.command = command;
+    o.techniques.clear();
+    for (const TechniqueInfo& info : technique_table())
+        if (info.benched) o.techniques.push_back(info.name);
+    return o;
+}
+
+}  // namespace
+
+Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& command, const RenderTarget& target,
+                                     const std::function<Result<Image>()>& read_color, const Progress& progress) {
+    BenchOptions plain = grid_options(grid, command);
+    plain.scenes = grid.scenes;
+    // Shadow rows: POM at 32 samples under each shadow sample count (the
+    // planner adds the shadow's cost over its unshadowed twin to any technique).
+    BenchOptions shadowed = grid_options(grid, command);
+    shadowed.scenes = grid.shadow_scenes;
+    shadowed.techniques = {"pom"};
+    shadowed.samples = {32};
+    shadowed.shadow_samples = grid.shadow_samples;
+    const int plain_total = static_cast<int>(plain.scenes.size() * plain.angles.size() *
+                                             (3 + 3 * plain.samples.size() + 1));
+    std::vector<BenchRun> runs;
+    Result<BenchRun> a = run_bench(plain, target, read_color, progress);
+    if (!a) return a.error();
+    runs.push_back(std::move(*a));
+    Result<BenchRun> b = run_bench(shadowed, target, read_color, [&](int done, int total, const std::string& what) {
+        if (progress) progress(plain_total + done, plain_total + total, what);
+    });
+    if (!b) return b.error();
+    runs.push_back(std::move(*b));
+    Result<CostTable> table = cost_table_from_runs(runs, {});
+    if (!table) return table.error();
+    table->command = command;
+    return table;
+}
+
+Result<CostTable> calibrate_material(const MaterialDesc& material, const std::string& base_dir,
+                                     const std::vector<double>& angles, const TableGrid& grid,
+                                     const std::string& command, const RenderTarget& target,
+                                     const std::function<Result<Image>()>& read_color, const Progress& progress) {
+    BenchOptions o = grid_options(grid, command);
+    o.angles = angles;
+    o.scenes.clear();
+    const std::string name = "calibrated " + material.name;
+    o.materials = {{name, material, base_dir, ShadowMode::none}};
+    std::vector<BenchRun> runs;
+    Result<BenchRun> plain = run_bench(o, target, read_color, progress);
+    if (!plain) return plain.error();
+    runs.push_back(std::move(*plain));
+    std::vector<BenchMaterial> materials = o.materials;
+    if (material.effects && material.effects->shadow != ShadowMode::none) {
+        BenchOptions s = o;
+        s.materials = {{name, material, base_dir, material.effects->shadow}};
+        s.techniques = {"pom"};
+        s.samples = {32};
+        s.shadow_samples = grid.shadow_samples;
+        Result<BenchRun> shadowed = run_bench(s, target, read_color, progress);
+        if (!shadowed) return shadowed.error();
+        runs.push_back(std::move(*shadowed));
+    }
+    Result<CostTable> table = cost_table_from_runs(runs, materials);
+    if (!table) return table.error();
+    table->command = command;
+    return table;
+}
+
+}  // namespace px::profiling

@@ -1,0 +1,43 @@
+// The planner's cost table from benchmark runs: the generic table the
+// library ships (`parallax bench --planner-table`), and the calibration of
+// one material's own relief (`parallax plan --calibrate`).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "planner/cost_table.h"
+#include "profiling/bench.h"
+
+namespace px::profiling {
+
+// The grid the shipped table measures (docs/planner.md).
+struct TableGrid {
+    std::vector<std::string> scenes{"sine", "bricks", "text", "hemispheres", "lines"};
+    std::vector<std::string> shadow_scenes{"bricks_shadowed", "bricks_soft"};
+    std::vector<double> angles{0, 30, 60, 75, 85, 89};
+    std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
+    std::vector<int> shadow_samples{4, 8, 16, 32, 64};
+    int frames = 5;
+    int width = 256, height = 256;
+};
+
+// The bench rows as a cost table: one relief per bench scene (a shadowed
+// scene shares its unshadowed twin's relief), features measured from each
+// scene's field as the GPU samples it.
+Result<CostTable> cost_table_from_runs(const std::vector<BenchRun>& runs, const std::vector<BenchMaterial>& materials);
+
+// Measures the generic grid (needs a current ES 3.0 context and a target of
+// the grid's size). `command` is recorded in the table.
+Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& command, const RenderTarget& target,
+                                     const std::function<Result<Image>()>& read_color, const Progress& progress);
+
+// Measures one material's relief at these angles, every candidate of the
+// grid (and its shadow mode's sample counts when it asks for a shadow).
+Result<CostTable> calibrate_material(const MaterialDesc& material, const std::string& base_dir,
+                                     const std::vector<double>& angles, const TableGrid& grid,
+                                     const std::string& command, const RenderTarget& target,
+                                     const std::function<Result<Image>()>& read_color, const Progress& progress);
+
+}  // namespace px::profiling

@@ -1,0 +1,56 @@
+// The planner's measured cost and error table: for reliefs of known
+// character (planner/relief.h), view angles and candidate variants, the hit
+// error against the exact reference and the frame time relative to normal
+// mapping, as `parallax bench --planner-table` measured them. The library
+// ships one (src/planner/cost_table.json, generated); `parallax plan
+// --calibrate` measures a material's own relief into a table of the same form.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "effects/technique.h"
+#include "planner/relief.h"
+
+namespace px {
+
+struct CostTableRelief {
+    std::string name;  // bench scene, or "calibrated <hash>"
+    ReliefFeatures features;
+};
+
+struct CostSample {
+    int relief = 0;  // index into CostTable::reliefs
+    double angle_deg = 0.0;
+    Technique technique = Technique::normal;
+    int samples = 0;  // max_samples (min = max: the bench's fixed count), or 0
+    ShadowMode shadow = ShadowMode::none;
+    int shadow_samples = 0;
+    // Hit error over the image, base-level texels: the 95th percentile.
+    double error_p95 = 0.0;
+    // Shadow rows: mean |visibility difference| from the exact reference.
+    double visibility_error = 0.0;
+    // Median over interleaved rounds of (frame time / normal mapping's).
+    double cost = 1.0;
+};
+
+struct CostTable {
+    std::string date;      // ISO 8601, when it was measured
+    std::string renderer;  // GL_RENDERER
+    std::string version;   // GL_VERSION
+    std::string command;   // what regenerates it
+    int width = 0, height = 0;
+    std::vector<CostTableRelief> reliefs;
+    std::vector<CostSample> rows;
+};
+
+// Errors name `origin` and the JSON path.
+Result<CostTable> parse_cost_table(const std::string& json_text, const std::string& origin);
+std::string cost_table_json(const CostTable& table);
+
+// The table the library ships (parsed once; an error if the embedded text
+// is broken, which a unit test rules out).
+Result<const CostTable*> builtin_cost_table();
+
+}  // namespace px

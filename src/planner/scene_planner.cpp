@@ -1,0 +1,827 @@
+// The effect planner: per object and frame, what the camera sees of the
+// surface, which effects can matter there, and the cheapest candidate
+// variant whose predicted error meets the material's target.
+//
+// Prediction (docs/planner.md): the cost table holds, per reference relief,
+// view angle and candidate, the 95th percentile hit error in base texels
+// and the time relative to normal mapping. A material is predicted from the
+// table relief nearest in character (thinnest feature, steepness), its error
+// scaled by the ratio of relief depths in texels; or from its own
+// calibration. Each visible surface point gets the error at its view angle
+// (linear between the table's angles), plus what the per-vertex view vector
+// adds there, divided by the texels per pixel where the texture is minified
+// (the error in texels of the level sampled); the object's prediction is
+// the 95th percentile of that over its pixels.
+#include "planner/planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/text.h"
+
+namespace px {
+
+namespace {
+
+constexpr int kMaxSurfacePoints = 640;  // per object: enough for the percentiles, cheap per frame
+
+bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+std::string fmt(const char* format, double a) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, format, a);
+    return buffer;
+}
+
+// A point of an object's surface, in object space, with its triangle.
+struct SurfacePoint {
+    glm::vec3 position;
+    glm::vec3 normal;
+    glm::vec4 tangent;
+    glm::vec3 corners[3];
+    glm::vec3 bary;
+    float area = 0.0f;  // object-space area this point stands for
+};
+
+struct ObjectSurvey {
+    std::vector<SurfacePoint> points;
+    glm::vec3 box_min{0.0f}, box_max{0.0f};  // object space
+};
+
+ObjectSurvey survey_mesh(const Mesh& mesh) {
+    ObjectSurvey s;
+    if (mesh.vertices.empty()) return s;
+    s.box_min = s.box_max = mesh.vertices[0].position;
+    for (const Vertex& v : mesh.vertices) {
+        s.box_min = glm::min(s.box_min, v.position);
+        s.box_max = glm::max(s.box_max, v.position);
+    }
+    const size_t triangles = mesh.indices.size() / 3;
+    if (triangles == 0) return s;
+    // Points per triangle on a barycentric grid (k(k+1)/2 of them), or every
+    // stride-th triangle's centre when the mesh has more triangles than points.
+    int k = 1;
+    while ((k + 1) * (k + 2) / 2 * triangles <= static_cast<size_t>(kMaxSurfacePoints) && k < 24) ++k;
+    const size_t stride = std::max<size_t>(1, triangles / kMaxSurfacePoints);
+    for (size_t t = 0; t < triangles; t += stride) {
+        const Vertex* v[3];
+        bool ok = true;
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t i = mesh.indices[3 * t + static_cast<size_t>(c)];
+            if (i >= mesh.vertices.size()) ok = false;
+            v[c] = ok ? &mesh.vertices[i] : nullptr;
+        }
+        if (!ok) continue;
+        const float area = 0.5f * glm::length(glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position));
+        const int points = k * (k + 1) / 2;
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < k - i; ++j) {
+                SurfacePoint p;
+                const float b1 = (static_cast<float>(i) + 1.0f / 3.0f) / static_cast<float>(k);
+                const float b2 = (static_cast<float>(j) + 1.0f / 3.0f) / static_cast<float>(k);
+                p.bary = glm::vec3(1.0f - b1 - b2, b1, b2);
+                for (int c = 0; c < 3; ++c) p.corners[c] = v[c]->position;
+                p.position = p.bary.x * v[0]->position + p.bary.y * v[1]->position + p.bary.z * v[2]->position;
+                const glm::vec3 n = p.bary.x * v[0]->normal + p.bary.y * v[1]->normal + p.bary.z * v[2]->normal;
+                p.normal = glm::length(n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
+                p.tangent = v[0]->tangent;
+                p.area = area * static_cast<float>(stride) / static_cast<float>(points);
+                s.points.push_back(p);
+            }
+    }
+    return s;
+}
+
+// One visible point, this frame.
+struct PointView {
+    double angle_deg;   // from the surface normal
+    double rho;         // texels per pixel (major axis of the footprint)
+    double weight;      // pixels on screen
+    double pv_parallax; // per-vertex view: |delta (V.xy / V.z)| (unitless; times depth in texels)
+    double pv_offset;   // per-vertex view: |delta V.xy| (offset limiting)
+    unsigned lit;       // bit per light: the light is above this point's horizon
+};
+
+// Linear interpolation in a table sorted by x, clamped at the ends.
+double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+    if (xs.empty()) return 0.0;
+    if (x <= xs.front()) return ys.front();
+    if (x >= xs.back()) return ys.back();
+    const size_t i = static_cast<size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin());
+    const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+    return ys[i - 1] + t * (ys[i] - ys[i - 1]);
+}
+
+struct Curve {
+    std::vector<double> angles, error, visibility, cost;
+};
+
+using CurveKey = std::tuple<int, Technique, int, ShadowMode, int>;  // relief, technique, samples, shadow, shadow samples
+
+std::map<CurveKey, Curve> curves_of(const CostTable& table) {
+    std::map<CurveKey, std::vector<const CostSample*>> grouped;
+    for (const CostSample& s : table.rows)
+        grouped[{s.relief, s.technique, s.samples, s.shadow, s.shadow_samples}].push_back(&s);
+    std::map<CurveKey, Curve> out;
+    for (auto& [key, rows] : grouped) {
+        std::sort(rows.begin(), rows.end(), [](const CostSample* a, const CostSample* b) { return a->angle_deg < b->angle_deg; });
+        Curve c;
+        for (const CostSample* r : rows) {
+            if (!c.angles.empty() && r->angle_deg == c.angles.back()) continue;
+            c.angles.push_back(r->angle_deg);
+            c.error.push_back(r->error_p95);
+            c.visibility.push_back(r->visibility_error);
+            c.cost.push_back(r->cost);
+        }
+        out.emplace(key, std::move(c));
+    }
+    return out;
+}
+
+// The reliefs of a table nearest in character to `f`: thinnest feature and
+// steepness, on log scales.
+int nearest_relief(const CostTable& table, const ReliefFeatures& f, const std::vector<bool>& eligible) {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < table.reliefs.size(); ++i) {
+        if (!eligible[i]) continue;
+        const ReliefFeatures& r = table.reliefs[i].features;
+        const double d = std::fabs(std::log2((f.thinnest_texels + 0.5) / (r.thinnest_texels + 0.5))) +
+                         2.0 * std::fabs(std::log2(std::max(f.steepness, 0.02) / std::max(r.steepness, 0.02)));
+        if (d < best_d) {
+            best_d = d;
+            best = static_cast<int>(i);
+        }
+    }
+    return best;
+}
+
+// A candidate the planner weighs.
+struct Candidate {
+    Technique technique;
+    int samples;
+    bool exact_view;
+    bool lod;
+};
+
+std::string candidate_name(const Candidate& c) {
+    std::string s = technique_name(c.technique);
+    if (c.samples > 0) s += (technique_info(c.technique).options & kOptSteps ? " steps<=" : " x") + std::to_string(c.samples);
+    if (!c.exact_view && (technique_info(c.technique).options & kOptHeight) && !technique_info(c.technique).always_exact_view)
+        s += " per-vertex-view";
+    if (c.lod) s += " lod";
+    return s;
+}
+
+// The p95 of (value, weight) pairs, by weight.
+double weighted_p95(std::vector<std::pair<double, double>>& v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    double total = 0.0;
+    for (const auto& e : v) total += e.second;
+    double sum = 0.0;
+    for (const auto& e : v) {
+        sum += e.second;
+        if (sum >= 0.95 * total) return e.first;
+    }
+    return v.back().first;
+}
+
+}  // namespace
+
+struct ScenePlanner::Impl {
+    SceneDesc scene;
+    Caps caps;
+    std::vector<MaterialRelief> reliefs;
+    CostTable generic;
+    std::vector<CostTable> calibrations;
+    std::map<CurveKey, Curve> generic_curves;
+    std::vector<std::map<CurveKey, Curve>> calibration_curves;
+    std::vector<ObjectSurvey> surveys;
+    std::vector<Mesh> meshes;  // for units_per_uv
+
+    // Where a material's predictions come from.
+    struct Source {
+        const CostTable* table = nullptr;
+        const std::map<CurveKey, Curve>* curves = nullptr;
+        int relief = -1;
+        double depth_scale = 1.0;  // material depth / table relief depth
+        std::string label;
+    };
+    Source generic_source(const MaterialRelief& r) const;
+    std::optional<Source> calibrated_source(const MaterialRelief& r) const;
+
+    Result<ObjectPlan> plan_object(size_t object_index, const CameraDesc& camera, int width, int height,
+                                   const std::vector<ObjectView>& views,
+                                   const std::vector<std::vector<PointView>>& points,
+                                   const std::vector<glm::vec4>& screen_boxes,
+                                   const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const;
+    ObjectView view_object(size_t object_index, const CameraDesc& camera, int width, int height,
+                           std::vector<PointView>& points, glm::vec4& screen_box,
+                           std::pair<glm::vec3, glm::vec3>& world_box) const;
+};
+
+ScenePlanner::~ScenePlanner() = default;
+
+MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDesc& material) {
+    MaterialRelief r;
+    r.traced_width = traced_8bit.width;
+    r.traced_height = traced_8bit.height;
+    r.features = measure_relief(traced_8bit, material.height_scale);
+    return r;
+}
+
+Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const SceneDesc& scene, const Caps& caps,
+                                                           std::vector<MaterialRelief> reliefs,
+                                                           PlannerOptions options) {
+    if (reliefs.size() != scene.materials.size())
+        return make_error("planner: " + std::to_string(reliefs.size()) + " reliefs for " +
+                          std::to_string(scene.materials.size()) + " materials");
+    std::unique_ptr<ScenePlanner> p(new ScenePlanner());
+    p->impl_ = std::make_unique<Impl>();
+    Impl& m = *p->impl_;
+    m.scene = scene;
+    m.caps = caps;
+    m.reliefs = std::move(reliefs);
+    if (options.table) {
+        m.generic = *options.table;
+    } else {
+        Result<const CostTable*> builtin = builtin_cost_table();
+        if (!builtin) return builtin.error();
+        m.generic = **builtin;
+    }
+    m.generic_curves = curves_of(m.generic);
+    m.calibrations = std::move(options.calibrations);
+    for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
+    for (const ObjectDesc& o : scene.objects) {
+        m.meshes.push_back(build_object_mesh(o.mesh));
+        m.surveys.push_back(survey_mesh(m.meshes.back()));
+    }
+    return p;
+}
+
+ScenePlanner::Impl::Source ScenePlanner::Impl::generic_source(const MaterialRelief& r) const {
+    Source s;
+    s.table = &generic;
+    s.curves = &generic_curves;
+    std::vector<bool> eligible(generic.reliefs.size(), true);
+    s.relief = nearest_relief(generic, r.features, eligible);
+    if (s.relief >= 0) {
+        const ReliefFeatures& t = generic.reliefs[static_cast<size_t>(s.relief)].features;
+        s.depth_scale = t.depth_texels > 0.0 ? r.features.depth_texels / t.depth_texels : 1.0;
+        s.label = "table '" + generic.reliefs[static_cast<size_t>(s.relief)].name + "' (" + describe(t) +
+                  ") x" + fmt("%.2f", s.depth_scale) + " depth";
+    }
+    return s;
+}
+
+std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(const MaterialRelief& r) const {
+    for (size_t c = 0; c < calibrations.size(); ++c)
+        for (size_t i = 0; i < calibrations[c].reliefs.size(); ++i) {
+            const ReliefFeatures& f = calibrations[c].reliefs[i].features;
+            if (f.field_hash != r.features.field_hash ||
+                std::fabs(f.depth_texels - r.features.depth_texels) > 1e-3 * std::max(1.0, f.depth_texels))
+                continue;
+            Source s;
+            s.table = &calibrations[c];
+            s.curves = &calibration_curves[c];
+            s.relief = static_cast<int>(i);
+            s.depth_scale = 1.0;
+            s.label = "calibrated on this relief (" + hash_hex(f.field_hash) + ", " + calibrations[c].date + ")";
+            return s;
+        }
+    return std::nullopt;
+}
+
+ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, int width, int height,
+                                           std::vector<PointView>& points, glm::vec4& screen_box,
+                                           std::pair<glm::vec3, glm::vec3>& world_box) const {
+    ObjectView view;
+    points.clear();
+    const ObjectDesc& object = scene.objects[oi];
+    const MaterialDesc* material = scene.find_material(object.material);
+    const size_t mi = scene.material_index(object.material);
+    const glm::mat4 model = object.transform.matrix();
+    const glm::mat3 model3(model);
+    const glm::mat3 normal_matrix = glm::inverseTranspose(model3);
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    const glm::mat4 view_matrix = glm::lookAt(camera.position, camera.target, camera.up);
+    const glm::mat4 projection = glm::perspective(glm::radians(camera.fov_y_deg), aspect, camera.near_plane, camera.far_plane);
+    const glm::mat4 view_projection = projection * view_matrix;
+    const double pixel_angle = 2.0 * std::tan(glm::radians(static_cast<double>(camera.fov_y_deg)) * 0.5) / height;
+    // Texels per world unit along the surface: the traced texture's texels
+    // per tile over the world units a tile spans (renderer: units_per_tile).
+    const double model_scale = std::cbrt(std::fabs(static_cast<double>(glm::determinant(model3))));
+    const double tiles_per_unit = material ? material->uv.area_scale<double>() /
+                                                 std::max(1e-12, static_cast<double>(meshes[oi].units_per_uv) * model_scale)
+                                           : 1.0;
+    const double texels_per_unit = (mi < reliefs.size() ? std::max(1, reliefs[mi].traced_width) : 1) * tiles_per_unit;
+
+    // World box and screen box.
+    const ObjectSurvey& survey = surveys[oi];
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner((c & 1) ? survey.box_max.x : survey.box_min.x, (c & 2) ? survey.box_max.y : survey.box_min.y,
+                               (c & 4) ? survey.box_max.z : survey.box_min.z);
+        const glm::vec3 w = glm::vec3(model * glm::vec4(corner, 1.0f));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+    }
+    world_box = {lo, hi};
+    screen_box = glm::vec4(2.0f, 2.0f, -2.0f, -2.0f);
+
+    double angle_lo = 90.0, angle_hi = 0.0, dist_lo = std::numeric_limits<double>::max(), dist_hi = 0.0;
+    double mip_lo = std::numeric_limits<double>::max(), mip_hi = -std::numeric_limits<double>::max();
+    unsigned lit_any = 0;
+    const size_t light_count = std::min<size_t>(scene.lights.size(), 32);
+    for (const SurfacePoint& sp : survey.points) {
+        const glm::vec3 p = glm::vec3(model * glm::vec4(sp.position, 1.0f));
+        glm::vec3 n = normal_matrix * sp.normal;
+        if (!(glm::length(n) > 0.0f)) continue;
+        n = glm::normalize(n);
+        const glm::vec3 to_eye = camera.position - p;
+        const double distance = glm::length(to_eye);
+        if (!(distance > 0.0)) continue;
+        const double cos_view = glm::dot(n, to_eye) / distance;
+        if (!(cos_view > 1e-6)) continue;  // back-facing: culled
+        const glm::vec4 clip = view_projection * glm::vec4(p, 1.0f);
+        if (!(clip.w > 0.0f)) continue;
+        const glm::vec3 ndc = glm::vec3(clip) / clip.w;
+        if (std::fabs(ndc.x) > 1.0f || std::fabs(ndc.y) > 1.0f || std::fabs(ndc.z) > 1.0f) continue;
+        const double depth = -(view_matrix * glm::vec4(p, 1.0f)).z;
+        // A pixel's width across the ray at this point: the pixel's angle
+        // shrinks off axis as cos(off-axis angle) (depth / distance).
+        const double pixel_world = pixel_angle * depth * (depth / distance);
+        const double rho = texels_per_unit * pixel_world / cos_view;
+        const glm::vec3 c0 = glm::vec3(model * glm::vec4(sp.corners[0], 1.0f));
+        const glm::vec3 c1 = glm::vec3(model * glm::vec4(sp.corners[1], 1.0f));
+        const glm::vec3 c2 = glm::vec3(model * glm::vec4(sp.corners[2], 1.0f));
+        const double world_area = 0.5 * glm::length(glm::cross(c1 - c0, c2 - c0)) /
+                                  std::max(1e-30, 0.5 * static_cast<double>(glm::length(glm::cross(
+                                                      sp.corners[1] - sp.corners[0], sp.corners[2] - sp.corners[0])))) *
+                                  sp.area;
+        PointView pv;
+        pv.angle_deg = glm::degrees(std::acos(std::min(1.0, cos_view)));
+        pv.rho = rho;
+        pv.weight = world_area * cos_view / (pixel_world * pixel_world);
+        // The tangent frame of the point.
+        glm::vec3 t = glm::vec3(model3 * glm::vec3(sp.tangent));
+        t = t - n * glm::dot(n, t);
+        t = glm::length(t) > 0.0f ? glm::normalize(t) : glm::vec3(1.0f, 0.0f, 0.0f);
+        const glm::vec3 b = glm::cross(n, t);
+        auto frame = [&](const glm::vec3& v) { return glm::dvec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); };
+        const glm::dvec3 exact = glm::normalize(frame(to_eye));
+        glm::dvec3 interpolated = static_cast<double>(sp.bary.x) * glm::normalize(frame(camera.position - c0)) +
+                                  static_cast<double>(sp.bary.y) * glm::normalize(frame(camera.position - c1)) +
+                                  static_cast<double>(sp.bary.z) * glm::normalize(frame(camera.position - c2));
+        if (interpolated.z > 1e-9) {
+            pv.pv_parallax = glm::length(glm::dvec2(interpolated) / interpolated.z - glm::dvec2(exact) / exact.z);
+            pv.pv_offset = glm::length(glm::dvec2(interpolated) - glm::dvec2(exact));
+        } else {
+            pv.pv_parallax = pv.pv_offset = 1e9;
+        }
+        pv.lit = 0;
+        for (size_t l = 0; l < light_count; ++l) {
+            const LightDesc& light = scene.lights[l];
+            const glm::vec3 to_light = light.kind == LightKind::point ? light.position - p : -light.direction;
+            if (glm::dot(n, to_light) > 0.0f) pv.lit |= 1u << l;
+        }
+        lit_any |= pv.lit;
+        points.push_back(pv);
+        view.pixels += pv.weight;
+        angle_lo = std::min(angle_lo, pv.angle_deg);
+        angle_hi = std::max(angle_hi, pv.angle_deg);
+        dist_lo = std::min(dist_lo, distance);
+        dist_hi = std::max(dist_hi, distance);
+        const double mip = std::log2(std::max(rho, 1e-9));
+        mip_lo = std::min(mip_lo, mip);
+        mip_hi = std::max(mip_hi, mip);
+        screen_box = glm::vec4(std::min(screen_box.x, ndc.x), std::min(screen_box.y, ndc.y), std::max(screen_box.z, ndc.x),
+                               std::max(screen_box.w, ndc.y));
+    }
+    view.visible = !points.empty();
+    if (view.visible) {
+        view.angle_min_deg = angle_lo;
+        view.angle_max_deg = angle_hi;
+        view.distance_min = dist_lo;
+        view.distance_max = dist_hi;
+        view.mip_min = mip_lo;
+        view.mip_max = mip_hi;
+        for (unsigned bits = lit_any; bits; bits &= bits - 1) ++view.lights_above_horizon;
+    }
+    return view;
+}
+
+Result<std::vector<ObjectPlan>> ScenePlanner::plan(const CameraDesc& camera, int width, int height) const {
+    if (width < 1 || height < 1)
+        return make_error("planner: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
+    const Impl& m = *impl_;
+    const size_t n = m.scene.objects.size();
+    std::vector<ObjectView> views(n);
+    std::vector<std::vector<PointView>> points(n);
+    std::vector<glm::vec4> screen_boxes(n);
+    std::vector<std::pair<glm::vec3, glm::vec3>> world_boxes(n);
+    for (size_t i = 0; i < n; ++i) views[i] = m.view_object(i, camera, width, height, points[i], screen_boxes[i], world_boxes[i]);
+    std::vector<ObjectPlan> plans;
+    plans.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        Result<ObjectPlan> p = m.plan_object(i, camera, width, height, views, points, screen_boxes, world_boxes);
+        if (!p) return p.error();
+        plans.push_back(std::move(*p));
+    }
+    return plans;
+}
+
+namespace {
+
+// What one candidate is predicted to leave and cost over an object's points.
+struct Prediction {
+    double error = 0.0;  // p95, texels of the level sampled
+    double cost = 0.0;   // mean over pixels, relative to normal mapping
+    bool known = false;  // the table has the candidate
+};
+
+}  // namespace
+
+Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& camera, int width, int height,
+                                                   const std::vector<ObjectView>& views,
+                                                   const std::vector<std::vector<PointView>>& all_points,
+                                                   const std::vector<glm::vec4>& screen_boxes,
+                                                   const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const {
+    (void)camera;
+    (void)width;
+    (void)height;
+    const ObjectDesc& object = scene.objects[oi];
+    const size_t mi = scene.material_index(object.material);
+    if (mi >= scene.materials.size())
+        return make_error("object '" + echo(object.name) + "': unknown material '" + echo(object.material) + "'");
+    const MaterialDesc& material = scene.materials[mi];
+    const MaterialRelief& relief = reliefs[mi];
+    const std::string field_path = "materials[" + std::to_string(mi) + "].effects";
+    const std::string who = "object '" + echo(object.name) + "' (material '" + echo(material.name) + "')";
+
+    ObjectPlan plan;
+    plan.object = object.name;
+    plan.material = material.name;
+    plan.view = views[oi];
+    plan.options = material.technique;
+    if (!material.effects) {
+        Result<VariantPlan> explicit_plan = plan_variant(material, caps, relief.traced_width, relief.traced_height);
+        if (!explicit_plan) return with_context(who, explicit_plan.error());
+        plan.key = explicit_plan->key;
+        plan.notes = explicit_plan->notes;
+        return plan;
+    }
+
+    const EffectRequest& request = *material.effects;
+    plan.planned = true;
+    plan.request = request;
+    VariantKey& key = plan.key;
+    key.es_major = static_cast<std::uint8_t>(caps.es_major);
+    key.no_fragment_highp = caps.es_major < 3 && !caps.fragment_highp;
+    key.packed_height = material.pack_height_in_normal_alpha;
+    key.technique = Technique::normal;
+    TechniqueOptions& options = plan.options;
+    options = TechniqueOptions{};
+    options.technique = Technique::normal;
+    options.lod_threshold = request.lod_threshold;
+    options.lod_band = request.lod_band;
+    auto finish_normal = [&](std::string why) {
+        key.technique = Technique::normal;
+        options.technique = Technique::normal;
+        plan.notes.push_back(std::move(why));
+        if (request.shadow != ShadowMode::none)
+            plan.notes.push_back(std::string("shadow=") + shadow_mode_name(request.shadow) +
+                                 " dropped: normal mapping traces no relief to cast it");
+        key = key.canonical();
+        return plan;
+    };
+
+    if (!request.parallax) return finish_normal("normal mapping: the material asks for no parallax");
+    if (!(material.height_scale > 0.0f))
+        return finish_normal("normal mapping: height_scale is 0, so there is no relief to trace");
+    if (!(relief.features.range > 0.0))
+        return finish_normal("normal mapping: the height field is flat, so there is no relief to trace");
+    const ObjectView& view = views[oi];
+    if (!view.visible) return finish_normal("normal mapping: no part of the surface faces the camera inside the view");
+    const std::vector<PointView>& points = all_points[oi];
+    {
+        std::vector<std::pair<double, double>> added;
+        for (const PointView& p : points)
+            added.emplace_back(relief.features.depth_texels * p.pv_parallax / std::max(1.0, p.rho), p.weight);
+        plan.view.per_vertex_view_error = weighted_p95(added);
+    }
+
+    // Sources of prediction: the material's own calibration first.
+    const Source table_source = generic_source(relief);
+    const std::optional<Source> calibrated = calibrated_source(relief);
+    const Source& source = calibrated ? *calibrated : table_source;
+    if (source.relief < 0) return make_error(who + ": the cost table has no relief to predict from");
+    plan.prediction_source = source.label;
+
+    // Effects the scene or context rule out.
+    bool want_shadow = request.shadow != ShadowMode::none;
+    if (want_shadow) {
+        if (scene.lights.empty()) {
+            want_shadow = false;
+            plan.notes.push_back(std::string("shadow=") + shadow_mode_name(request.shadow) + " dropped: the scene has no light");
+        } else if (view.lights_above_horizon == 0) {
+            want_shadow = false;
+            plan.notes.push_back(std::string("shadow=") + shadow_mode_name(request.shadow) +
+                                 " dropped: every light is behind the surface or below its horizon wherever it is seen");
+        }
+    }
+    const bool lod_possible = request.lod_fade != EffectSwitch::off && caps.derivatives();
+    if (request.lod_fade == EffectSwitch::on && !caps.derivatives())
+        plan.notes.push_back("lod_fade dropped: this OpenGL ES 2.0 context lacks GL_OES_standard_derivatives");
+    const double fade_start = request.lod_threshold - request.lod_band;
+
+    // Normal mapping's error and whether LOD would turn it on everywhere.
+    auto curve = [&](const Source& s, Technique t, int samples, ShadowMode shadow, int shadow_samples) -> const Curve* {
+        auto it = s.curves->find({s.relief, t, samples, shadow, shadow_samples});
+        return it == s.curves->end() ? nullptr : &it->second;
+    };
+    const double depth_texels = relief.features.depth_texels;
+    auto predict = [&](const Source& s, const Candidate& c) {
+        Prediction out;
+        const Curve* tc = curve(s, c.technique, c.samples, ShadowMode::none, 0);
+        const Curve* nc = curve(s, Technique::normal, 0, ShadowMode::none, 0);
+        if (!tc || !nc) return out;
+        out.known = true;
+        std::vector<std::pair<double, double>> errors;
+        errors.reserve(points.size());
+        double cost_sum = 0.0, weight_sum = 0.0;
+        const bool per_vertex = !c.exact_view && !technique_info(c.technique).always_exact_view &&
+                                (technique_info(c.technique).options & kOptHeight);
+        for (const PointView& p : points) {
+            double e = interpolate(tc->angles, tc->error, p.angle_deg) * s.depth_scale;
+            double cost = interpolate(tc->angles, tc->cost, p.angle_deg);
+            if (per_vertex)
+                e += depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset : p.pv_parallax);
+            if (c.lod) {
+                const double mip = std::log2(std::max(p.rho, 1e-9));
+                const double blend = std::clamp((mip - fade_start) / request.lod_band, 0.0, 1.0);
+                const double en = interpolate(nc->angles, nc->error, p.angle_deg) * s.depth_scale;
+                e = (1.0 - blend) * e + blend * en;
+                if (blend >= 1.0) cost = 1.0;
+            }
+            errors.emplace_back(e / std::max(1.0, p.rho), p.weight);
+            cost_sum += cost * p.weight;
+            weight_sum += p.weight;
+        }
+        out.error = weighted_p95(errors);
+        out.cost = weight_sum > 0.0 ? cost_sum / weight_sum : 0.0;
+        return out;
+    };
+
+    // Candidates: every (technique, samples) the source measured that this
+    // context runs, with the exact or the per-vertex view, with LOD or not.
+    std::vector<Candidate> candidates;
+    for (const auto& [k, c] : *source.curves) {
+        const auto& [r, t, samples, shadow, shadow_samples] = k;
+        (void)c;
+        if (r != source.relief || shadow != ShadowMode::none) continue;
+        const TechniqueInfo& info = technique_info(t);
+        if (info.min_es_major > caps.es_major) continue;
+        if ((info.options & kOptSteps) && !(power_of_two(relief.traced_width) && power_of_two(relief.traced_height)))
+            continue;
+        if (want_shadow && !(info.options & kOptShadow)) continue;
+        if (samples > info.max_samples_limit) continue;
+        for (int exact = 1; exact >= 0; --exact) {
+            if (!exact && (info.always_exact_view || !(info.options & kOptHeight))) continue;
+            for (int lod = 0; lod < 2; ++lod) {
+                if (lod && (!lod_possible || !(info.options & kOptLod) || view.mip_max <= fade_start)) continue;
+                candidates.push_back({t, samples, exact != 0, lod != 0});
+            }
+        }
+    }
+    // Every visible pixel past the threshold: normal mapping, where its
+    // error holds (auto) or whenever asked (on).
+    if (lod_possible && view.mip_min >= request.lod_threshold) {
+        const Prediction normal = predict(source, {Technique::normal, 0, true, false});
+        if (request.lod_fade == EffectSwitch::on || (normal.known && normal.error <= request.max_error_texels)) {
+            plan.predicted_error = normal.error;
+            plan.predicted_cost = 1.0;
+            return finish_normal("normal mapping: every visible pixel samples mip level " + fmt("%.1f", view.mip_min) +
+                                 " or coarser, past the lod_fade threshold " + fmt("%g", request.lod_threshold) +
+                                 " (predicted " + fmt("%.3g", normal.error) + " texels)");
+        }
+    }
+
+    // Shadow: the cheapest sample count meeting its target.
+    int shadow_samples = 0;
+    double shadow_cost = 0.0, shadow_error = -1.0;
+    if (want_shadow) {
+        // The nearest table relief that has shadow rows of this mode.
+        const CostTable& table = *source.table;
+        std::vector<bool> eligible(table.reliefs.size(), false);
+        for (const CostSample& s : table.rows)
+            if (s.shadow == request.shadow) eligible[static_cast<size_t>(s.relief)] = true;
+        const int shadow_relief = nearest_relief(table, relief.features, eligible);
+        if (shadow_relief < 0) {
+            return make_error(who + ": " + field_path + ".shadow: the cost table has no " + shadow_mode_name(request.shadow) +
+                              " shadow measurements to choose a sample count from");
+        }
+        Source shadow_source = source;
+        shadow_source.relief = shadow_relief;
+        double best_error = std::numeric_limits<double>::infinity();
+        std::vector<std::tuple<double, int, double>> options_by_cost;  // cost, samples, error
+        for (const auto& [k, c] : *source.curves) {
+            const auto& [r, t, samples, shadow, ss] = k;
+            if (r != shadow_relief || shadow != request.shadow) continue;
+            const Curve* base = curve(shadow_source, t, samples, ShadowMode::none, 0);
+            double e_sum = 0.0, w_sum = 0.0, c_sum = 0.0;
+            for (const PointView& p : points) {
+                if (!p.lit) continue;
+                e_sum += interpolate(c.angles, c.visibility, p.angle_deg) * p.weight;
+                const double base_cost = base ? interpolate(base->angles, base->cost, p.angle_deg) : 1.0;
+                c_sum += std::max(0.0, interpolate(c.angles, c.cost, p.angle_deg) - base_cost) * p.weight;
+                w_sum += p.weight;
+            }
+            const double e = w_sum > 0.0 ? e_sum / w_sum : 0.0;
+            const double added = w_sum > 0.0 ? c_sum / w_sum : 0.0;
+            best_error = std::min(best_error, e);
+            if (e <= request.shadow_max_error) options_by_cost.emplace_back(added, ss, e);
+        }
+        if (options_by_cost.empty())
+            return make_error(who + ": " + field_path + ".shadow.max_error: " + fmt("%g", request.shadow_max_error) +
+                              " is below what any shadow sample count reaches here (best " + fmt("%.3g", best_error) +
+                              " mean visibility difference)");
+        std::sort(options_by_cost.begin(), options_by_cost.end());
+        std::tie(shadow_cost, shadow_samples, shadow_error) = options_by_cost.front();
+    }
+
+    // The cheapest candidate meeting the parallax target.
+    auto choose = [&](const Source& s, Prediction& chosen, double& best_error, std::string& best_name) -> std::optional<Candidate> {
+        std::vector<std::pair<Prediction, Candidate>> predicted;
+        best_error = std::numeric_limits<double>::infinity();
+        std::optional<Candidate> pick;
+        // Costs first (cheap), then errors in cost order until one meets the target.
+        std::vector<std::pair<double, size_t>> order;
+        std::vector<Prediction> cost_only(candidates.size());
+        for (size_t i = 0; i < candidates.size(); ++i) {
+            cost_only[i] = predict(s, candidates[i]);
+            if (!cost_only[i].known) continue;
+            // A per-vertex view saves a normalise per pixel (not in the
+            // table's timings): preferred at equal cost, never at higher.
+            order.emplace_back(cost_only[i].cost - (candidates[i].exact_view ? 0.0 : 1e-6), i);
+        }
+        std::sort(order.begin(), order.end());
+        for (const auto& [cost, i] : order) {
+            const Prediction& p = cost_only[i];
+            if (p.error < best_error) {
+                best_error = p.error;
+                best_name = candidate_name(candidates[i]);
+            }
+            if (!pick && p.error <= request.max_error_texels) {
+                pick = candidates[i];
+                chosen = p;
+            }
+        }
+        return pick;
+    };
+    Prediction chosen;
+    double best_error = 0.0;
+    std::string best_name;
+    const std::optional<Candidate> pick = choose(source, chosen, best_error, best_name);
+    if (!pick) {
+        return make_error(who + ": " + field_path + ".parallax.max_error_texels: " + fmt("%g", request.max_error_texels) +
+                          " texels is below what any technique reaches on this relief at view angles up to " +
+                          fmt("%.1f", view.angle_max_deg) + " degrees on this OpenGL ES " + std::to_string(caps.es_major) +
+                          " context (best: " + best_name + ", predicted " + fmt("%.3g", best_error) + " texels)");
+    }
+    if (calibrated) {
+        Prediction generic_chosen;
+        double generic_best = 0.0;
+        std::string generic_best_name;
+        const std::optional<Candidate> generic_pick = choose(table_source, generic_chosen, generic_best, generic_best_name);
+        if (!generic_pick || generic_pick->technique != pick->technique || generic_pick->samples != pick->samples ||
+            generic_pick->exact_view != pick->exact_view || generic_pick->lod != pick->lod) {
+            VariantKey g = key;
+            if (generic_pick) {
+                g.technique = generic_pick->technique;
+                g.max_samples = static_cast<std::uint16_t>(generic_pick->samples);
+                g.exact_view = generic_pick->exact_view;
+                g.lod = generic_pick->lod;
+                plan.generic_error = generic_chosen.error;
+                plan.generic_cost = generic_chosen.cost;
+            }
+            plan.generic_key = g.canonical();
+            plan.notes.push_back("the calibration changed the choice: the generic table alone picks " +
+                                 (generic_pick ? candidate_name(*generic_pick) : std::string("nothing that meets the target")));
+        }
+    }
+
+    const TechniqueInfo& info = technique_info(pick->technique);
+    key.technique = pick->technique;
+    options.technique = pick->technique;
+    if (info.options & kOptSamples) {
+        key.max_samples = static_cast<std::uint16_t>(pick->samples);
+        options.min_samples = options.max_samples = pick->samples;  // the table measured min = max
+    }
+    if (info.options & kOptSteps) {
+        key.max_samples = static_cast<std::uint16_t>(pick->samples);
+        options.max_steps = pick->samples;
+    }
+    if (info.options & kOptRefine) key.refine_steps = static_cast<std::uint8_t>(options.refine_steps);
+    key.exact_view = pick->exact_view;
+    options.exact_view = pick->exact_view;
+    key.lod = pick->lod;
+    options.lod = pick->lod;
+    plan.predicted_error = chosen.error;
+    plan.predicted_cost = chosen.cost + shadow_cost;
+    plan.notes.push_back(candidate_name(*pick) + ": the cheapest candidate predicted within " +
+                         fmt("%g", request.max_error_texels) + " texels (" + fmt("%.3g", chosen.error) + ", x" +
+                         fmt("%.2f", chosen.cost) + " normal mapping per pixel; " + source.label + ")");
+    if (info.options & kOptHeight && !info.always_exact_view)
+        plan.notes.push_back(pick->exact_view
+                                 ? "view vector exact per pixel: the per-vertex normalisation would add up to " +
+                                       fmt("%.3g", plan.view.per_vertex_view_error) + " texels on these triangles"
+                                 : "view vector normalised per vertex (the PowerVR whitepaper's saving): it adds " +
+                                       fmt("%.3g", plan.view.per_vertex_view_error) + " texels here, within the target");
+    if (pick->lod)
+        plan.notes.push_back("lod_fade on: the surface reaches mip level " + fmt("%.1f", view.mip_max) +
+                             ", past the fade's start at " + fmt("%g", fade_start));
+    else if (request.lod_fade != EffectSwitch::off && lod_possible && (info.options & kOptLod))
+        plan.notes.push_back(view.mip_max <= fade_start
+                                 ? "lod_fade not needed: the finest pixels sample mip level " + fmt("%.1f", view.mip_max) +
+                                       ", before the fade starts at " + fmt("%g", fade_start)
+                                 : "lod_fade off: fading would not lower the cost within the target");
+
+    if (want_shadow) {
+        key.shadow = request.shadow;
+        key.shadow_samples = static_cast<std::uint8_t>(shadow_samples);
+        options.shadow = request.shadow;
+        options.shadow_samples = shadow_samples;
+        plan.predicted_shadow_error = shadow_error;
+        plan.notes.push_back(std::string("shadow=") + shadow_mode_name(request.shadow) + " x" + std::to_string(shadow_samples) +
+                             ": the fewest shadow samples predicted within " + fmt("%g", request.shadow_max_error) +
+                             " (" + fmt("%.3g", shadow_error) + ")");
+    }
+
+    // Depth correction: where other geometry meets or overlaps the relief.
+    if (info.options & kOptDepth) {
+        bool want_depth = request.depth_correction == EffectSwitch::on;
+        if (request.depth_correction == EffectSwitch::automatic) {
+            // The relief's volume: a plane's between bias and bias + scale
+            // along its normal (object space), any other mesh's box grown
+            // by the depth; then in world space.
+            const float units_per_tile = meshes[oi].units_per_uv / material.uv.area_scale<float>();
+            const float bottom = material.bias() * units_per_tile;
+            const float top = (material.bias() + material.height_scale) * units_per_tile;
+            glm::vec3 box_lo = surveys[oi].box_min, box_hi = surveys[oi].box_max;
+            if (object.mesh.kind == MeshKind::plane) {
+                box_lo.z = std::min({bottom, top, 0.0f});
+                box_hi.z = std::max({bottom, top, 0.0f});
+            } else {
+                const float grow = material.height_scale * units_per_tile;
+                box_lo -= glm::vec3(grow);
+                box_hi += glm::vec3(grow);
+            }
+            const glm::mat4 model = object.transform.matrix();
+            glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec3 corner((c & 1) ? box_hi.x : box_lo.x, (c & 2) ? box_hi.y : box_lo.y, (c & 4) ? box_hi.z : box_lo.z);
+                const glm::vec3 w = glm::vec3(model * glm::vec4(corner, 1.0f));
+                lo = glm::min(lo, w);
+                hi = glm::max(hi, w);
+            }
+            const glm::vec4& sb = screen_boxes[oi];
+            std::string other;
+            for (size_t j = 0; j < scene.objects.size() && other.empty(); ++j) {
+                if (j == oi || !views[j].visible) continue;
+                const auto& [olo, ohi] = world_boxes[j];
+                const bool meets = olo.x <= hi.x && ohi.x >= lo.x && olo.y <= hi.y && ohi.y >= lo.y && olo.z <= hi.z &&
+                                   ohi.z >= lo.z;
+                const glm::vec4& ob = screen_boxes[j];
+                const bool overlaps = ob.x <= sb.z && ob.z >= sb.x && ob.y <= sb.w && ob.w >= sb.y;
+                if (meets && overlaps) other = scene.objects[j].name;
+            }
+            want_depth = !other.empty();
+            plan.notes.push_back(want_depth ? "depth written: object '" + echo(other) +
+                                                  "' meets this surface's relief and overlaps it on screen"
+                                            : "no depth written: no other object meets or overlaps this relief");
+        }
+        if (want_depth && !caps.frag_depth()) {
+            plan.notes.push_back("depth correction dropped: this OpenGL ES 2.0 context lacks GL_EXT_frag_depth");
+            want_depth = false;
+        }
+        key.depth_write = want_depth;
+        options.depth_write = want_depth;
+    } else if (request.depth_correction == EffectSwitch::on) {
+        plan.notes.push_back(std::string("depth correction dropped: ") + info.name + " finds no hit depth");
+    }
+    key = key.canonical();
+    return plan;
+}
+
+std::string describe_plan(const ObjectPlan& plan) { return plan.key.describe(); }
+
+}  // namespace px

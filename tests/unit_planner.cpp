@@ -1,0 +1,406 @@
+// The effect planner without GL: effect requests in scene files, relief
+// features, the cost table's format, and the planner's decisions on a small
+// hand-written table (so that each rule is tested on numbers the test states).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "planner/cost_table.h"
+#include "planner/planner.h"
+#include "planner/relief.h"
+#include "scene/material_images.h"
+#include "scene/scene.h"
+
+namespace px {
+namespace {
+
+Caps es3_caps() {
+    Caps c;
+    c.es_major = 3;
+    c.version = "OpenGL ES 3.0 test";
+    return c;
+}
+
+Caps es2_caps(bool frag_depth, bool derivatives) {
+    Caps c;
+    c.es_major = 2;
+    c.version = "OpenGL ES 2.0 test";
+    if (frag_depth) c.extensions.insert("GL_EXT_frag_depth");
+    if (derivatives) c.extensions.insert("GL_OES_standard_derivatives");
+    return c;
+}
+
+// --- Scene format ------------------------------------------------------------
+
+std::string scene_with_material(const std::string& material) {
+    return R"({"materials": [)" + material + R"(], "objects": [{"name": "o", "material": "m"}]})";
+}
+
+TEST(EffectsFormat, ReadsEveryEffect) {
+    Result<SceneDesc> s = parse_scene(scene_with_material(R"({"name": "m", "effects": {
+        "parallax": {"max_error_texels": 0.5}, "shadow": {"mode": "soft", "max_error": 0.05},
+        "depth_correction": "on", "lod_fade": {"mode": "off", "threshold": 4, "band": 2}}})"),
+                                      "t.json");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    ASSERT_TRUE(s->materials[0].effects.has_value());
+    const EffectRequest& e = *s->materials[0].effects;
+    EXPECT_TRUE(e.parallax);
+    EXPECT_FLOAT_EQ(e.max_error_texels, 0.5f);
+    EXPECT_EQ(e.shadow, ShadowMode::soft);
+    EXPECT_FLOAT_EQ(e.shadow_max_error, 0.05f);
+    EXPECT_EQ(e.depth_correction, EffectSwitch::on);
+    EXPECT_EQ(e.lod_fade, EffectSwitch::off);
+    EXPECT_FLOAT_EQ(e.lod_threshold, 4.0f);
+    EXPECT_FLOAT_EQ(e.lod_band, 2.0f);
+    // Strings for the short forms.
+    s = parse_scene(scene_with_material(R"({"name": "m", "effects": {"parallax": "off", "lod_fade": "auto"}})"), "t.json");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    EXPECT_FALSE(s->materials[0].effects->parallax);
+}
+
+void expect_error(const std::string& material, const std::string& fragment) {
+    Result<SceneDesc> s = parse_scene(scene_with_material(material), "t.json");
+    ASSERT_FALSE(s.ok()) << "accepted: " << material;
+    EXPECT_NE(s.error().message.find(fragment), std::string::npos) << s.error().message;
+}
+
+TEST(EffectsFormat, RefusesUnknownContradictoryAndOutOfRange) {
+    expect_error(R"({"name": "m", "effects": {"paralax": {}}})", "materials[0].effects");
+    expect_error(R"({"name": "m", "effects": {"paralax": {}}})", "did you mean 'parallax'");
+    expect_error(R"({"name": "m", "effects": {"parallax": {"max_error": 1}}})", "materials[0].effects.parallax");
+    expect_error(R"({"name": "m", "technique": "pom", "effects": {}})", "materials[0].effects: a material declares effects or names a technique, not both");
+    expect_error(R"({"name": "m", "options": {"max_samples": 8}, "effects": {}})", "not both");
+    expect_error(R"({"name": "m", "effects": {"parallax": "off", "shadow": "hard"}})",
+                 "materials[0].effects.shadow: \"hard\" contradicts \"parallax\": \"off\"");
+    expect_error(R"({"name": "m", "effects": {"parallax": "off", "depth_correction": "on"}})",
+                 "materials[0].effects.depth_correction");
+    expect_error(R"({"name": "m", "effects": {"parallax": "on"}})", "materials[0].effects.parallax: expected \"off\" or an object");
+    expect_error(R"({"name": "m", "effects": {"parallax": {"max_error_texels": 0}}})",
+                 "materials[0].effects.parallax.max_error_texels: must be within");
+    expect_error(R"({"name": "m", "effects": {"parallax": {"max_error_texels": -1}}})", "max_error_texels");
+    expect_error(R"({"name": "m", "effects": {"shadow": {"mode": "soft", "max_error": 2}}})", "materials[0].effects.shadow.max_error");
+    expect_error(R"({"name": "m", "effects": {"shadow": "blurry"}})", "materials[0].effects.shadow");
+    expect_error(R"({"name": "m", "effects": {"depth_correction": "maybe"}})", "materials[0].effects.depth_correction");
+    expect_error(R"({"name": "m", "effects": {"lod_fade": {"band": 0}}})", "materials[0].effects.lod_fade.band");
+}
+
+// --- Relief features ---------------------------------------------------------
+
+HeightField field_of(FieldKind kind, int size = 128, int count = 4) {
+    FieldSpec spec;
+    spec.kind = kind;
+    spec.size = size;
+    spec.count = count;
+    Result<HeightField> f = make_height_field(spec);
+    EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().message);
+    return quantized_8bit(*f);
+}
+
+TEST(ReliefFeatures, MeasuresDepthSteepnessAndThinnestFeature) {
+    const ReliefFeatures lines = measure_relief(field_of(FieldKind::lines, 128, 8), 0.05);
+    EXPECT_DOUBLE_EQ(lines.thinnest_texels, 1.0);
+    EXPECT_NEAR(lines.steepness, 1.0, 1e-6);
+    EXPECT_NEAR(lines.depth_texels, 0.05 * 128, 1e-6);
+    const ReliefFeatures sine = measure_relief(field_of(FieldKind::sine), 0.05);
+    EXPECT_GT(sine.thinnest_texels, 8.0);
+    EXPECT_LT(sine.steepness, 0.2);
+    const ReliefFeatures flat = measure_relief(field_of(FieldKind::flat), 0.05);
+    EXPECT_EQ(flat.range, 0.0);
+    EXPECT_EQ(flat.depth_texels, 0.0);
+    EXPECT_NE(lines.field_hash, sine.field_hash);
+    EXPECT_EQ(lines.field_hash, measure_relief(field_of(FieldKind::lines, 128, 8), 0.1).field_hash);
+}
+
+// --- Cost table ----------------------------------------------------------------
+
+TEST(CostTable, BuiltInParsesAndRoundTrips) {
+    Result<const CostTable*> table = builtin_cost_table();
+    ASSERT_TRUE(table.ok()) << table.error().message;
+    EXPECT_FALSE((*table)->rows.empty());
+    EXPECT_FALSE((*table)->renderer.empty());
+    Result<CostTable> again = parse_cost_table(cost_table_json(**table), "again");
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    EXPECT_EQ(again->rows.size(), (*table)->rows.size());
+    EXPECT_EQ(again->reliefs.size(), (*table)->reliefs.size());
+}
+
+TEST(CostTable, RefusesBrokenTables) {
+    const std::string head = R"({"date": "d", "renderer": "r", "version": "v", "command": "c",
+        "reliefs": [{"name": "x", "depth_texels": 10, "steepness": 1, "thinnest_texels": 1, "range": 1}], "rows": [)";
+    auto refused = [&](const std::string& rows, const std::string& fragment) {
+        Result<CostTable> t = parse_cost_table(head + rows + "]}", "t.json");
+        ASSERT_FALSE(t.ok()) << rows;
+        EXPECT_NE(t.error().message.find(fragment), std::string::npos) << t.error().message;
+    };
+    refused(R"([1, 0, "pom", 8, "none", 0, 1, 0, 1])", "rows[0][0]: not a relief index");
+    refused(R"([0, 95, "pom", 8, "none", 0, 1, 0, 1])", "rows[0][1]");
+    refused(R"([0, 0, "bogus", 8, "none", 0, 1, 0, 1])", "rows[0][2]");
+    refused(R"([0, 0, "pom", 8, "none", 0, -1, 0, 1])", "rows[0][6]: negative");
+    refused(R"([0, 0, "pom", 8, "none", 0, 1, 0, 0])", "rows[0][8]");
+    refused(R"([0, 0, "pom"])", "rows[0]: expected");
+    EXPECT_FALSE(parse_cost_table("not json", "t.json").ok());
+}
+
+// --- Planner decisions, on a table stated here --------------------------------
+
+// One relief (depth 10 texels, thin features); normal mapping's error grows
+// with the angle, POM at 8 samples is cheap and rough, at 32 dear and fine;
+// shadows at 8 and 32 samples.
+CostTable small_table() {
+    CostTable t;
+    t.date = "test";
+    t.renderer = "test";
+    t.reliefs.push_back({"lines", ReliefFeatures{256, 256, 10.0, 1.0, 1.0, 1.0, 0}});
+    for (double a : {0.0, 45.0, 89.0}) {
+        const double grow = 1.0 + a / 10.0;
+        t.rows.push_back({0, a, Technique::normal, 0, ShadowMode::none, 0, 2.0 * grow, 0.0, 1.0});
+        t.rows.push_back({0, a, Technique::offset_limited, 0, ShadowMode::none, 0, 1.5 * grow, 0.0, 1.1});
+        t.rows.push_back({0, a, Technique::pom, 8, ShadowMode::none, 0, 0.4 * grow, 0.0, 1.5});
+        t.rows.push_back({0, a, Technique::pom, 32, ShadowMode::none, 0, 0.05 * grow, 0.0, 3.0});
+        t.rows.push_back({0, a, Technique::pom, 32, ShadowMode::hard, 8, 0.05 * grow, 0.2, 3.5});
+        t.rows.push_back({0, a, Technique::pom, 32, ShadowMode::hard, 32, 0.05 * grow, 0.02, 5.0});
+    }
+    return t;
+}
+
+// A 2-unit plane seen from `angle_deg` off its normal at `distance`, with a
+// 1-texel-lines relief `height_scale` deep and one light `light_elevation`
+// degrees above the plane.
+SceneDesc plane_scene(double angle_deg, float distance, float height_scale, EffectRequest effects,
+                      float light_elevation = 40.0f, int segments = 16) {
+    SceneDesc s;
+    s.name = "t";
+    const double a = glm::radians(angle_deg);
+    s.camera.position = glm::vec3(0.0f, static_cast<float>(-distance * std::sin(a)), static_cast<float>(distance * std::cos(a)));
+    s.camera.target = glm::vec3(0.0f);
+    s.camera.up = angle_deg < 1.0 ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+    LightDesc light;
+    const float e = glm::radians(light_elevation);
+    light.direction = -glm::vec3(std::cos(e), 0.0f, std::sin(e));
+    s.lights = {light};
+    MaterialDesc m;
+    m.name = "m";
+    m.height.kind = TextureSource::Kind::procedural;
+    m.height.field.kind = FieldKind::lines;
+    m.height.field.size = 256;
+    m.height.field.count = 8;
+    m.height_scale = height_scale;
+    m.effects = effects;
+    s.materials = {m};
+    ObjectDesc o;
+    o.name = "plane";
+    o.material = "m";
+    o.mesh.size = 2.0f;
+    o.mesh.segments = segments;
+    s.objects = {o};
+    return s;
+}
+
+Result<std::vector<ObjectPlan>> plan_of(const SceneDesc& scene, const Caps& caps, const CostTable& table, int size = 256) {
+    std::vector<MaterialRelief> reliefs;
+    for (const MaterialDesc& m : scene.materials) {
+        Result<MaterialImages> images = build_material_images(m, "");
+        if (!images) return images.error();
+        reliefs.push_back(material_relief(quantized_8bit(images->field), m));
+    }
+    PlannerOptions options;
+    options.table = &table;
+    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, caps, reliefs, options);
+    if (!planner) return planner.error();
+    return (*planner)->plan(scene.camera, size, size);
+}
+
+bool has_note(const ObjectPlan& p, const std::string& fragment) {
+    for (const std::string& n : p.notes)
+        if (n.find(fragment) != std::string::npos) return true;
+    return false;
+}
+
+TEST(Planner, ChoosesTheCheapestCandidateWithinTheTarget) {
+    const CostTable table = small_table();
+    EffectRequest loose;
+    loose.max_error_texels = 2.0f;
+    loose.lod_fade = EffectSwitch::off;
+    Result<std::vector<ObjectPlan>> p = plan_of(plane_scene(20.0, 2.5f, 0.04f, loose), es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    // pom x8 predicts 0.4 * (1 + ~2) * 10.24 / 10 ~ 1.2 texels at ~20 degrees: within 2, cheaper than x32.
+    EXPECT_EQ((*p)[0].key.technique, Technique::pom);
+    EXPECT_EQ((*p)[0].key.max_samples, 8);
+    EXPECT_LE((*p)[0].predicted_error, 2.0);
+    EXPECT_EQ((*p)[0].options.min_samples, 8);  // the table measured min = max
+
+    EffectRequest tight = loose;
+    tight.max_error_texels = 0.5f;
+    p = plan_of(plane_scene(20.0, 2.5f, 0.04f, tight), es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.max_samples, 32);
+    EXPECT_GT((*p)[0].predicted_cost, 2.0);
+}
+
+TEST(Planner, ImpossibleTargetNamesTheObjectAndTheField) {
+    EffectRequest e;
+    e.max_error_texels = 0.01f;
+    Result<std::vector<ObjectPlan>> p = plan_of(plane_scene(60.0, 2.5f, 0.04f, e), es3_caps(), small_table());
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("object 'plane' (material 'm')"), std::string::npos) << p.error().message;
+    EXPECT_NE(p.error().message.find("materials[0].effects.parallax.max_error_texels"), std::string::npos)
+        << p.error().message;
+    EXPECT_NE(p.error().message.find("best: pom x32"), std::string::npos) << p.error().message;
+
+    EffectRequest shadow;
+    shadow.max_error_texels = 2.0f;
+    shadow.shadow = ShadowMode::hard;
+    shadow.shadow_max_error = 0.001f;
+    p = plan_of(plane_scene(20.0, 2.5f, 0.04f, shadow), es3_caps(), small_table());
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("materials[0].effects.shadow.max_error"), std::string::npos) << p.error().message;
+}
+
+TEST(Planner, DropsEffectsThatCannotMatterAndSaysWhy) {
+    const CostTable table = small_table();
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.shadow = ShadowMode::hard;
+    e.shadow_max_error = 0.1f;
+    e.depth_correction = EffectSwitch::on;
+    // Height scale 0: normal mapping, and the shadow goes with the relief.
+    Result<std::vector<ObjectPlan>> p = plan_of(plane_scene(20.0, 2.5f, 0.0f, e), es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.technique, Technique::normal);
+    EXPECT_TRUE(has_note((*p)[0], "height_scale is 0")) << (*p)[0].notes.front();
+    EXPECT_TRUE(has_note((*p)[0], "shadow=hard dropped"));
+
+    // A light below the horizon: no shadow ray, the fewer-samples variant.
+    p = plan_of(plane_scene(20.0, 2.5f, 0.04f, e, -10.0f), es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.shadow, ShadowMode::none);
+    EXPECT_TRUE(has_note((*p)[0], "below its horizon"));
+    // A light above it: the shadow, at the fewest samples within 0.1 (32: 8 leaves 0.2).
+    p = plan_of(plane_scene(20.0, 2.5f, 0.04f, e, 30.0f), es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.shadow, ShadowMode::hard);
+    EXPECT_EQ((*p)[0].key.shadow_samples, 32);
+    EXPECT_TRUE((*p)[0].key.depth_write);
+    // No light at all.
+    SceneDesc dark = plane_scene(20.0, 2.5f, 0.04f, e);
+    dark.lights.clear();
+    p = plan_of(dark, es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.shadow, ShadowMode::none);
+    EXPECT_TRUE(has_note((*p)[0], "no light"));
+    // ES 2.0 without GL_EXT_frag_depth: depth output dropped, with the reason.
+    p = plan_of(plane_scene(20.0, 2.5f, 0.04f, e), es2_caps(false, true), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_FALSE((*p)[0].key.depth_write);
+    EXPECT_TRUE(has_note((*p)[0], "lacks GL_EXT_frag_depth"));
+    p = plan_of(plane_scene(20.0, 2.5f, 0.04f, e), es2_caps(true, true), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_TRUE((*p)[0].key.depth_write);
+}
+
+TEST(Planner, DepthCorrectionOnlyWhereAnotherSurfaceMeetsTheRelief) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    SceneDesc s = plane_scene(30.0, 3.0f, 0.04f, e);
+    MaterialDesc plain = s.materials[0];
+    plain.name = "plain";
+    plain.height_scale = 0.0f;
+    s.materials.push_back(plain);
+    ObjectDesc board;
+    board.name = "board";
+    board.material = "plain";
+    board.mesh.size = 0.5f;
+    board.transform.rotate_deg = {90.0f, 0.0f, 0.0f};  // upright, facing -y
+    board.transform.translate = {0.0f, 0.0f, 0.2f};     // its lower edge 0.05 into the relief
+    s.objects.push_back(board);
+    Result<std::vector<ObjectPlan>> p = plan_of(s, es3_caps(), small_table());
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_TRUE((*p)[0].key.depth_write);
+    EXPECT_TRUE(has_note((*p)[0], "object 'board' meets this surface's relief"));
+    // Lifted clear of the relief: no depth written.
+    s.objects[1].transform.translate.z = 0.35f;
+    p = plan_of(s, es3_caps(), small_table());
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_FALSE((*p)[0].key.depth_write);
+    EXPECT_TRUE(has_note((*p)[0], "no other object meets"));
+}
+
+TEST(Planner, PerVertexViewOnlyWhereTheTrianglesAreSmallEnough) {
+    // The whitepaper's saving on one 4-unit quad seen from 2 units puts the
+    // relief far off; on a 64x64 grid it adds almost nothing.
+    const CostTable table = small_table();
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    SceneDesc one_quad = plane_scene(40.0, 2.0f, 0.04f, e, 40.0f, 1);
+    one_quad.objects[0].mesh.size = 4.0f;
+    Result<std::vector<ObjectPlan>> p = plan_of(one_quad, es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_GT((*p)[0].view.per_vertex_view_error, 1.0);
+    EXPECT_TRUE((*p)[0].key.exact_view);
+    SceneDesc grid = one_quad;
+    grid.objects[0].mesh.segments = 64;
+    p = plan_of(grid, es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_LT((*p)[0].view.per_vertex_view_error, 0.05);
+    EXPECT_FALSE((*p)[0].key.exact_view);
+}
+
+TEST(Planner, FarSurfacesPastTheLodThresholdGetNormalMapping) {
+    EffectRequest e;
+    e.max_error_texels = 1.0f;
+    e.lod_fade = EffectSwitch::on;
+    // 2 units across at 300 units: a few pixels for 256 texels, mip ~7.
+    SceneDesc far = plane_scene(10.0, 300.0f, 0.04f, e);
+    far.camera.far_plane = 1000.0f;
+    Result<std::vector<ObjectPlan>> p = plan_of(far, es3_caps(), small_table());
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.technique, Technique::normal);
+    EXPECT_TRUE(has_note((*p)[0], "past the lod_fade threshold"));
+    // Without derivatives (ES 2.0 lacking GL_OES_standard_derivatives) LOD cannot run.
+    p = plan_of(far, es2_caps(true, false), small_table());
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_FALSE((*p)[0].key.lod);
+    EXPECT_TRUE(has_note((*p)[0], "lacks GL_OES_standard_derivatives"));
+}
+
+TEST(Planner, ExplicitTechniquesKeepTheirOwnPlan) {
+    SceneDesc s = plane_scene(30.0, 3.0f, 0.04f, EffectRequest{});
+    s.materials[0].effects.reset();
+    s.materials[0].technique.technique = Technique::relief;
+    Result<std::vector<ObjectPlan>> p = plan_of(s, es3_caps(), small_table());
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_FALSE((*p)[0].planned);
+    EXPECT_EQ((*p)[0].key.technique, Technique::relief);
+}
+
+TEST(Planner, CalibrationReplacesTheGenericTable) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    ASSERT_TRUE(images.ok());
+    const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    // A calibration of this very relief in which pom x8 is far worse.
+    CostTable calibration = small_table();
+    calibration.date = "calibrated";
+    calibration.reliefs[0].features = relief.features;
+    for (CostSample& s : calibration.rows)
+        if (s.technique == Technique::pom && s.samples == 8) s.error_p95 *= 10.0;
+    PlannerOptions options;
+    const CostTable generic = small_table();
+    options.table = &generic;
+    options.calibrations = {calibration};
+    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
+    ASSERT_TRUE(planner.ok()) << planner.error().message;
+    Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 256, 256);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    EXPECT_EQ((*p)[0].key.max_samples, 32);
+    ASSERT_TRUE((*p)[0].generic_key.has_value());
+    EXPECT_EQ((*p)[0].generic_key->max_samples, 8);
+    EXPECT_NE((*p)[0].prediction_source.find("calibrated"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace px

@@ -1,0 +1,158 @@
+#include "plan_report.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "core/files.h"
+
+namespace px::tools {
+
+namespace {
+
+std::string asked(const ObjectPlan& p) {
+    if (!p.planned) return std::string("technique ") + technique_name(p.options.technique) + " (named by the material)";
+    const EffectRequest& r = p.request;
+    std::string s;
+    if (!r.parallax) {
+        s = "parallax off";
+    } else {
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "parallax within %g texels", r.max_error_texels);
+        s = buffer;
+    }
+    if (r.shadow != ShadowMode::none) {
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, ", %s shadow within %g", shadow_mode_name(r.shadow), r.shadow_max_error);
+        s += buffer;
+    }
+    s += std::string(", depth correction ") + effect_switch_name(r.depth_correction) + ", lod fade " +
+         effect_switch_name(r.lod_fade);
+    return s;
+}
+
+}  // namespace
+
+std::string plans_table(const std::vector<ObjectPlan>& plans) {
+    std::string out;
+    char line[512];
+    for (const ObjectPlan& p : plans) {
+        std::snprintf(line, sizeof line, "object     %s (material %s)\n", p.object.c_str(), p.material.c_str());
+        out += line;
+        out += "  asked    " + asked(p) + "\n";
+        out += "  variant  " + p.key.describe() + "\n";
+        if (p.view.visible) {
+            std::snprintf(line, sizeof line,
+                          "  view     %.0f px, angles %.1f..%.1f deg, distance %.2f..%.2f, mip %.1f..%.1f, %d light(s) above its horizon\n",
+                          p.view.pixels, p.view.angle_min_deg, p.view.angle_max_deg, p.view.distance_min,
+                          p.view.distance_max, p.view.mip_min, p.view.mip_max, p.view.lights_above_horizon);
+        } else {
+            std::snprintf(line, sizeof line, "  view     not visible\n");
+        }
+        out += line;
+        if (p.predicted_error >= 0.0) {
+            std::snprintf(line, sizeof line, "  predict  %.3g texels (target %g), x%.2f normal mapping per pixel", p.predicted_error,
+                          p.request.max_error_texels, p.predicted_cost);
+            out += line;
+            if (p.predicted_shadow_error >= 0.0) {
+                std::snprintf(line, sizeof line, ", shadow %.3g (target %g)", p.predicted_shadow_error, p.request.shadow_max_error);
+                out += line;
+            }
+            out += "\n";
+        }
+        if (!p.prediction_source.empty()) out += "  from     " + p.prediction_source + "\n";
+        if (p.generic_key) {
+            std::snprintf(line, sizeof line, "  generic  %s (predicted %.3g texels, x%.2f)\n", p.generic_key->describe().c_str(),
+                          p.generic_error, p.generic_cost);
+            out += line;
+        }
+        for (const std::string& n : p.notes) out += "  note     " + n + "\n";
+    }
+    return out;
+}
+
+std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& scene, const std::string& context) {
+    nlohmann::json j;
+    j["scene"] = scene;
+    j["context"] = context;
+    j["objects"] = nlohmann::json::array();
+    for (const ObjectPlan& p : plans) {
+        nlohmann::json o;
+        o["object"] = p.object;
+        o["material"] = p.material;
+        o["planned"] = p.planned;
+        o["asked"] = asked(p);
+        o["variant"] = p.key.describe();
+        o["technique"] = technique_name(p.key.technique);
+        o["max_samples"] = p.key.max_samples;
+        o["shadow"] = shadow_mode_name(p.key.shadow);
+        o["shadow_samples"] = p.key.shadow_samples;
+        o["depth_write"] = p.key.depth_write;
+        o["lod"] = p.key.lod;
+        o["exact_view"] = p.key.exact_view;
+        o["view"] = {{"visible", p.view.visible},
+                     {"pixels", p.view.pixels},
+                     {"angle_deg", {p.view.angle_min_deg, p.view.angle_max_deg}},
+                     {"distance", {p.view.distance_min, p.view.distance_max}},
+                     {"mip", {p.view.mip_min, p.view.mip_max}},
+                     {"per_vertex_view_error", p.view.per_vertex_view_error},
+                     {"lights_above_horizon", p.view.lights_above_horizon}};
+        if (p.planned) {
+            o["target_texels"] = p.request.max_error_texels;
+            o["predicted_error_texels"] = p.predicted_error;
+            o["predicted_cost"] = p.predicted_cost;
+            if (p.request.shadow != ShadowMode::none) o["shadow_target"] = p.request.shadow_max_error;
+            if (p.predicted_shadow_error >= 0.0) o["predicted_shadow_error"] = p.predicted_shadow_error;
+            o["prediction_source"] = p.prediction_source;
+            if (p.generic_key) {
+                o["generic_variant"] = p.generic_key->describe();
+                o["generic_predicted_error_texels"] = p.generic_error;
+                o["generic_predicted_cost"] = p.generic_cost;
+            }
+        }
+        o["notes"] = p.notes;
+        j["objects"].push_back(o);
+    }
+    return j.dump(2) + "\n";
+}
+
+std::string default_calibration_dir() {
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    if (xdg && *xdg) return std::string(xdg) + "/parallaxes/calibration";
+    const char* home = std::getenv("HOME");
+    if (home && *home) return std::string(home) + "/.cache/parallaxes/calibration";
+    return "";
+}
+
+std::vector<CostTable> load_calibrations(const std::string& dir) {
+    std::vector<CostTable> out;
+    if (dir.empty() || dir == "off") return out;
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) return out;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        if (entry.path().extension() != ".json") continue;
+        Result<std::vector<std::uint8_t>> bytes = read_file_bounded(entry.path().string(), 8u << 20, "calibration");
+        if (!bytes) {
+            std::fprintf(stderr, "parallax: warning: skipping calibration: %s\n", bytes.error().message.c_str());
+            continue;
+        }
+        Result<CostTable> table =
+            parse_cost_table(std::string(bytes->begin(), bytes->end()), entry.path().string());
+        if (!table) {
+            std::fprintf(stderr, "parallax: warning: skipping calibration: %s\n", table.error().message.c_str());
+            continue;
+        }
+        out.push_back(std::move(*table));
+    }
+    return out;
+}
+
+std::string calibration_file(const std::string& dir, const ReliefFeatures& features) {
+    char depth[32];
+    std::snprintf(depth, sizeof depth, "%.4f", features.depth_texels);
+    return dir + "/" + hash_hex(features.field_hash) + "-depth" + depth + ".json";
+}
+
+}  // namespace px::tools

@@ -1,0 +1,25 @@
+// What `parallax plan` and `parallax render --explain` print of the
+// planner's answers, and the calibration cache both read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "planner/planner.h"
+
+namespace px::tools {
+
+// Per object: what it asked for, the variant chosen, the prediction and
+// every note (what was dropped and why).
+std::string plans_table(const std::vector<ObjectPlan>& plans);
+std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& scene, const std::string& context);
+
+// The calibration cache: one JSON cost table per relief. "" or "off": none.
+// Default: $XDG_CACHE_HOME/parallaxes/calibration (or ~/.cache/...).
+std::string default_calibration_dir();
+// Every readable table in `dir` (broken files are skipped with a warning
+// on stderr naming the file).
+std::vector<CostTable> load_calibrations(const std::string& dir);
+std::string calibration_file(const std::string& dir, const ReliefFeatures& features);
+
+}  // namespace px::tools
