@@ -108,19 +108,14 @@ int run_render(const RenderArgs& a) {
     std::vector<CameraDesc> cameras;
     std::vector<DrawReport> first_reports;
     if (!a.camera_path.empty()) {
-        std::vector<VariantKey> keys;
+        std::vector<std::vector<ObjectPlan>> frames;
         for (int i = 0; i < a.frames; ++i) {
             cameras.push_back(camera_on_path(scene->camera, a.camera_path, i, a.frames));
             Result<std::vector<ObjectPlan>> plans = (*renderer)->plan_view(cameras.back(), width, height);
             if (!plans) return fail("frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " + plans.error().message);
-            for (const ObjectPlan& p : *plans) {
-                VariantKey k = p.key;
-                bool seen = false;
-                for (const VariantKey& e : keys) seen = seen || e == k;
-                if (!seen) keys.push_back(k);
-            }
+            frames.push_back(std::move(*plans));
         }
-        Status prepared = (*renderer)->prepare(keys);
+        Status prepared = (*renderer)->prepare(frames, target->target());
         if (!prepared) return fail(prepared.error().message);
         Result<int> first = (*renderer)->set_view(cameras.front(), width, height);
         if (!first) return fail(first.error().message);

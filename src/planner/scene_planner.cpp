@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <map>
 #include <tuple>
@@ -549,35 +550,95 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
         return it == s.curves->end() ? nullptr : &it->second;
     };
     const double depth_texels = relief.features.depth_texels;
-    auto predict = [&](const Source& s, const Candidate& c) {
+    // Each point's place in a table's angle grid, once per grid: every
+    // curve of a table shares one, so a prediction is a few multiply-adds
+    // per point, and a mean cost is one per table angle.
+    struct Basis {
+        const std::vector<double>* angles = nullptr;
+        std::vector<std::pair<size_t, double>> at;  // per point: lower index, fraction
+        std::vector<double> weight;                 // per table angle: the points' weight on it
+        double total = 0.0;
+    };
+    std::deque<Basis> bases;  // stable references as it grows
+    auto basis_for = [&](const std::vector<double>& angles) -> const Basis& {
+        for (const Basis& b : bases)
+            if (*b.angles == angles) return b;
+        Basis b;
+        b.angles = &angles;
+        b.weight.assign(angles.size(), 0.0);
+        for (const PointView& p : points) {
+            size_t i = 0;
+            double t = 0.0;
+            if (angles.size() > 1 && p.angle_deg > angles.front()) {
+                if (p.angle_deg >= angles.back()) {
+                    i = angles.size() - 1;
+                } else {
+                    i = static_cast<size_t>(std::upper_bound(angles.begin(), angles.end(), p.angle_deg) - angles.begin()) - 1;
+                    t = (p.angle_deg - angles[i]) / (angles[i + 1] - angles[i]);
+                }
+            }
+            b.at.emplace_back(i, t);
+            b.weight[i] += (1.0 - t) * p.weight;
+            if (t > 0.0) b.weight[i + 1] += t * p.weight;
+            b.total += p.weight;
+        }
+        bases.push_back(std::move(b));
+        return bases.back();
+    };
+    auto value = [](const Basis& b, const std::vector<double>& ys, size_t point) {
+        const auto [i, t] = b.at[point];
+        return t > 0.0 ? ys[i] + t * (ys[i + 1] - ys[i]) : ys[i];
+    };
+    auto mean = [](const Basis& b, const std::vector<double>& ys) {
+        double sum = 0.0;
+        for (size_t k = 0; k < ys.size(); ++k) sum += b.weight[k] * ys[k];
+        return b.total > 0.0 ? sum / b.total : 0.0;
+    };
+    auto lod_blend = [&](const PointView& p) {
+        return std::clamp((std::log2(std::max(p.rho, 1e-9)) - fade_start) / request.lod_band, 0.0, 1.0);
+    };
+    auto predict_cost = [&](const Source& s, const Candidate& c) {
         Prediction out;
         const Curve* tc = curve(s, c.technique, c.samples, ShadowMode::none, 0);
         const Curve* nc = curve(s, Technique::normal, 0, ShadowMode::none, 0);
         if (!tc || !nc) return out;
         out.known = true;
-        std::vector<std::pair<double, double>> errors;
-        errors.reserve(points.size());
-        double cost_sum = 0.0, weight_sum = 0.0;
+        const Basis& b = basis_for(tc->angles);
+        if (!c.lod) {
+            out.cost = mean(b, tc->cost);
+            return out;
+        }
+        double sum = 0.0;
+        for (size_t i = 0; i < points.size(); ++i)
+            sum += (lod_blend(points[i]) >= 1.0 ? 1.0 : value(b, tc->cost, i)) * points[i].weight;
+        out.cost = b.total > 0.0 ? sum / b.total : 0.0;
+        return out;
+    };
+    auto predict_error = [&](const Source& s, const Candidate& c) {
+        const Curve* tc = curve(s, c.technique, c.samples, ShadowMode::none, 0);
+        const Curve* nc = curve(s, Technique::normal, 0, ShadowMode::none, 0);
+        if (!tc || !nc) return std::numeric_limits<double>::infinity();
+        const Basis& b = basis_for(tc->angles);
+        const Basis& bn = basis_for(nc->angles);
         const bool per_vertex = !c.exact_view && !technique_info(c.technique).always_exact_view &&
                                 (technique_info(c.technique).options & kOptHeight);
-        for (const PointView& p : points) {
-            double e = interpolate(tc->angles, tc->error, p.angle_deg) * s.depth_scale;
-            double cost = interpolate(tc->angles, tc->cost, p.angle_deg);
-            if (per_vertex)
-                e += depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset : p.pv_parallax);
+        std::vector<std::pair<double, double>> errors;
+        errors.reserve(points.size());
+        for (size_t i = 0; i < points.size(); ++i) {
+            const PointView& p = points[i];
+            double e = value(b, tc->error, i) * s.depth_scale;
+            if (per_vertex) e += depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset : p.pv_parallax);
             if (c.lod) {
-                const double mip = std::log2(std::max(p.rho, 1e-9));
-                const double blend = std::clamp((mip - fade_start) / request.lod_band, 0.0, 1.0);
-                const double en = interpolate(nc->angles, nc->error, p.angle_deg) * s.depth_scale;
-                e = (1.0 - blend) * e + blend * en;
-                if (blend >= 1.0) cost = 1.0;
+                const double blend = lod_blend(p);
+                e = (1.0 - blend) * e + blend * value(bn, nc->error, i) * s.depth_scale;
             }
             errors.emplace_back(e / std::max(1.0, p.rho), p.weight);
-            cost_sum += cost * p.weight;
-            weight_sum += p.weight;
         }
-        out.error = weighted_p95(errors);
-        out.cost = weight_sum > 0.0 ? cost_sum / weight_sum : 0.0;
+        return weighted_p95(errors);
+    };
+    auto predict = [&](const Source& s, const Candidate& c) {
+        Prediction out = predict_cost(s, c);
+        if (out.known) out.error = predict_error(s, c);
         return out;
     };
 
@@ -660,32 +721,31 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
 
     // The cheapest candidate meeting the parallax target.
     auto choose = [&](const Source& s, Prediction& chosen, double& best_error, std::string& best_name) -> std::optional<Candidate> {
-        std::vector<std::pair<Prediction, Candidate>> predicted;
         best_error = std::numeric_limits<double>::infinity();
-        std::optional<Candidate> pick;
-        // Costs first (cheap), then errors in cost order until one meets the target.
+        // Costs first (cheap), then errors in cost order until one meets
+        // the target; every error only when none does (for the message).
         std::vector<std::pair<double, size_t>> order;
-        std::vector<Prediction> cost_only(candidates.size());
+        std::vector<Prediction> predicted(candidates.size());
         for (size_t i = 0; i < candidates.size(); ++i) {
-            cost_only[i] = predict(s, candidates[i]);
-            if (!cost_only[i].known) continue;
+            predicted[i] = predict_cost(s, candidates[i]);
+            if (!predicted[i].known) continue;
             // A per-vertex view saves a normalise per pixel (not in the
             // table's timings): preferred at equal cost, never at higher.
-            order.emplace_back(cost_only[i].cost - (candidates[i].exact_view ? 0.0 : 1e-6), i);
+            order.emplace_back(predicted[i].cost - (candidates[i].exact_view ? 0.0 : 1e-6), i);
         }
         std::sort(order.begin(), order.end());
         for (const auto& [cost, i] : order) {
-            const Prediction& p = cost_only[i];
-            if (p.error < best_error) {
-                best_error = p.error;
+            predicted[i].error = predict_error(s, candidates[i]);
+            if (predicted[i].error < best_error) {
+                best_error = predicted[i].error;
                 best_name = candidate_name(candidates[i]);
             }
-            if (!pick && p.error <= request.max_error_texels) {
-                pick = candidates[i];
-                chosen = p;
+            if (predicted[i].error <= request.max_error_texels) {
+                chosen = predicted[i];
+                return candidates[i];
             }
         }
-        return pick;
+        return std::nullopt;
     };
     Prediction chosen;
     double best_error = 0.0;

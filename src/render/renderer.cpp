@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 #include "core/text.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -253,6 +254,29 @@ struct Renderer::GpuScene {
     CameraDesc camera;             // the view the plans are for
     int plan_width = 512, plan_height = 512;  // and the image size
 };
+
+namespace {
+
+// One object with one variant, into the bound framebuffer.
+Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const VariantKey& key,
+                   const TechniqueOptions& options, const FrameValues& frame) {
+    const GpuMaterial& material = scene.materials[object.material];
+    Result<const Program*> program = scene.programs.get(key);
+    if (!program) return with_context("material '" + material.desc->name + "'", program.error());
+    const Program& p = **program;
+    glUseProgram(p.id());
+    set_frame_uniforms(p, frame);
+    const GpuMesh& mesh = scene.meshes[object.mesh];
+    const bool mirrored = set_object_uniforms(p, *object.desc, mesh, *material.desc);
+    // A mirroring model matrix reverses the triangles' winding on screen:
+    // flip the front face so the object's outside stays the drawn side.
+    glFrontFace(mirrored ? GL_CW : GL_CCW);
+    set_material_uniforms(p, material, key, options);
+    draw_mesh(mesh);
+    return check_gl("drawing object '" + object.desc->name + "' with " + p.description());
+}
+
+}  // namespace
 
 Renderer::~Renderer() { release(); }
 
@@ -508,24 +532,41 @@ Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
     const FrameValues frame = frame_values(scene, scene_->camera, target);
 
     for (const GpuObject& object : scene_->objects) {
-        const GpuMaterial& material = scene_->materials[object.material];
         VariantKey key = object.plan.key;
         key.debug_output = debug_output;
-        Result<const Program*> program = scene_->programs.get(key);
-        if (!program) return with_context("material '" + material.desc->name + "'", program.error());
-        const Program& p = **program;
-        glUseProgram(p.id());
-        set_frame_uniforms(p, frame);
-        const GpuMesh& mesh = scene_->meshes[object.mesh];
-        const bool mirrored = set_object_uniforms(p, *object.desc, mesh, *material.desc);
-        // A mirroring model matrix reverses the triangles' winding on screen:
-        // flip the front face so the object's outside stays the drawn side.
-        glFrontFace(mirrored ? GL_CW : GL_CCW);
-        set_material_uniforms(p, material, key, object.plan.options);
-        draw_mesh(mesh);
-        Status s = check_gl("drawing object '" + object.desc->name + "' with " + p.description());
+        Status s = draw_object(*scene_, object, key, object.plan.options, frame);
         if (!s) return s;
     }
+    return {};
+}
+
+Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, const RenderTarget& warm_target) {
+    if (!scene_) return make_error("prepare: no scene loaded");
+    if (warm_target.width < 1 || warm_target.height < 1) return make_error("prepare: the warm-up target is empty");
+    SavedGlState saved(caps_);
+    glBindFramebuffer(GL_FRAMEBUFFER, warm_target.framebuffer);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        return make_error(std::string("prepare: warm-up framebuffer is incomplete: ") + framebuffer_status_name(status));
+    // Drivers finish compiling at a program's first draw (Mesa's llvmpipe
+    // JITs its shader variant then): draw each object once with each
+    // variant it will need, so that no frame of the path pays for it.
+    set_draw_state(caps_, warm_target, glm::vec4(0.0f));
+    const FrameValues frame = frame_values(scene_->desc, scene_->camera, warm_target);
+    std::vector<std::vector<std::uint64_t>> warmed(scene_->objects.size());
+    for (const std::vector<ObjectPlan>& plans : frames) {
+        if (plans.size() != scene_->objects.size())
+            return make_error("prepare: a frame has " + std::to_string(plans.size()) + " plans for " +
+                              std::to_string(scene_->objects.size()) + " objects");
+        for (size_t i = 0; i < plans.size(); ++i) {
+            const std::uint64_t bits = plans[i].key.bits();
+            if (std::find(warmed[i].begin(), warmed[i].end(), bits) != warmed[i].end()) continue;
+            warmed[i].push_back(bits);
+            Status s = draw_object(*scene_, scene_->objects[i], plans[i].key, plans[i].options, frame);
+            if (!s) return s;
+        }
+    }
+    glFinish();
     return {};
 }
 

@@ -85,6 +85,11 @@ public:
     Result<std::vector<ObjectPlan>> plan_view(const CameraDesc& camera, int width, int height) const;
     // Compiles these variants now (e.g. every one a camera path will need).
     Status prepare(const std::vector<VariantKey>& keys);
+    // The same for the plans of a camera path's frames (plan_view), and
+    // draws each object once with each of its variants into `warm_target`
+    // (its contents are undefined afterwards): drivers finish a program's
+    // compile at its first draw, so no frame of the path pays for it.
+    Status prepare(const std::vector<std::vector<ObjectPlan>>& frames, const RenderTarget& warm_target);
 
     const std::vector<DrawReport>& reports() const { return reports_; }
     size_t program_count() const;
