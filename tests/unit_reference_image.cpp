@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -28,6 +29,7 @@ SurfaceImage surface(int w, int h) {
 }
 
 SurfaceSample& at(SurfaceImage& s, int x, int y) { return s.samples[static_cast<size_t>(y) * s.width + x]; }
+SurfaceSample& at(ReferenceImage& r, int x, int y) { return at(r.surface, x, y); }
 
 Image rgba(int w, int h, std::uint8_t value) { return make_solid_image(w, h, value, value, value); }
 
@@ -184,6 +186,66 @@ TEST(Metrics, MismatchedSizesAreAnError) {
     ASSERT_FALSE(m.ok());
     EXPECT_NE(m.error().message.find("4x5"), std::string::npos) << m.error().message;
     EXPECT_FALSE(compare_surfaces(surface(4, 4), surface(4, 4), 0, 64).ok());
+}
+
+// compare_object on a hand-made reference: object 1 owns the left half, of
+// which one pixel is uncovered by the GPU; object 0 (no height: the
+// reference does not cover it) owns the right half, which the GPU covers.
+TEST(Metrics, CompareObjectCountsAndScalesPerObject) {
+    const int w = 8, h = 2;
+    ReferenceImage truth;
+    truth.surface = surface(w, h);
+    truth.object_index.assign(static_cast<size_t>(w) * h, 0);
+    truth.texels_per_pixel.assign(static_cast<size_t>(w) * h, 0.5);
+    truth.object_texture_size = {glm::ivec2(0), glm::ivec2(100, 50)};
+    SurfaceImage measured = surface(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w / 2; ++x) {
+            const size_t i = static_cast<size_t>(y) * w + x;
+            truth.object_index[i] = 1;
+            truth.texels_per_pixel[i] = x < 2 ? 0.5 : 4.0;  // magnified on the left, minified by 4 on the right
+            at(truth, x, y).covered = true;
+            at(truth, x, y).uv = glm::dvec2(0.995, 0.5);
+            at(truth, x, y).visibility = 1.0;
+            at(measured, x, y) = at(truth, x, y);
+            // 2 texels off in v (0.04 * 50) for x < 2; 1 texel in u across the tile edge for x >= 2.
+            if (x < 2) at(measured, x, y).uv.y += 0.04;
+            else at(measured, x, y).uv.x = 1.005;
+            if (y == 1) at(measured, x, y).visibility = 0.5;
+        }
+    at(measured, 3, 1).covered = false;  // missing
+    for (int y = 0; y < h; ++y)
+        for (int x = w / 2; x < w; ++x) at(measured, x, y).covered = true;  // the GPU reports every object
+    Result<ObjectError> e = compare_object(measured, truth, 1);
+    ASSERT_TRUE(e.ok()) << e.error().message;
+    EXPECT_EQ(e->reference_pixels, 8);
+    EXPECT_EQ(e->pixels, 7);
+    EXPECT_EQ(e->pixels_missing, 1);
+    // Errors: four of 2 texels, three of 1.
+    EXPECT_NEAR(e->base_error_mean, 11.0 / 7.0, 1e-9);
+    EXPECT_NEAR(e->base_error_p95, 2.0, 1e-9);
+    EXPECT_NEAR(e->base_error_max, 2.0, 1e-9);
+    EXPECT_NEAR(e->wrong_surface_share, 4.0 / 7.0, 1e-12);  // the 2-texel ones
+    // Level: the 2s over max(1, 0.5) stay 2, the 1s over 4 are 0.25.
+    EXPECT_NEAR(e->level_error_mean, (4 * 2.0 + 3 * 0.25) / 7.0, 1e-9);
+    EXPECT_NEAR(e->level_error_p95, 2.0, 1e-9);
+    EXPECT_NEAR(e->level_error_max, 2.0, 1e-9);
+    EXPECT_NEAR(e->visibility_error_mean, 0.5 * 3.0 / 7.0, 1e-9);
+
+    Result<ObjectError> flat = compare_object(measured, truth, 0);
+    ASSERT_TRUE(flat.ok()) << flat.error().message;
+    EXPECT_EQ(flat->reference_pixels, 8);
+    EXPECT_EQ(flat->pixels, 0);  // nothing of the reference's to compare with
+    EXPECT_EQ(flat->pixels_missing, 0);
+    EXPECT_EQ(flat->base_error_max, 0.0);
+
+    EXPECT_FALSE(compare_object(measured, truth, 2).ok());
+    EXPECT_FALSE(compare_object(measured, truth, -1).ok());
+    EXPECT_FALSE(compare_object(surface(w, h + 1), truth, 1).ok());
+    truth.object_index.pop_back();
+    Result<ObjectError> short_index = compare_object(measured, truth, 1);
+    ASSERT_FALSE(short_index.ok());
+    EXPECT_NE(short_index.error().message.find("8x2"), std::string::npos) << short_index.error().message;
 }
 
 TEST(Metrics, PsnrIdenticalIs99) {
@@ -453,6 +515,202 @@ TEST(ReferenceImage, SoftShadowsOnBricks) {
     EXPECT_GT(dark, 0);
     EXPECT_GT(lit, 0);
     EXPECT_GT(partial, 0);
+}
+
+// --- depth compositing, object index, footprint -------------------------------------
+
+// A wall (object 0) whose relief lies under its polygon, seen from `eye`,
+// and a parallel board (object 1, normal mapping: no height read) `board_z`
+// in front of (> 0) or behind (< 0) the wall's polygon, twice the wall's
+// size so that it is behind every wall pixel.
+SceneDesc wall_and_board(FieldSpec field, float board_z, glm::vec3 eye) {
+    SceneDesc scene = plane_scene(field, 0.1f);  // 2 x 2: 2 world units per tile, the relief 0.2 deep
+    scene.objects[0].name = "wall";
+    scene.camera.position = eye;
+    scene.camera.target = glm::vec3(0.0f);
+    scene.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    MaterialDesc board;
+    board.name = "board";
+    board.technique.technique = Technique::normal;
+    scene.materials.push_back(board);
+    ObjectDesc o;
+    o.name = "board";
+    o.mesh.size = 4.0f;
+    o.transform.translate = glm::vec3(0.0f, 0.0f, board_z);
+    o.material = "board";
+    scene.objects.push_back(o);
+    return scene;
+}
+
+ReferenceOptions composite_on() {
+    ReferenceOptions o;
+    o.depth_composite = true;
+    return o;
+}
+
+// A board through the middle of the wall's relief (a pit: floor 0, rim 1):
+// composited, the board hides the pit floor (hit behind it) and the rim
+// hides the board; without compositing the wall's polygon wins everywhere.
+TEST(ReferenceImage, DepthCompositeBoardPiercingTheRelief) {
+    FieldSpec pit;
+    pit.kind = FieldKind::pit;
+    pit.size = 32;
+    pit.radius = 0.25f;
+    const SceneDesc scene = wall_and_board(pit, -0.1f, glm::vec3(0.3f, -0.2f, 3.0f));  // board at height 0.5
+    const int w = 64, h = 64;
+    const ReferenceImage off = render_ok(scene, w, h);
+    const ReferenceImage on = render_ok(scene, w, h, composite_on());
+    int board = 0, rim = 0;
+    for (size_t i = 0; i < off.object_index.size(); ++i) {
+        const int o = off.object_index[i];
+        ASSERT_TRUE(o == 0 || o == 1) << i;  // the board fills the view
+        ASSERT_EQ(on.object_index[i] == -1, o == -1);
+        if (o != 0) {
+            EXPECT_EQ(on.object_index[i], 1);  // outside the wall: the board either way
+            continue;
+        }
+        // Off, the wall's trace is there whatever is behind its polygon.
+        const double hit = off.surface.samples[i].height;
+        if (std::fabs(hit - 0.5) < 0.05) continue;  // the pit's walls, near the board
+        if (hit < 0.5) {
+            EXPECT_EQ(on.object_index[i], 1) << "pixel " << i << " hit height " << hit;
+            EXPECT_FALSE(on.surface.samples[i].covered);  // the board reads no height
+            ++board;
+        } else {
+            EXPECT_EQ(on.object_index[i], 0) << "pixel " << i << " hit height " << hit;
+            EXPECT_EQ(on.surface.samples[i].uv, off.surface.samples[i].uv);  // the same trace
+            ++rim;
+        }
+    }
+    EXPECT_GT(board, 100);
+    EXPECT_GT(rim, 100);
+}
+
+// The hit's distance along an oblique ray: the relief's floor lies 0.2
+// under the polygon (flat field at 0), so a board just in front of the
+// floor shows at every wall pixel and one just behind it at none. Off
+// axis, this needs the depth over the view cosine.
+TEST(ReferenceImage, DepthCompositeHitDepthAlongAnObliqueRay) {
+    const glm::vec3 eye(1.6f, -1.1f, 1.4f);
+    for (const float board_z : {-0.19f, -0.21f}) {
+        const SceneDesc scene = wall_and_board(flat_field(0.0f), board_z, eye);
+        const ReferenceImage off = render_ok(scene, 64, 64);
+        const ReferenceImage on = render_ok(scene, 64, 64, composite_on());
+        int wall = 0;
+        for (size_t i = 0; i < off.object_index.size(); ++i) {
+            if (off.object_index[i] != 0) continue;
+            ++wall;
+            EXPECT_EQ(on.object_index[i], board_z > -0.2f ? 1 : 0) << "board at " << board_z << " pixel " << i;
+        }
+        EXPECT_GT(wall, 500);
+    }
+}
+
+// A relief that rises over its polygon (bias 0: [0, 0.2] above it, flat at
+// its top): composited, it hides a board 0.1 in front of its polygon at
+// every pixel where the ray meets the wall (as alone), though the board's
+// polygon is the nearer one (what the plain reference shows everywhere); a
+// board 0.3 in front hides it. The candidate bound must reach above the
+// polygon, or the board, nearer than the wall's polygon, wins untraced.
+TEST(ReferenceImage, DepthCompositeReliefAboveItsPolygon) {
+    const glm::vec3 eye(0.4f, -0.3f, 3.0f);
+    SceneDesc alone = wall_and_board(flat_field(1.0f), 0.1f, eye);
+    alone.materials[0].height_bias = 0.0f;
+    alone.objects.pop_back();
+    const ReferenceImage wall = render_ok(alone, 64, 64);
+    for (const float board_z : {0.1f, 0.3f}) {
+        SceneDesc scene = wall_and_board(flat_field(1.0f), board_z, eye);
+        scene.materials[0].height_bias = 0.0f;
+        const ReferenceImage off = render_ok(scene, 64, 64);
+        const ReferenceImage on = render_ok(scene, 64, 64, composite_on());
+        int wall_pixels = 0;
+        for (size_t i = 0; i < off.object_index.size(); ++i) {
+            EXPECT_EQ(off.object_index[i], 1);  // the board's polygon is nearer everywhere
+            const bool on_wall = wall.object_index[i] == 0;
+            wall_pixels += on_wall ? 1 : 0;
+            EXPECT_EQ(on.object_index[i], on_wall && board_z < 0.2f ? 0 : 1) << "board at " << board_z << " pixel " << i;
+        }
+        EXPECT_GT(wall_pixels, 500);
+    }
+}
+
+// One plane: compositing changes nothing, bit for bit (the winner keeps
+// its trace), and the object index and footprint are the same too.
+TEST(ReferenceImage, DepthCompositeOfOnePlaneIsBitIdentical) {
+    FieldSpec pit;
+    pit.kind = FieldKind::pit;
+    pit.size = 32;
+    const SceneDesc scene = plane_scene(pit, 0.1f);
+    ReferenceOptions plain;
+    plain.shadow = ShadowMode::hard;
+    ReferenceOptions composited = plain;
+    composited.depth_composite = true;
+    const ReferenceImage a = render_ok(scene, 64, 64, plain);
+    const ReferenceImage b = render_ok(scene, 64, 64, composited);
+    ASSERT_EQ(a.surface.samples.size(), b.surface.samples.size());
+    int covered = 0;
+    for (size_t i = 0; i < a.surface.samples.size(); ++i) {
+        const SurfaceSample& p = a.surface.samples[i];
+        const SurfaceSample& q = b.surface.samples[i];
+        ASSERT_EQ(p.covered, q.covered);
+        covered += p.covered ? 1 : 0;
+        EXPECT_EQ(std::memcmp(&p.uv, &q.uv, sizeof p.uv), 0) << i;
+        EXPECT_EQ(std::memcmp(&p.height, &q.height, sizeof p.height), 0) << i;
+        EXPECT_EQ(std::memcmp(&p.visibility, &q.visibility, sizeof p.visibility), 0) << i;
+        EXPECT_EQ(std::memcmp(&a.view_ts[i], &b.view_ts[i], sizeof a.view_ts[i]), 0) << i;
+        EXPECT_EQ(std::memcmp(&a.entry_uv[i], &b.entry_uv[i], sizeof a.entry_uv[i]), 0) << i;
+        EXPECT_EQ(a.object_index[i], p.covered ? 0 : -1);
+        EXPECT_EQ(a.object_index[i], b.object_index[i]);
+        EXPECT_EQ(a.texels_per_pixel[i], b.texels_per_pixel[i]);
+    }
+    EXPECT_GT(covered, 1000);
+    EXPECT_EQ(a.color.pixels, b.color.pixels);
+    ASSERT_EQ(a.object_texture_size.size(), 1u);
+    EXPECT_EQ(a.object_texture_size[0], glm::ivec2(32, 32));
+}
+
+// Footprint: a plane square to the view axis at distance D spans
+// 2 D tan(fov/2) / H world units per pixel (the same everywhere: the
+// mapping is affine), times texels per world unit (field size times uv
+// scale over the mesh size). Tilted by theta about its x axis, the centre
+// pixel (odd size: on the axis) sees v stretched by 1 / cos(theta).
+TEST(ReferenceImage, TexelsPerPixelMatchesTheFootprint) {
+    const int n = 65;
+    const double distance = 3.0;
+    SceneDesc scene = plane_scene(flat_field(1.0f, 64), 0.05f);
+    scene.materials[0].uv.scale = glm::vec2(2.0f);
+    scene.camera.position = glm::vec3(0.0f, 0.0f, static_cast<float>(distance));
+    scene.camera.target = glm::vec3(0.0f);
+    scene.camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    const double texels_per_unit = 64.0 * 2.0 / 2.0;
+    const double units_per_pixel =
+        2.0 * distance * std::tan(glm::radians(static_cast<double>(scene.camera.fov_y_deg)) / 2.0) / n;
+    const double square = texels_per_unit * units_per_pixel;
+    const ReferenceImage r = render_ok(scene, n, n);
+    ASSERT_EQ(r.object_texture_size.size(), 1u);
+    EXPECT_EQ(r.object_texture_size[0], glm::ivec2(64, 64));
+    int covered = 0;
+    for (size_t i = 0; i < r.texels_per_pixel.size(); ++i) {
+        if (r.object_index[i] != 0) {
+            EXPECT_EQ(r.texels_per_pixel[i], 0.0);
+            continue;
+        }
+        ++covered;
+        EXPECT_NEAR(r.texels_per_pixel[i], square, 1e-6 * square) << i;
+    }
+    EXPECT_GT(covered, n * n / 2);
+
+    for (const double degrees : {45.0, 60.0}) {
+        SceneDesc tilted = scene;
+        tilted.objects[0].transform.rotate_deg = glm::vec3(static_cast<float>(degrees), 0.0f, 0.0f);
+        const ReferenceImage t = render_ok(tilted, n, n);
+        const size_t centre = static_cast<size_t>(n / 2) * n + n / 2;
+        ASSERT_EQ(t.object_index[centre], 0);
+        // Central differences: exact to second order in the pixel angle (1.5e-4 at 60 degrees).
+        const double expected = square / std::cos(glm::radians(degrees));
+        EXPECT_NEAR(t.texels_per_pixel[centre], expected, 1e-3 * expected)
+            << degrees << " degrees";
+    }
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "reference/metrics.h"
+#include "reference/reference_image.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,14 @@ namespace {
 double wrap_tile(double d) { return d - std::floor(d + 0.5); }
 
 std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+// Nearest-rank percentile: the smallest error at least 95% of them reach
+// (reorders `errors`, which must not be empty).
+double p95(std::vector<double>& errors) {
+    const size_t rank = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(errors.size()))) - 1;
+    std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank), errors.end());
+    return errors[rank];
+}
 
 }  // namespace
 
@@ -60,15 +69,70 @@ Result<ErrorMetrics> compare_surfaces(const SurfaceImage& measured, const Surfac
         m.uv_error_max = std::max(m.uv_error_max, e);
     }
     m.uv_error_mean = uv_sum / n;
-    // Nearest-rank percentile: the smallest error at least 95% of pixels reach.
-    const size_t rank = static_cast<size_t>(std::ceil(0.95 * n)) - 1;
-    std::nth_element(uv_errors.begin(), uv_errors.begin() + static_cast<std::ptrdiff_t>(rank), uv_errors.end());
-    m.uv_error_p95 = uv_errors[rank];
+    m.uv_error_p95 = p95(uv_errors);
     m.wrong_surface_share = static_cast<double>(wrong) / n;
     m.depth_error_mean = depth_sum / n;
     m.shadow_disagreement = shadow_sum / n;
     // color_psnr_db stays 0: surfaces carry no colour; callers fill it from color_psnr().
     return m;
+}
+
+Result<ObjectError> compare_object(const SurfaceImage& measured, const ReferenceImage& truth, int object) {
+    const SurfaceImage& reference = truth.surface;
+    if (measured.width != reference.width || measured.height != reference.height)
+        return make_error("compare_object: measured image is " + size_text(measured.width, measured.height) +
+                          " but the reference is " + size_text(reference.width, reference.height));
+    const size_t count =
+        static_cast<size_t>(std::max(reference.width, 0)) * static_cast<size_t>(std::max(reference.height, 0));
+    if (measured.samples.size() != count || reference.samples.size() != count ||
+        truth.object_index.size() != count || truth.texels_per_pixel.size() != count)
+        return make_error("compare_object: the samples, object indices or footprints do not match the image size " +
+                          size_text(reference.width, reference.height));
+    if (object < 0 || static_cast<size_t>(object) >= truth.object_texture_size.size())
+        return make_error("compare_object: object " + std::to_string(object) + " is out of range (the reference has " +
+                          std::to_string(truth.object_texture_size.size()) + " objects)");
+    const glm::ivec2 texture = truth.object_texture_size[static_cast<size_t>(object)];
+
+    ObjectError e;
+    std::vector<double> base, level;
+    double visibility_sum = 0.0;
+    for (size_t i = 0; i < count; ++i) {
+        if (truth.object_index[i] != object) continue;
+        ++e.reference_pixels;
+        const SurfaceSample& a = measured.samples[i];
+        const SurfaceSample& b = reference.samples[i];
+        if (!b.covered) continue;  // nothing the GPU reports to compare with (a material reading no height)
+        if (!a.covered) {
+            ++e.pixels_missing;
+            continue;
+        }
+        const double du = wrap_tile(a.uv.x - b.uv.x) * texture.x;
+        const double dv = wrap_tile(a.uv.y - b.uv.y) * texture.y;
+        const double error = std::sqrt(du * du + dv * dv);
+        base.push_back(error);
+        // Magnified (rho < 1) the base level is sampled: its texels are the unit.
+        level.push_back(error / std::max(1.0, truth.texels_per_pixel[i]));
+        visibility_sum += std::fabs(a.visibility - b.visibility);
+    }
+    e.pixels = static_cast<long>(base.size());
+    if (e.pixels == 0) return e;  // nothing to compare: all errors stay 0
+    const double n = static_cast<double>(e.pixels);
+    double base_sum = 0.0, level_sum = 0.0;
+    long wrong = 0;
+    for (size_t k = 0; k < base.size(); ++k) {
+        if (base[k] > 1.0) ++wrong;
+        base_sum += base[k];
+        level_sum += level[k];
+        e.base_error_max = std::max(e.base_error_max, base[k]);
+        e.level_error_max = std::max(e.level_error_max, level[k]);
+    }
+    e.base_error_mean = base_sum / n;
+    e.level_error_mean = level_sum / n;
+    e.wrong_surface_share = static_cast<double>(wrong) / n;
+    e.base_error_p95 = p95(base);
+    e.level_error_p95 = p95(level);
+    e.visibility_error_mean = visibility_sum / n;
+    return e;
 }
 
 double color_psnr(const Image& measured, const Image& truth, const SurfaceImage& mask) {

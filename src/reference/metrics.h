@@ -12,6 +12,8 @@
 
 namespace px::reference {
 
+struct ReferenceImage;  // reference/reference_image.h
+
 struct ErrorMetrics {
     long pixels = 0;                // pixels covered in both images
     double uv_error_mean = 0.0;     // hit-uv error in texels of the base level
@@ -29,6 +31,43 @@ struct ErrorMetrics {
 // texture size in texels. Errors: different image sizes.
 Result<ErrorMetrics> compare_surfaces(const SurfaceImage& measured, const SurfaceImage& truth, int texture_width,
                                       int texture_height);
+// One scene object's error: compare_object().
+struct ObjectError {
+    long reference_pixels = 0;  // pixels where the reference shows the object
+    long pixels = 0;            // of those, covered in both images: what the errors below are over
+    long pixels_missing = 0;    // of those, covered in the reference only (the GPU drew nothing there)
+    // Hit-uv error in texels of the object's base level (modulo the tile,
+    // scaled by ReferenceImage::object_texture_size), as compare_surfaces.
+    double base_error_mean = 0.0;
+    double base_error_p95 = 0.0;
+    double base_error_max = 0.0;
+    double wrong_surface_share = 0.0;  // share of `pixels` more than one base texel off
+    // The same per pixel over max(1, texels_per_pixel): in texels of the
+    // mip level the GPU samples there (a minified surface forgives more).
+    double level_error_mean = 0.0;
+    double level_error_p95 = 0.0;
+    double level_error_max = 0.0;
+    double visibility_error_mean = 0.0;  // mean |first light's visibility difference|
+};
+
+// `measured` against `truth` over the pixels where the reference shows scene
+// object `object` (ReferenceImage::object_index) and covers it. The GPU's
+// capture does not say which object drew a pixel: where it drew another
+// object there (an occluder the depth test let through, or a relief that
+// should have hidden this one but lost at its polygon), its uv is the other
+// object's and counts as error, typically past a texel (wrong_surface_share).
+// That is intended: it is the error depth correction removes.
+//
+// The capture covers every object drawn, whatever its technique; the
+// reference covers only objects whose material reads height, so an object
+// drawn with normal mapping or flat has no compared pixels. To measure one,
+// give the reference's copy of the scene a height-reading technique for it
+// (as the bench does for normal mapping): the reference then traces its
+// relief, and the error is the parallax the technique leaves out.
+// Errors: sizes that differ, an object out of range, a reference missing its
+// per-pixel object and footprint data.
+Result<ObjectError> compare_object(const SurfaceImage& measured, const ReferenceImage& truth, int object);
+
 // PSNR of `measured` against `truth` colour over the pixels `mask` covers
 // (both RGBA8, same size), in dB; identical images give 99.
 double color_psnr(const Image& measured, const Image& truth, const SurfaceImage& mask);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -30,6 +31,9 @@ struct MaterialData {
     glm::dmat2 uv_frame{1.0};
     double height_scale = 0.0;
     double polygon_height = 1.0;
+    // The traced field's highest texel, at most 1: no view ray meets the
+    // relief above it, which bounds how near a relief hit can be.
+    double top_height = 1.0;
     double specular = 0.0;   // MaterialDesc::specular
     double shininess = 1.0;  // MaterialDesc::shininess
 };
@@ -41,6 +45,18 @@ struct PlaneData {
     glm::dmat4 model{1.0};
     glm::dmat4 inverse_model{1.0};
     double winding_sign = 1.0;  // sign of det(model3): mirroring flips the bitangent
+    // World units per texture tile, as the renderer's u_units_per_tile (mesh
+    // units per uv times the model's mean scale, over the uv area scale):
+    // what turns the relief depth (tile units) into distance. 0 when unusable.
+    double units_per_tile = 0.0;
+    int object = 0;  // index into scene.objects
+    // For the footprint (texels_per_pixel): where the line from the eye
+    // through the near-plane point at ndc (x, y) meets the plane, as a
+    // homography: texel uv = h.xy / h.z with h = ndc_to_texel * (x, y, 1),
+    // ahead of the eye where h.z * dot(ndc_to_w, (x, y, 1)) > 0 (that point's
+    // homogeneous w). Linear in ndc, so a neighbouring pixel is one add away.
+    glm::dmat3 ndc_to_texel{1.0};
+    glm::dvec3 ndc_to_w{0.0};
     glm::dvec3 t{1.0, 0.0, 0.0}, b{0.0, 1.0, 0.0}, n{0.0, 0.0, 1.0};
 };
 
@@ -108,52 +124,190 @@ double light_visibility(const Frame& f, const MaterialData& m, const ReliefHit& 
     return 1.0;
 }
 
-void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint8_t* rgba, glm::dvec3& view_out,
-                  glm::dvec2& entry_out) {
-    // The pixel centre's ray from the near to the far plane: s in [0, 1]
-    // is exactly the depth range the GPU keeps (near/far clipping).
-    const glm::dvec2 ndc((x + 0.5) / f.width * 2.0 - 1.0, (y + 0.5) / f.height * 2.0 - 1.0);
+// One pixel's outputs.
+struct PixelOut {
+    SurfaceSample& sample;
+    std::uint8_t* rgba;
+    glm::dvec3& view_ts;
+    glm::dvec2& entry_uv;
+    int& object;
+    double& texels_per_pixel;
+};
+
+// A ray from the near to the far plane through window point (cx, cy) (pixel
+// units, pixel centres at +0.5): s in [0, 1] is exactly the depth range the
+// GPU keeps (near/far clipping).
+struct PixelRay {
+    glm::dvec3 origin{0.0};
+    glm::dvec3 direction{0.0};
+};
+
+PixelRay pixel_ray(const Frame& f, double cx, double cy) {
+    const glm::dvec2 ndc(cx / f.width * 2.0 - 1.0, cy / f.height * 2.0 - 1.0);
     const glm::dvec4 near_h = f.inverse_view_projection * glm::dvec4(ndc, -1.0, 1.0);
     const glm::dvec4 far_h = f.inverse_view_projection * glm::dvec4(ndc, 1.0, 1.0);
-    const glm::dvec3 origin = glm::dvec3(near_h) / near_h.w;
-    const glm::dvec3 direction = glm::dvec3(far_h) / far_h.w - origin;
+    PixelRay r;
+    r.origin = glm::dvec3(near_h) / near_h.w;
+    r.direction = glm::dvec3(far_h) / far_h.w - r.origin;
+    return r;
+}
 
-    const PlaneData* nearest = nullptr;
-    double nearest_s = 2.0;
-    glm::dvec2 mesh_uv(0.0);
-    for (const PlaneData& p : f.planes) {
-        const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(origin, 1.0));
-        const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(direction, 0.0));
-        // Back faces are culled: the front is the object's +z side, also
-        // under a mirroring model matrix (the renderer flips glFrontFace).
-        if (!(d.z < 0.0)) continue;
-        const double s = -o.z / d.z;
-        if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
-        const glm::dvec3 q = o + s * d;
-        if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) continue;
-        nearest = &p;
-        nearest_s = s;
-        mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
-    }
-    if (!nearest) {
-        for (int c = 0; c < 3; ++c) rgba[c] = to_unorm8(f.background[c]);
-        rgba[3] = 255;
-        return;
-    }
+// Where the ray meets the front of plane p within its extent, s in [0, 1].
+bool meet_plane(const PlaneData& p, const PixelRay& r, double& s, glm::dvec2& mesh_uv) {
+    const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(r.origin, 1.0));
+    const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(r.direction, 0.0));
+    // Back faces are culled: the front is the object's +z side, also
+    // under a mirroring model matrix (the renderer flips glFrontFace).
+    if (!(d.z < 0.0)) return false;
+    s = -o.z / d.z;
+    if (s < 0.0 || s > 1.0) return false;
+    const glm::dvec3 q = o + s * d;
+    if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) return false;
+    mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
+    return true;
+}
 
-    const PlaneData& p = *nearest;
+// The polygon point a pixel shows and what its shading starts from.
+struct Entry {
+    glm::dvec3 world{0.0};    // on the polygon
+    glm::dvec2 uv{0.0};       // texture uv there
+    glm::dvec3 view_ts{0.0};  // toward the eye, texture frame
+};
+
+Entry entry_at(const Frame& f, const PlaneData& p, const PixelRay& r, double s, glm::dvec2 mesh_uv) {
     const MaterialData& m = *p.material;
-    const glm::dvec3 world = origin + nearest_s * direction;  // on the polygon
-    const glm::dvec2 uv = m.uv_matrix * mesh_uv + m.uv_offset;
-    const glm::dvec3 view_ts = to_texture_frame(p, f.eye - world);
+    Entry e;
+    e.world = r.origin + s * r.direction;
+    e.uv = m.uv_matrix * mesh_uv + m.uv_offset;
+    e.view_ts = to_texture_frame(p, f.eye - e.world);
+    return e;
+}
+
+// A plane the ray meets: what depth compositing chooses among.
+struct Candidate {
+    size_t plane = 0;  // index into Frame::planes (= scene object order)
+    double s = 0.0;    // ray parameter of the polygon point
+    // Ray parameter per unit of normalised height below the polygon; 0 for
+    // a plane that competes at its polygon point (then `entry` is unset).
+    double s_per_height = 0.0;
+    double bound = 0.0;  // the candidate is at no smaller ray parameter
+    glm::dvec2 mesh_uv{0.0};
+    Entry entry;
+};
+
+// The winner of depth compositing: the smallest ray parameter in [0, 1],
+// ties to the first object. `traced` says whether `entry` and `hit` hold
+// its entry_at and trace (computed once, reused for shading).
+struct Composited {
+    const PlaneData* plane = nullptr;
+    double s = 0.0;  // of the polygon point (the shading's entry)
+    glm::dvec2 mesh_uv{0.0};
+    bool traced = false;
+    Entry entry;
+    ReliefHit hit;
+};
+
+Composited composite(const Frame& f, const PixelRay& r, std::vector<Candidate>& candidates) {
+    candidates.clear();
+    const double ray_length = glm::length(r.direction);
+    for (size_t i = 0; i < f.planes.size(); ++i) {
+        const PlaneData& p = f.planes[i];
+        Candidate c;
+        if (!meet_plane(p, r, c.s, c.mesh_uv)) continue;
+        c.plane = i;
+        c.bound = c.s;
+        const MaterialData& m = *p.material;
+        if (m.reads_height && m.height_scale > 0.0 && p.units_per_tile > 0.0) {
+            c.entry = entry_at(f, p, r, c.s, c.mesh_uv);
+            if (c.entry.view_ts.z > 0.0) {
+                // A point h (normalised) under the polygon is h * scale tiles
+                // deep, that over the view cosine along the ray.
+                c.s_per_height = m.height_scale * p.units_per_tile / (c.entry.view_ts.z * ray_length);
+                // No hit above the highest texel (the slack covers the
+                // rounding of the hit's height).
+                c.bound = c.s + (m.polygon_height - (m.top_height + 1e-9)) * c.s_per_height;
+            }
+        }
+        // Ordered by bound, then object: few planes per pixel, so insertion.
+        candidates.push_back(c);
+        for (size_t k = candidates.size() - 1; k > 0; --k) {
+            const Candidate& a = candidates[k - 1];
+            if (a.bound < c.bound || (a.bound == c.bound && a.plane < c.plane)) break;
+            std::swap(candidates[k - 1], candidates[k]);
+        }
+    }
+    Composited best;
+    double best_s = 2.0;
+    size_t best_plane = 0;
+    for (const Candidate& c : candidates) {
+        // Bounds ascend: none from here on can come nearer than the best.
+        if (c.bound > best_s) break;
+        const PlaneData& p = f.planes[c.plane];
+        double s = c.s;
+        ReliefHit hit;
+        if (c.s_per_height > 0.0) {
+            const MaterialData& m = *p.material;
+            hit = trace_view(m.traced, c.entry.uv, c.entry.view_ts, m.height_scale, m.polygon_height);
+            s = c.s + (m.polygon_height - hit.height) * c.s_per_height;
+            // Before the near or past the far plane: clipped away.
+            if (!(s >= 0.0 && s <= 1.0)) continue;
+        }
+        if (best.plane && !(s < best_s || (s == best_s && c.plane < best_plane))) continue;
+        best.plane = &p;
+        best.s = c.s;
+        best.mesh_uv = c.mesh_uv;
+        best.traced = c.s_per_height > 0.0;
+        best.entry = c.entry;
+        best.hit = hit;
+        best_s = s;
+        best_plane = c.plane;
+    }
+    return best;
+}
+
+// GL's mip-selection scale at pixel (x, y) for plane p (ReferenceImage::
+// texels_per_pixel): the texel uv where the lines from the eye through the
+// midpoints of the pixel's edges meet p's unbounded plane, differenced
+// across the pixel. A few dozen operations: this runs for every shown pixel,
+// depth compositing or not.
+double texels_per_pixel(const Frame& f, const PlaneData& p, int x, int y) {
+    const glm::dvec3 ndc((x + 0.5) / f.width * 2.0 - 1.0, (y + 0.5) / f.height * 2.0 - 1.0, 1.0);
+    const glm::dvec3 centre = p.ndc_to_texel * ndc;
+    const double centre_w = glm::dot(p.ndc_to_w, ndc);
+    // Half a pixel is 1 / width in ndc x, 1 / height in ndc y.
+    const glm::dvec3 half_x = p.ndc_to_texel[0] * (1.0 / f.width);
+    const glm::dvec3 half_y = p.ndc_to_texel[1] * (1.0 / f.height);
+    const double half_x_w = p.ndc_to_w.x / f.width;
+    const double half_y_w = p.ndc_to_w.y / f.height;
+    bool reached = true;
+    const auto texel = [&](const glm::dvec3& h, double w) {
+        if (!(h.z * w > 0.0)) reached = false;  // past the horizon: behind the eye, or never
+        const double inverse = 1.0 / h.z;  // one division, not two
+        return glm::dvec2(h.x * inverse, h.y * inverse);
+    };
+    const glm::dvec2 dx = texel(centre + half_x, centre_w + half_x_w) - texel(centre - half_x, centre_w - half_x_w);
+    const glm::dvec2 dy = texel(centre + half_y, centre_w + half_y_w) - texel(centre - half_y, centre_w - half_y_w);
+    if (!reached) return std::numeric_limits<double>::infinity();
+    return std::sqrt(std::max(glm::dot(dx, dx), glm::dot(dy, dy)));
+}
+
+// Shades pixel (x, y) as plane p seen at `entry`; `traced` is p's trace
+// from there when the caller has it already (depth compositing).
+void shade_pixel(const Frame& f, int x, int y, const PixelOut& out, const PlaneData& p, const Entry& entry,
+                 const ReliefHit* traced) {
+    const MaterialData& m = *p.material;
+    const glm::dvec3& world = entry.world;
+    const glm::dvec3& view_ts = entry.view_ts;
 
     ReliefHit hit;
-    hit.uv = uv;
+    hit.uv = entry.uv;
     hit.height = m.polygon_height;
     // Scale 0 is a flat polygon; z <= 0 only under a mirroring transform that
     // the shaders do not handle either: shade the polygon itself.
-    if (m.height_scale > 0.0 && view_ts.z > 0.0)
-        hit = trace_view(m.traced, uv, view_ts, m.height_scale, m.polygon_height);
+    if (traced)
+        hit = *traced;
+    else if (m.height_scale > 0.0 && view_ts.z > 0.0)
+        hit = trace_view(m.traced, entry.uv, view_ts, m.height_scale, m.polygon_height);
 
     // px_shade: ambient * albedo + per light visibility * colour * (albedo N.L + specular).
     const glm::dvec3 albedo = glm::dvec3(sample_bilinear(m.images.albedo, hit.uv));
@@ -176,15 +330,62 @@ void render_pixel(const Frame& f, int x, int y, SurfaceSample& sample, std::uint
         const double specular = n_dot_l > 0.0 ? m.specular * std::pow(n_dot_h, m.shininess) : 0.0;
         color += visibility * l.color * (albedo * n_dot_l + glm::dvec3(specular));
     }
-    for (int c = 0; c < 3; ++c) rgba[c] = to_unorm8(color[c]);
-    rgba[3] = 255;
+    for (int c = 0; c < 3; ++c) out.rgba[c] = to_unorm8(color[c]);
+    out.rgba[3] = 255;
 
-    sample.covered = m.reads_height;
-    view_out = view_ts;
-    entry_out = uv;
-    sample.uv = hit.uv;
-    sample.height = hit.height;
-    sample.visibility = first_visibility;
+    out.sample.covered = m.reads_height;
+    out.view_ts = view_ts;
+    out.entry_uv = entry.uv;
+    out.sample.uv = hit.uv;
+    out.sample.height = hit.height;
+    out.sample.visibility = first_visibility;
+    out.object = p.object;
+    out.texels_per_pixel = texels_per_pixel(f, p, x, y);
+}
+
+void render_pixel(const Frame& f, int x, int y, const PixelOut& out, std::vector<Candidate>& candidates) {
+    const PixelRay ray = pixel_ray(f, x + 0.5, y + 0.5);
+    const PlaneData* shown = nullptr;
+    Entry entry;
+    ReliefHit traced;
+    bool has_trace = false;
+    if (f.options.depth_composite) {
+        const Composited c = composite(f, ray, candidates);
+        shown = c.plane;
+        // A traced winner keeps its entry and trace (the same inputs, the same bits).
+        has_trace = c.traced;
+        if (has_trace) {
+            entry = c.entry;
+            traced = c.hit;
+        } else if (shown) {
+            entry = entry_at(f, *shown, ray, c.s, c.mesh_uv);
+        }
+    } else {
+        // The nearest polygon, the loop written out rather than through
+        // meet_plane: it runs per plane per pixel of every default
+        // reference, and so it costs what it did before compositing.
+        double nearest_s = 2.0;
+        glm::dvec2 mesh_uv(0.0);
+        for (const PlaneData& p : f.planes) {
+            const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(ray.origin, 1.0));
+            const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(ray.direction, 0.0));
+            if (!(d.z < 0.0)) continue;  // back face (meet_plane says why)
+            const double s = -o.z / d.z;
+            if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
+            const glm::dvec3 q = o + s * d;
+            if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) continue;
+            shown = &p;
+            nearest_s = s;
+            mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
+        }
+        if (shown) entry = entry_at(f, *shown, ray, nearest_s, mesh_uv);
+    }
+    if (!shown) {
+        for (int c = 0; c < 3; ++c) out.rgba[c] = to_unorm8(f.background[c]);
+        out.rgba[3] = 255;
+        return;
+    }
+    shade_pixel(f, x, y, out, *shown, entry, has_trace ? &traced : nullptr);
 }
 
 }  // namespace
@@ -245,6 +446,9 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
             m.uv_frame = desc.uv.frame<double>();
             m.height_scale = desc.height_scale;
             m.polygon_height = desc.polygon_height();
+            if (!m.traced.texels.empty())
+                m.top_height = std::min(1.0, static_cast<double>(*std::max_element(m.traced.texels.begin(),
+                                                                                    m.traced.texels.end())));
             m.specular = desc.specular;
             m.shininess = desc.shininess;
             built[mi] = true;
@@ -256,8 +460,12 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
             out.polygon_height = m.polygon_height;
         }
 
+        out.object_texture_size.push_back(m.reads_height ? glm::ivec2(m.traced.width, m.traced.height)
+                                                         : glm::ivec2(0));
+
         PlaneData p;
         p.material = &m;
+        p.object = static_cast<int>(f.planes.size());
         p.half_size = 0.5 * static_cast<double>(o.mesh.size);
         p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
         p.inverse_model = glm::inverse(p.model);
@@ -266,6 +474,9 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         if (!(std::fabs(det3) > 0.0))
             return make_error("reference: object '" + o.name + "' has a singular transform");
         p.winding_sign = det3 < 0.0 ? -1.0 : 1.0;
+        const double area_scale = scene.materials[mi].uv.area_scale<double>();
+        p.units_per_tile = static_cast<double>(o.mesh.size) * std::cbrt(std::fabs(det3)) / area_scale;
+        if (!std::isfinite(p.units_per_tile) || !(p.units_per_tile > 0.0)) p.units_per_tile = 0.0;
         // surface.vert's frame, with its fallbacks, from the vertices'
         // tangent and normal (the mesh's, or the authored ones as make_plane
         // gives them to every vertex, in float): n from the normal matrix (a
@@ -303,6 +514,26 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
                                                    static_cast<double>(cam.far_plane));
     f.inverse_view_projection = glm::inverse(projection * view);
     f.eye = glm::dvec3(cam.position);
+    for (PlaneData& p : f.planes) {
+        // The object-space near-plane point at ndc (x, y), homogeneous: n =
+        // A * (x, y, 1), A's columns the x, y and constant parts.
+        const glm::dmat4 m = p.inverse_model * f.inverse_view_projection;
+        const glm::dmat4x3 a_t = glm::transpose(glm::dmat3x4(m[0], m[1], m[3] - m[2]));  // row i: n_i's coefficients
+        const glm::dvec3 e = glm::dvec3(p.inverse_model * glm::dvec4(f.eye, 1.0));
+        // The line from the eye e through n meets z = 0 at
+        // (e.z n.xy - n.z e.xy) / (e.z n.w - n.z): each part linear in n.
+        const glm::dvec3 row_x = e.z * a_t[0] - e.x * a_t[2];
+        const glm::dvec3 row_y = e.z * a_t[1] - e.y * a_t[2];
+        const glm::dvec3 row_w = e.z * a_t[3] - a_t[2];
+        // Object xy to texel uv: mesh uv = xy / size + 0.5, the uv transform,
+        // the field's size (the constants cancel in differences).
+        const glm::dvec2 size(p.material->traced.width, p.material->traced.height);
+        const glm::dmat2 to_texel = glm::dmat2(size.x, 0.0, 0.0, size.y) * p.material->uv_matrix / (2.0 * p.half_size);
+        const glm::dvec3 row_u = to_texel[0][0] * row_x + to_texel[1][0] * row_y;
+        const glm::dvec3 row_v = to_texel[0][1] * row_x + to_texel[1][1] * row_y;
+        p.ndc_to_texel = glm::transpose(glm::dmat3(row_u, row_v, row_w));
+        p.ndc_to_w = a_t[3];
+    }
     f.ambient = glm::dvec3(scene.ambient);
     f.background = glm::dvec3(scene.background);
     // As the renderer: the first kMaxLights lights, colour times intensity.
@@ -326,16 +557,21 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
     out.color.pixels.assign(static_cast<size_t>(width) * height * 4, 0);
     out.view_ts.assign(static_cast<size_t>(width) * height, glm::dvec3(0.0));
     out.entry_uv.assign(static_cast<size_t>(width) * height, glm::dvec2(0.0));
+    out.object_index.assign(static_cast<size_t>(width) * height, -1);
+    out.texels_per_pixel.assign(static_cast<size_t>(width) * height, 0.0);
 
     // Rows interleaved over threads; each pixel depends on nothing but the
     // frame, so the image is the same for any thread count.
     const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
     auto work = [&](int first) {
+        std::vector<Candidate> candidates;  // this thread's scratch, reused for every pixel
+        candidates.reserve(f.planes.size());
         for (int y = first; y < height; y += threads)
-            for (int x = 0; x < width; ++x)
-            {
+            for (int x = 0; x < width; ++x) {
                 const size_t i = static_cast<size_t>(y) * width + x;
-                render_pixel(f, x, y, out.surface.samples[i], out.color.texel(x, y), out.view_ts[i], out.entry_uv[i]);
+                const PixelOut pixel{out.surface.samples[i], out.color.texel(x, y), out.view_ts[i],
+                                     out.entry_uv[i],        out.object_index[i], out.texels_per_pixel[i]};
+                render_pixel(f, x, y, pixel, candidates);
             }
     };
     std::vector<std::thread> pool;

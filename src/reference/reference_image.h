@@ -6,6 +6,10 @@
 // (reference/metrics.h).
 #pragma once
 
+#include <vector>
+
+#include <glm/glm.hpp>
+
 #include "assets/image.h"
 #include "core/result.h"
 #include "effects/technique.h"
@@ -17,6 +21,14 @@ namespace px::reference {
 struct ReferenceOptions {
     ShadowMode shadow = ShadowMode::none;  // applied to every light and every material
     int soft_samples = 64;                 // light-disc samples per soft visibility
+    // Which plane a pixel shows. false (the default): the nearest polygon,
+    // what the GPU's depth test keeps without depth correction. true: the
+    // nearest surface point, every relief at its traced hit (the image depth
+    // correction aims at; see render_reference for the rules). With one
+    // plane in view both give the same image bit for bit (unless a relief
+    // hit falls past the far or before the near plane). Off, only the nearest
+    // polygon is traced, as before the option.
+    bool depth_composite = false;
 };
 
 struct ReferenceImage {
@@ -38,6 +50,24 @@ struct ReferenceImage {
     // (0 bottom, 1 top) of the first height-reading plane.
     double height_scale = 0.0;
     double polygon_height = 1.0;
+    // Per pixel (row 0 = bottom): the index into scene.objects of the plane
+    // the pixel shows, -1 where none (background). Filled whatever
+    // `covered` says: a plane whose material reads no height has an index too.
+    std::vector<int> object_index;
+    // Per pixel: GL's mip-selection scale rho of the shown plane, in texels
+    // of its material's traced height field (object_texture_size) per pixel:
+    // max(|d(uv * size)/dx|, |d(uv * size)/dy|), uv the polygon point's
+    // texture uv (uv transform applied), the derivatives central differences
+    // over one pixel (the rays through x +- 0.5 and y +- 0.5 against the same
+    // plane, unbounded), as px_mip_level computes from dFdx/dFdy. Its mip
+    // level is log2(rho). +inf where a neighbouring ray misses the plane's
+    // front (the horizon), 0 where no plane is shown. A material that reads
+    // no height still gets the footprint of its (unused) height field.
+    std::vector<double> texels_per_pixel;
+    // Per scene object: the size of its material's traced height field, the
+    // texel unit of its errors (compare_object); 0 x 0 where the material
+    // reads no height.
+    std::vector<glm::ivec2> object_texture_size;
 };
 
 // Scope: objects whose mesh is a plane (the accuracy scenes); any other mesh
@@ -45,8 +75,25 @@ struct ReferenceImage {
 // lighting follow the renderer and surface.vert exactly, in double precision;
 // texture reads are base level (no mipmaps). Every plane is traced as the
 // exact relief whatever its technique; SurfaceSample::covered is set only
-// where the nearest plane's material reads height (what the GPU's surface
-// output reports). Deterministic for any thread count.
+// where the shown plane's material reads height (where the GPU's surface
+// output reports a traced hit; it reports every other object drawn too, at
+// its polygon: see compare_object). Deterministic for any thread count.
+//
+// With options.depth_composite, every plane whose front the pixel's ray meets
+// within its extent and the near/far range is a candidate. A plane whose
+// material reads height (height_scale > 0, eye above its plane) competes at
+// its traced relief hit: the polygon point moved along the ray by the hit's
+// depth under (or height over) the polygon over the view cosine, the depth in
+// world units from the renderer's u_units_per_tile (mesh size times the
+// model's mean scale over the uv area scale), as px_write_depth does but
+// without its 1/64 cosine floor. Any other plane competes at its polygon
+// point. The smallest ray parameter in [0, 1] wins (a relief hit past the far
+// plane or before the near one drops out); ties go to the first object (GL_LESS).
+// This is the physically right image: the GPU matches it only where the
+// reliefs involved are drawn with depth_write (others are at their polygon
+// in its depth test). Only candidates that can still win are traced: a
+// relief's hit is never nearer than where the ray meets its highest texel.
+// The pixel is shaded as without the option, from the winner's polygon point.
 Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int height,
                                         const ReferenceOptions& options = {});
 
