@@ -36,6 +36,11 @@ struct RendererOptions {
     // compiled (gl/program.h ShaderTransform); empty: none. Uniform names
     // and types must survive it: the typed interface is checked as ever.
     ShaderTransform shader_transform;
+    // Where program binaries are kept across runs (gl/program_binary.h):
+    // on a context that has a binary format, each program is looked up
+    // here (`load`) before compiling and stored (`store`) after a fresh
+    // link. Empty: every program is compiled from source.
+    ProgramBinaryStore program_binaries;
 };
 
 // What the renderer decided for one object: shown by `parallax render` and
@@ -72,6 +77,9 @@ public:
 
     const std::vector<DrawReport>& reports() const { return reports_; }
     size_t program_count() const;
+    // How the loaded scene's programs were made (compiled, from binaries,
+    // stored entries rejected); all zero before a load.
+    ProgramStats program_stats() const;
 
     // Deletes every GL object (context still current).
     void release();
@@ -85,6 +93,8 @@ private:
     Renderer() = default;
     Caps caps_;
     ShaderTransform shader_transform_;
+    ProgramBinaryStore program_binaries_;
+    ProgramBinarySupport binary_support_;
     std::unique_ptr<GpuScene> scene_;
     std::vector<DrawReport> reports_;
 };
