@@ -1,4 +1,5 @@
 // parallax render [SCENE] [-o OUT.png] [--size WxH] [--technique NAME] [--es 2|3] [--list]
+//                 [--program-cache DIR|off]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "platform/headless_context.h"
+#include "program_binary_files.h"
 #include "render/offscreen_target.h"
 #include "render/renderer.h"
 #include "plan_report.h"
@@ -34,6 +36,7 @@ struct RenderArgs {
     bool explain = false;
     std::string camera_path;        // "", orbit or dolly
     std::string calibration_cache;  // "": the default folder; off: none
+    std::string program_cache;  // empty: default_program_cache_dir(); "off": none
 };
 
 // The camera of frame i of n along a path: orbit turns it around the
@@ -93,6 +96,8 @@ int run_render(const RenderArgs& a) {
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     renderer_options.planner.calibrations =
         load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
+    const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
+    if (!cache_dir.empty() && cache_dir != "off") renderer_options.program_binaries = file_program_store(cache_dir);
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
@@ -192,6 +197,13 @@ int run_render(const RenderArgs& a) {
                     "longest frame %.2f ms = %.2fx the median\n",
                     a.camera_path.c_str(), plan_changes, a.frames, plan_us[plan_us.size() / 2], longest_ms,
                     longest_ms / std::max(1e-9, times_ms[times_ms.size() / 2]));
+    const ProgramStats stats = (*renderer)->program_stats();
+    const std::string where = cache_dir.empty() || cache_dir == "off" ? std::string("off")
+                              : stats.binaries_off.empty()            ? cache_dir
+                                                                      : cache_dir + ": " + stats.binaries_off;
+    const std::string last = stats.rejected ? " (last: " + stats.last_rejection + ")" : "";
+    std::printf("programs   %d compiled, %d from the binary cache (%s), %d stale entries rebuilt%s\n", stats.compiled,
+                stats.from_binary, where.c_str(), stats.rejected, last.c_str());
     return 0;
 }
 
@@ -209,6 +221,9 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--technique", args->technique, "Override every material's technique");
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed frames after the warm-up frame")->capture_default_str();
+    cmd->add_option("--program-cache", args->program_cache,
+                     "Folder of cached program binaries, or 'off' (default: $XDG_CACHE_HOME/parallaxes/programs "
+                     "or ~/.cache/parallaxes/programs)");
     cmd->add_flag("--list", args->list, "List techniques and built-in scenes");
     cmd->add_flag("--explain", args->explain,
                   "Print the plan per object: effects asked for, variant chosen, prediction, what was dropped and why");

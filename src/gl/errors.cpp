@@ -28,6 +28,15 @@ const char* framebuffer_status_name(GLenum status) {
     }
 }
 
+std::string program_info_log(GLuint program) {
+    GLint length = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<size_t>(length > 1 ? length : 1), '\0');
+    glGetProgramInfoLog(program, length, nullptr, &log[0]);
+    log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
+    return log;
+}
+
 Status check_gl(const std::string& where) {
     std::string errors;
     // Bounded: a lost context may report errors forever.

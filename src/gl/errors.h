@@ -15,6 +15,9 @@ const char* gl_enum_name(GLenum e);
 // Drains glGetError; an error names `where` and every pending error code.
 Status check_gl(const std::string& where);
 
+// The program's info log (the driver's link messages), without its NUL.
+std::string program_info_log(GLuint program);
+
 // Names a framebuffer completeness status.
 const char* framebuffer_status_name(GLenum status);
 

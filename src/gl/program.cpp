@@ -1,6 +1,7 @@
 #include "gl/program.h"
 
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -17,15 +18,6 @@ std::string shader_log(GLuint shader) {
     glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
     std::string log(static_cast<size_t>(length > 1 ? length : 1), '\0');
     glGetShaderInfoLog(shader, length, nullptr, &log[0]);
-    log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
-    return log;
-}
-
-std::string program_log(GLuint program) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<size_t>(length > 1 ? length : 1), '\0');
-    glGetProgramInfoLog(program, length, nullptr, &log[0]);
     log.resize(log.find('\0') == std::string::npos ? log.size() : log.find('\0'));
     return log;
 }
@@ -118,9 +110,12 @@ Status check_interface(GLuint program, const std::string& what) {
 
 }  // namespace
 
-Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, const VariantKey& key) {
-    const std::string description = key.describe();
-    const std::string what = "variant '" + description + "'\n  defines: " + sources.fragment.defines_summary + "\n ";
+namespace {
+
+// Compiles and links a variant's sources at the interface's attribute slots;
+// with `binaries`, asks the driver to keep the binary for the store.
+Result<ProgramHandle> link_sources(const VariantSources& sources, const std::string& description,
+                                   const ProgramBinarySupport* binaries) {
     Result<ShaderHandle> vs = compile(GL_VERTEX_SHADER, sources.vertex, description);
     if (!vs) return vs.error();
     Result<ShaderHandle> fs = compile(GL_FRAGMENT_SHADER, sources.fragment, description);
@@ -132,13 +127,22 @@ Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, co
     // serves every variant.
     for (const shader::AttributeInfo& a : shader::attributes())
         glBindAttribLocation(program.get(), static_cast<GLuint>(a.slot), a.name);
+    if (binaries) set_binary_retrievable(*binaries, program.get());
     glLinkProgram(program.get());
     GLint ok = GL_FALSE;
     glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
     if (ok != GL_TRUE)
         return make_error("variant '" + description + "' failed to link\n  defines: " +
-                          sources.fragment.defines_summary + "\n  driver log:\n" + program_log(program.get()));
+                          sources.fragment.defines_summary + "\n  driver log:\n" + program_info_log(program.get()));
+    return program;
+}
 
+}  // namespace
+
+Result<std::unique_ptr<Program>> Program::adopt(ProgramHandle program, const VariantKey& key,
+                                                const std::string& defines_summary) {
+    const std::string description = key.describe();
+    const std::string what = "variant '" + description + "'\n  defines: " + defines_summary + "\n ";
     std::unique_ptr<Program> p(new Program());
     p->description_ = description;
     p->key_ = key;
@@ -179,6 +183,12 @@ Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, co
     return p;
 }
 
+Result<std::unique_ptr<Program>> build_program(const VariantSources& sources, const VariantKey& key) {
+    Result<ProgramHandle> program = link_sources(sources, key.describe(), nullptr);
+    if (!program) return program.error();
+    return Program::adopt(std::move(*program), key, sources.fragment.defines_summary);
+}
+
 #define PX_LOCATION(slot) const GLint l = location(slot.id); if (l < 0) return
 void Program::set(shader::UniformSlot<shader::Type::float1> s, float v) const { PX_LOCATION(s); glUniform1f(l, v); }
 void Program::set(shader::UniformSlot<shader::Type::float1> s, const float* v, int count) const {
@@ -216,6 +226,17 @@ void Program::set(shader::UniformSlot<shader::Type::mat4> s, const glm::mat4& v)
 void Program::set(shader::UniformSlot<shader::Type::int1> s, int v) const { PX_LOCATION(s); glUniform1i(l, v); }
 #undef PX_LOCATION
 
+ProgramCache::ProgramCache(ShaderTransform transform, ProgramBinaryStore store, ProgramBinarySupport support)
+    : transform_(std::move(transform)), store_(std::move(store)), support_(std::move(support)) {
+    if (!store_.enabled())
+        stats_.binaries_off = "no program binary store";
+    else if (!support_.available)
+        stats_.binaries_off = support_.unavailable_reason.empty() ? "program binaries unavailable"
+                                                                  : support_.unavailable_reason;
+    else
+        binaries_ = true;
+}
+
 Result<const Program*> ProgramCache::get(const VariantKey& key) {
     auto it = programs_.find(key.bits());
     if (it != programs_.end()) return static_cast<const Program*>(it->second.get());
@@ -232,11 +253,61 @@ Result<const Program*> ProgramCache::get(const VariantKey& key) {
             source->text = std::move(*rewritten);
         }
     }
-    Result<std::unique_ptr<Program>> program = build_program(*sources, key);
+    const std::string& defines = sources->fragment.defines_summary;
+    std::optional<ProgramBinaryIdentity> id;
+    if (binaries_) {
+        // Keyed by the sources as compiled, after the transform.
+        id = program_binary_identity(support_.context_identity, sources->vertex.text, sources->fragment.text);
+        if (std::unique_ptr<Program> loaded = load_binary(*id, key, defines)) {
+            ++stats_.from_binary;
+            const Program* raw = loaded.get();
+            programs_.emplace(key.bits(), std::move(loaded));
+            return raw;
+        }
+    }
+    Result<ProgramHandle> linked = link_sources(*sources, key.describe(), binaries_ ? &support_ : nullptr);
+    if (!linked) return linked.error();
+    Result<std::unique_ptr<Program>> program = Program::adopt(std::move(*linked), key, defines);
     if (!program) return program.error();
+    ++stats_.compiled;
+    if (id) store_binary(*id, (*program)->id());
     const Program* raw = program->get();
     programs_.emplace(key.bits(), std::move(*program));
     return raw;
+}
+
+std::unique_ptr<Program> ProgramCache::load_binary(const ProgramBinaryIdentity& id, const VariantKey& key,
+                                                   const std::string& defines_summary) {
+    if (!store_.load) return nullptr;
+    const std::optional<std::vector<std::uint8_t>> bytes = store_.load(id.key);
+    if (!bytes) return nullptr;
+    // Whatever is wrong with an entry, the program is compiled from source
+    // and a fresh entry stored in its place: a bad entry costs one compile.
+    const auto reject = [&](const std::string& why) {
+        ++stats_.rejected;
+        stats_.last_rejection = "entry " + id.key + " (variant '" + key.describe() + "'): " + why;
+        return nullptr;
+    };
+    Result<ProgramBinaryPayload> payload = decode_program_binary_entry(*bytes, id.check, support_.formats);
+    if (!payload) return reject(payload.error().message);
+    Result<ProgramHandle> program = program_from_binary(support_, *payload);
+    if (!program) return reject(program.error().message);
+    // The same checks as a program linked from source: a binary that loads
+    // but does not match the typed interface is never used.
+    Result<std::unique_ptr<Program>> adopted = Program::adopt(std::move(*program), key, defines_summary);
+    if (!adopted) return reject("the loaded program fails the interface check: " + adopted.error().message);
+    return std::move(*adopted);
+}
+
+void ProgramCache::store_binary(const ProgramBinaryIdentity& id, GLuint program) {
+    if (!store_.store) return;
+    GLenum format = GL_NONE;
+    Result<std::vector<std::uint8_t>> payload = read_program_binary(support_, program, format);
+    if (!payload) {
+        stats_.store_problem = payload.error().message;
+        return;
+    }
+    store_.store(id.key, encode_program_binary_entry(id.check, format, *payload));
 }
 
 void ProgramCache::abandon() {

@@ -9,12 +9,14 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <glm/glm.hpp>
 
 #include "core/result.h"
 #include "effects/variant.h"
 #include "gl/handles.h"
+#include "gl/program_binary.h"
 #include "shaders/interface.h"
 #include "shaders/shader_source.h"
 
@@ -49,7 +51,15 @@ public:
 
 private:
     friend Result<std::unique_ptr<Program>> build_program(const VariantSources&, const VariantKey&);
+    friend class ProgramCache;
     Program() = default;
+    // The checks and per-program state every linked program gets, whether
+    // it was linked from source or loaded from a binary: uniform and
+    // attribute locations (attributes at their bound slots), the interface
+    // check both ways, and the sampler units (a binary, like a link, leaves
+    // every uniform at 0: ES 3.0 section 2.12.3).
+    static Result<std::unique_ptr<Program>> adopt(ProgramHandle program, const VariantKey& key,
+                                                  const std::string& defines_summary);
     ProgramHandle handle_;
     std::string description_;
     VariantKey key_;
@@ -73,19 +83,35 @@ using ShaderTransform = std::function<Result<std::string>(const std::string& sou
 
 class ProgramCache {
 public:
-    ProgramCache() = default;
+    ProgramCache() : ProgramCache(ShaderTransform{}) {}
     // Every program this cache builds compiles `transform`'s output (empty:
-    // the sources as assembled).
-    explicit ProgramCache(ShaderTransform transform) : transform_(std::move(transform)) {}
+    // the sources as assembled). With a store and a context that has
+    // program binaries (`support`), a program is first looked up in the
+    // store under a key of its final sources and the driver, and every
+    // fresh link is stored; an entry that fails any check is counted,
+    // discarded and replaced (gl/program_binary.h).
+    explicit ProgramCache(ShaderTransform transform, ProgramBinaryStore store = {},
+                          ProgramBinarySupport support = {});
     // The program for a variant, built on first use.
     Result<const Program*> get(const VariantKey& key);
     size_t size() const { return programs_.size(); }
     void clear() { programs_.clear(); }
     // After a context loss: drop every program without calling GL.
     void abandon();
+    const ProgramStats& stats() const { return stats_; }
 
 private:
+    // The program from the store's entry, or null (counted as rejected
+    // when there was an entry).
+    std::unique_ptr<Program> load_binary(const ProgramBinaryIdentity& id, const VariantKey& key,
+                                         const std::string& defines_summary);
+    void store_binary(const ProgramBinaryIdentity& id, GLuint program);
+
     ShaderTransform transform_;
+    ProgramBinaryStore store_;
+    ProgramBinarySupport support_;
+    bool binaries_ = false;
+    ProgramStats stats_;
     std::map<std::uint64_t, std::unique_ptr<Program>> programs_;
 };
 

@@ -323,10 +323,19 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     r->shader_transform_ = options.shader_transform;
     r->planner_options_ = options.planner;
     install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
+    if (options.program_binaries.enabled()) {
+        r->program_binaries_ = options.program_binaries;
+        r->binary_support_ = query_program_binary_support(r->caps_, options.get_proc_address);
+    }
     return r;
 }
 
 size_t Renderer::program_count() const { return scene_ ? scene_->programs.size() : 0; }
+
+ProgramStats Renderer::program_stats() const {
+    if (scene_) return scene_->programs.stats();
+    return ProgramCache(shader_transform_, program_binaries_, binary_support_).stats();
+}
 
 void Renderer::release() { scene_.reset(); }
 
@@ -362,7 +371,7 @@ Status Renderer::load_checked(const SceneDesc& scene) {
     SavedGlState saved(caps_);
     set_unpack_defaults(caps_);
     auto gpu = std::make_unique<GpuScene>();
-    gpu->programs = ProgramCache(shader_transform_);
+    gpu->programs = ProgramCache(shader_transform_, program_binaries_, binary_support_);
     gpu->desc = scene;
     const SceneDesc& desc = gpu->desc;
 

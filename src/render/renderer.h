@@ -39,6 +39,11 @@ struct RendererOptions {
     // The effect planner's cost table and calibrations (materials that
     // declare effects); default: the table built into the library.
     PlannerOptions planner;
+    // Where program binaries are kept across runs (gl/program_binary.h):
+    // on a context that has a binary format, each program is looked up
+    // here (`load`) before compiling and stored (`store`) after a fresh
+    // link. Empty: every program is compiled from source.
+    ProgramBinaryStore program_binaries;
 };
 
 // What the renderer decided for one object: shown by `parallax render` and
@@ -93,6 +98,9 @@ public:
 
     const std::vector<DrawReport>& reports() const { return reports_; }
     size_t program_count() const;
+    // How the loaded scene's programs were made (compiled, from binaries,
+    // stored entries rejected); all zero before a load.
+    ProgramStats program_stats() const;
 
     // Deletes every GL object (context still current).
     void release();
@@ -108,6 +116,8 @@ private:
     Caps caps_;
     ShaderTransform shader_transform_;
     PlannerOptions planner_options_;
+    ProgramBinaryStore program_binaries_;
+    ProgramBinarySupport binary_support_;
     std::unique_ptr<GpuScene> scene_;
     std::vector<DrawReport> reports_;
 };
