@@ -36,6 +36,10 @@ const std::vector<SceneSpec>& scene_specs() {
         {"lines", FieldKind::lines, 256, 0.05f, ShadowMode::none},
         {"bricks_shadowed", FieldKind::bricks, 256, 0.06f, ShadowMode::hard},
         {"bricks_soft", FieldKind::bricks, 256, 0.06f, ShadowMode::soft},
+        // Thin, steep glyphs cast many shadow edges: the planner's shadow
+        // rows for reliefs unlike bricks.
+        {"text_shadowed", FieldKind::text, 512, 0.05f, ShadowMode::hard},
+        {"text_soft", FieldKind::text, 512, 0.05f, ShadowMode::soft},
     };
     return specs;
 }

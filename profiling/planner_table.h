@@ -15,7 +15,7 @@ namespace px::profiling {
 // The grid the shipped table measures (docs/planner.md).
 struct TableGrid {
     std::vector<std::string> scenes{"sine", "bricks", "text", "hemispheres", "lines"};
-    std::vector<std::string> shadow_scenes{"bricks_shadowed", "bricks_soft"};
+    std::vector<std::string> shadow_scenes{"bricks_shadowed", "bricks_soft", "text_shadowed", "text_soft"};
     std::vector<double> angles{0, 30, 60, 75, 85, 89};
     std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
     std::vector<int> shadow_samples{4, 8, 16, 32, 64};

@@ -13,6 +13,8 @@
 #include "core/files.h"
 #include "profiling/bench.h"
 #include "profiling/planner_table.h"
+#include "profiling/showcase.h"
+#include "plan_report.h"
 #include "cli_common.h"
 #include "commands.h"
 #include "platform/headless_context.h"
@@ -34,6 +36,7 @@ struct BenchArgs {
     bool per_vertex_view = false;
     std::string out = "out/bench";
     std::string planner_table;  // write the planner's cost table here instead of the bench report
+    std::string showcase;       // a scene: the planner against every effect, instead of the sweep
     std::string command;
 };
 
@@ -73,6 +76,36 @@ int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
     return 0;
 }
 
+// The planner against every effect on every surface (docs/planner.md).
+int run_showcase_bench(const BenchArgs& a, int width, int height) {
+    Result<SceneDesc> scene = load_scene(a.showcase);
+    if (!scene) return fail(scene.error().message);
+    platform::ContextOptions context_options;
+    context_options.es_major = 3;  // float debug captures
+    auto context = platform::HeadlessContext::create(context_options);
+    if (!context) return fail(context.error().message);
+    auto target = OffscreenTarget::create(width, height);
+    if (!target) return fail(target.error().message);
+    RendererOptions options;
+    options.get_proc_address = platform::HeadlessContext::proc_loader();
+    Result<profiling::ShowcaseRun> run = profiling::run_showcase(
+        *scene, options, a.frames > 0 ? a.frames : 9, target->target(), a.command,
+        [](const std::string& what) { std::fprintf(stderr, "showcase: %s\n", what.c_str()); },
+        [](const std::vector<ObjectPlan>& plans) { return plans_table(plans); });
+    if (!run) return fail(run.error().message);
+    std::error_code ec;
+    std::filesystem::create_directories(a.out, ec);
+    if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
+    const std::string path = a.out + "/showcase.md";
+    Status written = profiling::write_showcase_md(*run, path);
+    if (!written) return fail(written.error().message);
+    int missed = 0;
+    for (const profiling::ShowcaseObject& o : run->objects) missed += o.meets ? 0 : 1;
+    std::printf("showcase: planner %.2f ms, every effect %.2f ms: %.2fx faster; %d of %zu objects miss a target; wrote %s\n",
+                run->planned_ms, run->all_ms, run->speedup, missed, run->objects.size(), path.c_str());
+    return 0;
+}
+
 int run(BenchArgs a) {
     profiling::BenchOptions o;
     if (a.quick) {  // under 2 minutes on 2 cores
@@ -100,6 +133,7 @@ int run(BenchArgs a) {
     o.threads = threads ? std::atoi(threads) : static_cast<int>(std::thread::hardware_concurrency());
 
     if (!a.planner_table.empty()) return run_planner_table(a, o);
+    if (!a.showcase.empty()) return run_showcase_bench(a, width, height);
     std::error_code ec;
     std::filesystem::create_directories(a.out, ec);
     if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
@@ -149,6 +183,9 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
                   "Every technique with the view vector normalised per vertex (\"exact_view\": false) "
                   "instead of the exact one");
     cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+    cmd->add_option("--showcase", args->showcase,
+                    "Draw this scene with the planner and with every effect on every surface: time ratio and each "
+                    "object's error against its target (writes OUT/showcase.md)");
     cmd->add_option("--planner-table", args->planner_table,
                     "Measure the effect planner's cost table and write it to this file "
                     "(the library's is src/planner/cost_table.json)");

@@ -1,0 +1,229 @@
+#include "profiling/showcase.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <set>
+
+#include "core/files.h"
+#include "gl/gl.h"
+#include "reference/metrics.h"
+#include "reference/reference_image.h"
+#include "render/surface_capture.h"
+
+namespace px::profiling {
+
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+std::string now_iso8601() {
+    const std::time_t t = std::time(nullptr);
+    char buffer[32];
+    std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+    return buffer;
+}
+
+std::string g(double x, const char* format = "%.3g") {
+    if (x < 0.0) return "-";
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, format, x);
+    return buffer;
+}
+
+}  // namespace
+
+SceneDesc all_effects_scene(const SceneDesc& scene) {
+    SceneDesc s = scene;
+    for (MaterialDesc& m : s.materials) {
+        const ShadowMode asked = m.effects ? m.effects->shadow : m.technique.shadow;
+        m.effects.reset();
+        TechniqueOptions o;
+        o.technique = Technique::relief;
+        o.min_samples = o.max_samples = 64;
+        o.refine_steps = 5;
+        o.shadow = asked == ShadowMode::none ? ShadowMode::soft : asked;
+        o.shadow_samples = 32;
+        o.depth_write = true;
+        o.exact_view = true;
+        o.lod = false;
+        m.technique = o;
+    }
+    return s;
+}
+
+Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& options, int frames,
+                                 const RenderTarget& target, const std::string& command,
+                                 const std::function<void(const std::string&)>& progress,
+                                 const std::function<std::string(const std::vector<ObjectPlan>&)>& explain) {
+    if (frames < 1) return make_error("showcase: frames must be at least 1");
+    auto say = [&](const std::string& what) {
+        if (progress) progress(what);
+    };
+    ShowcaseRun run;
+    run.date = now_iso8601();
+    run.renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    run.version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    run.command = command;
+    run.scene = scene.name;
+    run.width = target.width;
+    run.height = target.height;
+    run.frames = frames;
+
+    const SceneDesc all_scene = all_effects_scene(scene);
+    Result<std::unique_ptr<Renderer>> planned = Renderer::create(options);
+    if (!planned) return planned.error();
+    Status loaded = (*planned)->load(scene);
+    if (!loaded) return loaded.error();
+    Result<std::unique_ptr<Renderer>> all = Renderer::create(options);
+    if (!all) return all.error();
+    loaded = (*all)->load(all_scene);
+    if (!loaded) return with_context("the all-effects scene", loaded.error());
+    Result<int> viewed = (*planned)->set_view(scene.camera, target.width, target.height);
+    if (!viewed) return viewed.error();
+    viewed = (*all)->set_view(all_scene.camera, target.width, target.height);
+    if (!viewed) return viewed.error();
+    std::vector<ObjectPlan> plans;
+    for (const DrawReport& r : (*planned)->reports()) plans.push_back(r.plan);
+    if (explain) run.plan_text = explain(plans);
+
+    // Time: both warm, then interleaved rounds on the same machine state.
+    say("timing");
+    for (Renderer* r : {planned->get(), all->get()}) {
+        Status drawn = r->draw(target);
+        if (!drawn) return drawn.error();
+    }
+    glFinish();
+    std::vector<double> planned_ms, all_ms, ratios;
+    for (int i = 0; i < frames; ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        (void)(*planned)->draw(target);
+        glFinish();
+        const auto t1 = std::chrono::steady_clock::now();
+        (void)(*all)->draw(target);
+        glFinish();
+        const auto t2 = std::chrono::steady_clock::now();
+        const double a = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        const double b = std::chrono::duration<double, std::milli>(t2 - t1).count();
+        planned_ms.push_back(a);
+        all_ms.push_back(b);
+        ratios.push_back(b / std::max(a, 1e-6));
+    }
+    run.planned_ms = median(planned_ms);
+    run.all_ms = median(all_ms);
+    run.speedup = median(ratios);
+    run.planned_programs = static_cast<int>((*planned)->program_count());
+    run.all_programs = static_cast<int>((*all)->program_count());
+
+    // Error: what each shader computed against the depth-composited exact
+    // reference, one reference per shadow mode asked for.
+    say("capturing");
+    Result<SurfaceImage> planned_surfaces = capture_surfaces(**planned, target.width, target.height);
+    if (!planned_surfaces) return planned_surfaces.error();
+    Result<SurfaceImage> all_surfaces = capture_surfaces(**all, target.width, target.height);
+    if (!all_surfaces) return all_surfaces.error();
+    std::set<ShadowMode> modes = {ShadowMode::none};
+    for (const MaterialDesc& m : scene.materials)
+        if (m.effects) modes.insert(m.effects->shadow);
+    std::vector<std::pair<ShadowMode, reference::ReferenceImage>> references;
+    for (ShadowMode mode : modes) {
+        say(std::string("reference (shadow ") + shadow_mode_name(mode) + ")");
+        reference::ReferenceOptions ro;
+        ro.shadow = mode;
+        ro.depth_composite = true;
+        Result<reference::ReferenceImage> truth = reference::render_reference(scene, target.width, target.height, ro);
+        if (!truth) return truth.error();
+        references.emplace_back(mode, std::move(*truth));
+    }
+    auto reference_for = [&](ShadowMode mode) -> const reference::ReferenceImage& {
+        for (const auto& [m, image] : references)
+            if (m == mode) return image;
+        return references.front().second;
+    };
+    const std::vector<DrawReport>& planned_reports = (*planned)->reports();
+    const std::vector<DrawReport>& all_reports = (*all)->reports();
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        ShowcaseObject o;
+        o.object = scene.objects[i].name;
+        o.material = scene.objects[i].material;
+        const ObjectPlan& plan = planned_reports[i].plan;
+        o.planned = plan.planned;
+        o.planned_variant = plan.key.describe();
+        o.all_variant = all_reports[i].variant.describe();
+        o.predicted = plan.predicted_error;
+        const MaterialDesc* m = scene.find_material(o.material);
+        if (m && m->effects) {
+            o.target = m->effects->parallax ? m->effects->max_error_texels : -1.0;
+            o.shadow = m->effects->shadow;
+            if (o.shadow != ShadowMode::none) o.shadow_target = m->effects->shadow_max_error;
+        }
+        const int index = static_cast<int>(i);
+        Result<reference::ObjectError> ep = reference::compare_object(*planned_surfaces, reference_for(ShadowMode::none), index);
+        Result<reference::ObjectError> ea = reference::compare_object(*all_surfaces, reference_for(ShadowMode::none), index);
+        if (!ep) return ep.error();
+        if (!ea) return ea.error();
+        o.pixels = ep->pixels;
+        if (ep->pixels > 0) {
+            o.error_planned = ep->level_error_p95;
+            o.base_error_planned = ep->base_error_p95;
+        }
+        if (ea->pixels > 0) {
+            o.error_all = ea->level_error_p95;
+            o.base_error_all = ea->base_error_p95;
+        }
+        if (o.shadow != ShadowMode::none) {
+            const reference::ReferenceImage& shadow_truth = reference_for(o.shadow);
+            Result<reference::ObjectError> sp = reference::compare_object(*planned_surfaces, shadow_truth, index);
+            Result<reference::ObjectError> sa = reference::compare_object(*all_surfaces, shadow_truth, index);
+            if (!sp) return sp.error();
+            if (!sa) return sa.error();
+            // A shadow the planner dropped (no light reaches the surface):
+            // the horizon alone, which the reference agrees with.
+            o.shadow_planned = sp->visibility_error_mean;
+            o.shadow_all = sa->visibility_error_mean;
+        }
+        o.meets = (o.target < 0.0 || o.error_planned <= o.target) && (o.shadow_target < 0.0 || o.shadow_planned <= o.shadow_target);
+        run.objects.push_back(o);
+    }
+    return run;
+}
+
+Status write_showcase_md(const ShowcaseRun& run, const std::string& path) {
+    std::string md;
+    md += "Scene `" + run.scene + "` at " + std::to_string(run.width) + "x" + std::to_string(run.height) + " on " +
+          run.renderer + " (" + run.version + "), " + run.date + ".\n";
+    md += "Command: `" + run.command + "`.\n\n";
+    md += "| | planner | every effect |\n|---|---|---|\n";
+    md += "| frame time, median of " + std::to_string(run.frames) + " interleaved rounds | " + g(run.planned_ms, "%.2f") +
+          " ms | " + g(run.all_ms, "%.2f") + " ms |\n";
+    md += "| programs | " + std::to_string(run.planned_programs) + " | " + std::to_string(run.all_programs) + " |\n";
+    md += "\n**The planner is " + g(run.speedup, "%.2f") +
+          " times faster** (median over the rounds of every-effect time / planner time).\n\n";
+    md += "Per object: hit error as the 95th percentile over its pixels in texels of the mip level sampled "
+          "(the target's unit; base-level texels in brackets), against the exact reference composited by depth; "
+          "shadow as the mean visibility difference against the reference of the shadow mode asked for.\n\n";
+    md += "| object | planner's variant | target | predicted | planner | every effect | shadow target | shadow: planner | shadow: every effect | meets |\n";
+    md += "|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const ShowcaseObject& o : run.objects) {
+        md += "| " + o.object + " | `" + o.planned_variant + "` | " + g(o.target) + " | " + g(o.predicted) + " | " +
+              g(o.error_planned) + " (" + g(o.base_error_planned) + ") | " + g(o.error_all) + " (" + g(o.base_error_all) +
+              ") | " + g(o.shadow_target) + " | " + g(o.shadow_planned) + " | " + g(o.shadow_all) + " | " +
+              (o.meets ? "yes" : "**no**") + " |\n";
+    }
+    md += "\nEvery effect: ";
+    std::set<std::string> variants;
+    for (const ShowcaseObject& o : run.objects) variants.insert("`" + o.all_variant + "`");
+    bool first = true;
+    for (const std::string& v : variants) {
+        md += (first ? "" : ", ") + v;
+        first = false;
+    }
+    md += ".\n\nThe plan:\n\n```\n" + run.plan_text + "```\n";
+    return write_file_atomically(path, md);
+}
+
+}  // namespace px::profiling
