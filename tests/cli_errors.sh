@@ -100,4 +100,46 @@ else
     echo "FAIL: a tiny bench did not write its four files"; failures=$((failures + 1))
 fi
 
+# --- The effect planner: bad requests name the object and the field ----------
+effects_scene() {  # effects_scene FILE EFFECTS_JSON [CAMERA_JSON]
+    printf '{"camera": %s, "objects": [{"name": "wall", "mesh": {"type": "plane", "segments": 8}, "material": "m"}],
+  "materials": [{"name": "m", "height": {"procedural": "lines", "size": 256, "count": 8}, "height_scale": 0.05,
+                 "effects": %s}]}\n' "${3:-{\"position\": [0, -3, 0.3]\}}" "$2" >"$1"
+}
+effects_scene "$work/impossible.json" '{"parallax": {"max_error_texels": 0.01}}'
+effects_scene "$work/unknown_effect.json" '{"parallax": {}, "bloom": "on"}'
+effects_scene "$work/contradiction.json" '{"parallax": "off", "shadow": "soft"}'
+effects_scene "$work/both.json" '{"parallax": {}}'
+sed -i 's/"effects"/"technique": "pom", "effects"/' "$work/both.json"
+effects_scene "$work/fine.json" '{"parallax": {"max_error_texels": 2}, "shadow": "hard"}' '{"position": [0, -2, 2]}'
+# On ES 2.0, where maxmip does not run, no search reaches 0.01 texels at 84 degrees.
+expect_error "an impossible target" "impossible.json: object 'wall' (material 'm'): materials[0].effects.parallax.max_error_texels: 0.01 texels is below what any technique reaches" \
+    plan "$work/impossible.json" --es 2 --calibration-cache off
+expect_error "an impossible target, render" "materials[0].effects.parallax.max_error_texels" \
+    render "$work/impossible.json" --es 2 --size 32x32 --frames 1 --calibration-cache off --program-cache off -o "$work/out.png"
+expect_error "an unknown effect" "unknown field 'bloom' in materials[0].effects" plan "$work/unknown_effect.json"
+expect_error "a contradictory request" "materials[0].effects.shadow: \"soft\" contradicts \"parallax\": \"off\"" plan "$work/contradiction.json"
+expect_error "effects and a technique" "materials[0].effects: a material declares effects or names a technique, not both" plan "$work/both.json"
+expect_error "a bad camera path" "--camera-path must be orbit or dolly" render default --camera-path zoom -o "$work/out.png"
+expect_error "a bad plan format" "--format must be table or json" plan default --format xml
+# A fine request plans, in both formats, and --explain prints the plan.
+if out=$("$parallax" plan "$work/fine.json" --calibration-cache off 2>&1) && grep -q "variant" <<<"$out" &&
+    grep -q "predict" <<<"$out" && "$parallax" plan showcase --format json --calibration-cache off >"$work/plan.json" &&
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert len(d['objects']) == 6" "$work/plan.json" &&
+    explained=$("$parallax" render showcase --size 48x48 --frames 1 --explain --calibration-cache off \
+        --program-cache off -o "$work/showcase.png") &&
+    grep -q "note     normal mapping: height_scale is 0" <<<"$explained"; then
+    echo "ok: plan (table and json) and render --explain print the plan"
+else
+    echo "FAIL: plan or --explain: $out"; failures=$((failures + 1))
+fi
+# A camera path plans every frame and reports the plan changes.
+if out=$("$parallax" render showcase --size 48x48 --frames 4 --camera-path dolly --calibration-cache off \
+        --program-cache off -o "$work/dolly.png" 2>&1) && grep -q "plan change(s) over 4 frames" <<<"$out" &&
+    grep -q "us per object" <<<"$out"; then
+    echo "ok: --camera-path dolly reports plan changes and planning time"
+else
+    echo "FAIL: --camera-path: $out"; failures=$((failures + 1))
+fi
+
 [ "$failures" = 0 ] && echo "all CLI error cases behave" || { echo "$failures CLI error case(s) failed"; exit 1; }

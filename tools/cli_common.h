@@ -14,6 +14,13 @@ inline int fail(const std::string& message) {
     return 1;
 }
 
+// An error about a scene, prefixed with the scene file it came from (when
+// it came from one and the message does not name it already).
+inline std::string in_scene_file(const std::string& source, const std::string& message) {
+    if (source.empty() || message.compare(0, source.size(), source) == 0) return message;
+    return source + ": " + message;
+}
+
 // "512x512" (or "512X512") into two integers within 1..limit. Digits only:
 // no sign, no spaces, no overflow (each side is checked against the limit
 // while it is read).

@@ -62,9 +62,9 @@ int calibrate(const PlanArgs& a, const SceneDesc& scene, const std::string& dir,
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(scene);
-    if (!loaded) return fail(loaded.error().message);
+    if (!loaded) return fail(in_scene_file(scene.source, loaded.error().message));
     Result<std::vector<ObjectPlan>> plans = (*renderer)->plan_view(scene.camera, width, height);
-    if (!plans) return fail(plans.error().message);
+    if (!plans) return fail(in_scene_file(scene.source, plans.error().message));
     // Per material, the range of view angles over its visible objects.
     std::map<std::string, std::pair<double, double>> angles;
     for (const ObjectPlan& p : *plans) {
@@ -126,9 +126,9 @@ int run_plan(const PlanArgs& a) {
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(*scene);
-    if (!loaded) return fail(loaded.error().message);
+    if (!loaded) return fail(in_scene_file(scene->source, loaded.error().message));
     Result<std::vector<ObjectPlan>> plans = (*renderer)->plan_view(scene->camera, width, height);
-    if (!plans) return fail(plans.error().message);
+    if (!plans) return fail(in_scene_file(scene->source, plans.error().message));
     const Caps& caps = (*renderer)->caps();
     const std::string context_line = caps.version + " | " + caps.renderer;
     if (a.format == "json") {

@@ -104,7 +104,7 @@ int run_render(const RenderArgs& a) {
     if (!target) return fail(target.error().message);
 
     Status loaded = (*renderer)->load(*scene);
-    if (!loaded) return fail(loaded.error().message);
+    if (!loaded) return fail(in_scene_file(scene->source, loaded.error().message));
 
     // A camera path: every frame's plan is known before the first, so the
     // variants it needs compile now, not in a frame.
@@ -117,19 +117,19 @@ int run_render(const RenderArgs& a) {
         for (int i = 0; i < a.frames; ++i) {
             cameras.push_back(camera_on_path(scene->camera, a.camera_path, i, a.frames));
             Result<std::vector<ObjectPlan>> plans = (*renderer)->plan_view(cameras.back(), width, height);
-            if (!plans) return fail("frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " + plans.error().message);
+            if (!plans) return fail(in_scene_file(scene->source, "frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " + plans.error().message));
             frames.push_back(std::move(*plans));
         }
         Status prepared = (*renderer)->prepare(frames, target->target());
         if (!prepared) return fail(prepared.error().message);
         Result<int> first = (*renderer)->set_view(cameras.front(), width, height);
-        if (!first) return fail(first.error().message);
+        if (!first) return fail(in_scene_file(scene->source, first.error().message));
         first_reports = (*renderer)->reports();
     }
     // The first draw compiles the shaders (Mesa JITs at first use): keep it
     // out of the timing, then time whole frames around glFinish.
     Status drawn = (*renderer)->draw(target->target());
-    if (!drawn) return fail(drawn.error().message);
+    if (!drawn) return fail(in_scene_file(scene->source, drawn.error().message));
     glFinish();
     if (first_reports.empty()) first_reports = (*renderer)->reports();
     std::vector<double> times_ms;
@@ -139,7 +139,7 @@ int run_render(const RenderArgs& a) {
             const auto plan_start = std::chrono::steady_clock::now();
             Result<int> changed = (*renderer)->set_view(cameras[static_cast<size_t>(i)], width, height);
             const auto plan_end = std::chrono::steady_clock::now();
-            if (!changed) return fail(changed.error().message);
+            if (!changed) return fail(in_scene_file(scene->source, changed.error().message));
             if (i > 0) plan_changes += *changed;
             plan_us.push_back(std::chrono::duration<double, std::micro>(plan_end - plan_start).count() /
                               static_cast<double>(std::max<size_t>(1, scene->objects.size())));
@@ -147,7 +147,7 @@ int run_render(const RenderArgs& a) {
         drawn = (*renderer)->draw(target->target());
         glFinish();
         const auto end = std::chrono::steady_clock::now();
-        if (!drawn) return fail(drawn.error().message);
+        if (!drawn) return fail(in_scene_file(scene->source, drawn.error().message));
         times_ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
     }
     const double longest_ms = *std::max_element(times_ms.begin(), times_ms.end());

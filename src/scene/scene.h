@@ -144,6 +144,7 @@ struct ObjectDesc {
 struct SceneDesc {
     std::string name;
     std::string base_dir;  // folder that relative texture paths resolve against
+    std::string source;    // the scene file it was read from (empty: built in code)
     CameraDesc camera;
     std::vector<LightDesc> lights;
     std::vector<MaterialDesc> materials;

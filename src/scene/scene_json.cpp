@@ -692,6 +692,7 @@ Result<SceneDesc> load_scene_file(const std::string& path) {
     fs::path dir = fs::absolute(fs::path(path), ec).parent_path();
     if (ec) dir = fs::path(path).parent_path();
     scene->base_dir = dir.lexically_normal().string();
+    scene->source = path;
     if (scene->name.empty()) scene->name = fs::path(path).stem().string();
 
     // Resolve texture paths here so that a missing file is reported with its
