@@ -3,6 +3,10 @@
 // PX_SHADOW is 1 (hard) or 2 (soft).
 #define PX_SHADOW_HARD 1  // else 2: soft
 
+// The light's angular radius (radians): the soft penumbra's size. Declared
+// here, with the only code that reads it.
+uniform mediump float u_light_angular_radius[PX_MAX_LIGHTS];
+
 // light_dir: unit vector toward the light in texture space (not height-scaled).
 mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height, mediump vec3 light_dir,
                                   mediump float angular_radius PX_TRACE_GRADIENTS) {

@@ -21,20 +21,8 @@ uniform mediump float u_polygon_height;
 uniform mediump float u_inv_height_scale; // 1 / u_height_scale (0 when flat)
 uniform mediump int u_light_count;
 uniform mediump vec3 u_light_color[PX_MAX_LIGHTS];
-uniform mediump float u_light_angular_radius[PX_MAX_LIGHTS];  // radians, soft shadows
 uniform mediump vec3 u_ambient;
 uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
-
-#if defined(PX_PACKED_HEIGHT) && PX_ES >= 3
-#define PX_HEIGHT_SAMPLER u_normal_map
-#else
-#define PX_HEIGHT_SAMPLER u_height_map
-#endif
-#ifdef PX_PACKED_HEIGHT
-#define PX_HEIGHT_CHANNEL a
-#else
-#define PX_HEIGHT_CHANNEL r
-#endif
 
 // Height reads inside tracing loops never use implicit derivatives (their
 // value is undefined in non-uniform control flow), and they read the base
@@ -48,11 +36,28 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 #if PX_ES >= 3
 #define PX_TRACE_GRADIENTS , PX_HIGHP vec2 uv_dx, PX_HIGHP vec2 uv_dy
 #define PX_TRACE_GRADIENT_ARGS , uv_dx, uv_dy
-#define px_trace_height(uv) textureLod(PX_HEIGHT_SAMPLER, (uv), 0.0).PX_HEIGHT_CHANNEL
 #else
 #define PX_TRACE_GRADIENTS
 #define PX_TRACE_GRADIENT_ARGS
+#endif
+// The height fetch, only where a technique reads height: an untraced
+// variant's source then names no height sampler at all.
+#ifdef PX_READS_HEIGHT
+#if defined(PX_PACKED_HEIGHT) && PX_ES >= 3
+#define PX_HEIGHT_SAMPLER u_normal_map
+#else
+#define PX_HEIGHT_SAMPLER u_height_map
+#endif
+#ifdef PX_PACKED_HEIGHT
+#define PX_HEIGHT_CHANNEL a
+#else
+#define PX_HEIGHT_CHANNEL r
+#endif
+#if PX_ES >= 3
+#define px_trace_height(uv) textureLod(PX_HEIGHT_SAMPLER, (uv), 0.0).PX_HEIGHT_CHANNEL
+#else
 #define px_trace_height(uv) texture2D(PX_HEIGHT_SAMPLER, (uv)).PX_HEIGHT_CHANNEL
+#endif
 #endif
 
 // Where the view ray meets the relief: the uv to shade with, and the ray's

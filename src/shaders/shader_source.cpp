@@ -1,7 +1,10 @@
 #include "shaders/shader_source.h"
 
+#include "shaders/conditional.h"
 #include "shaders/interface.h"
 
+#include <algorithm>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -26,8 +29,9 @@ bool parse_include(const std::string& line, std::string& path) {
     return true;
 }
 
+// `origins`, when given, gets one entry per line written to `out`.
 Status expand(const std::string& path, const std::string& includer, std::set<std::string>& seen,
-              std::string& out) {
+              std::string& out, std::vector<LineOrigin>* origins) {
     if (seen.count(path)) return {};  // each chunk once per source
     const char* text = find_embedded(path);
     if (!text) return make_error(includer + ": shader file '" + path + "' not found in shaders_es/");
@@ -41,12 +45,13 @@ Status expand(const std::string& path, const std::string& includer, std::set<std
         if (parse_include(line, included)) {
             const std::string where = "shaders_es/" + path + ":" + std::to_string(line_number);
             if (included.empty()) return make_error(where + ": malformed #include (expected #include \"path\")");
-            Status s = expand(included, where, seen, out);
+            Status s = expand(included, where, seen, out, origins);
             if (!s) return s;
             continue;
         }
         out += line;
         out += '\n';
+        if (origins) origins->push_back({"shaders_es/" + path, line_number});
     }
     return {};
 }
@@ -67,13 +72,17 @@ std::string preamble(ShaderStage stage, int es_major) {
         p += "#define PX_HIGHP highp\n#define PX_VARYING in\n";
         // highp: the debug outputs write hit uvs to a float target.
         p += "layout(location = 0) out highp vec4 px_frag_color;\n";
-        p += "#define PX_FRAG_COLOR px_frag_color\n#define PX_FRAG_DEPTH gl_FragDepth\n";
+        p += "#define PX_FRAG_COLOR px_frag_color\n";
+        // Depth only where the variant writes it: the resolved source then
+        // names gl_FragDepth only in the variants that use it.
+        p += "#ifdef PX_DEPTH_WRITE\n#define PX_FRAG_DEPTH gl_FragDepth\n#endif\n";
     } else {
         // PX_NO_FRAGMENT_HIGHP: draw as a GPU without fragment highp would.
         p += "#if defined(GL_FRAGMENT_PRECISION_HIGH) && !defined(PX_NO_FRAGMENT_HIGHP)\n#define PX_HIGHP highp\n"
              "#else\n#define PX_HIGHP mediump\n#endif\n";
         p += "#define PX_VARYING varying\n";
-        p += "#define PX_FRAG_COLOR gl_FragColor\n#define PX_FRAG_DEPTH gl_FragDepthEXT\n";
+        p += "#define PX_FRAG_COLOR gl_FragColor\n";
+        p += "#ifdef PX_DEPTH_WRITE\n#define PX_FRAG_DEPTH gl_FragDepthEXT\n#endif\n";
     }
     return p;
 }
@@ -83,7 +92,7 @@ std::string preamble(ShaderStage stage, int es_major) {
 Result<std::string> expand_includes(const std::string& entry_path) {
     std::set<std::string> seen;
     std::string out;
-    Status s = expand(entry_path, "shader entry", seen, out);
+    Status s = expand(entry_path, "shader entry", seen, out, nullptr);
     if (!s) return s.error();
     return out;
 }
@@ -93,22 +102,39 @@ Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderSta
                                         const std::vector<ShaderDefine>& defines) {
     if (es_major != 2 && es_major != 3)
         return make_error("OpenGL ES " + std::to_string(es_major) + " is not supported (2 or 3)");
-    Result<std::string> body = expand_includes(entry_path);
-    if (!body) return body.error();
+    std::set<std::string> seen;
+    std::string body;
+    std::vector<LineOrigin> body_origins;
+    Status expanded = expand(entry_path, "shader entry", seen, body, &body_origins);
+    if (!expanded) return expanded.error();
 
     AssembledSource a;
     // #version must be the very first line: some ES drivers reject anything,
     // even a comment, before it.
-    a.text = es_major >= 3 ? "#version 300 es\n" : "#version 100\n";
-    for (const std::string& e : extensions) a.text += "#extension " + e + " : require\n";
+    std::string text = es_major >= 3 ? "#version 300 es\n" : "#version 100\n";
+    for (const std::string& e : extensions) text += "#extension " + e + " : require\n";
     for (const ShaderDefine& d : defines) {
-        a.text += "#define " + d.name + (d.value.empty() ? "" : " " + d.value) + "\n";
+        text += "#define " + d.name + (d.value.empty() ? "" : " " + d.value) + "\n";
         if (!a.defines_summary.empty()) a.defines_summary += ' ';
         a.defines_summary += d.name + (d.value.empty() ? "" : "=" + d.value);
     }
-    a.text += preamble(stage, es_major);
-    a.text += "// ---- " + entry_path + "\n";
-    a.text += *body;
+    text += preamble(stage, es_major);
+    text += "// ---- " + entry_path + "\n";
+    // Errors name a line of shaders_es/ (or of the lines written above).
+    const size_t prefix_lines = static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
+    std::vector<LineOrigin> origins;
+    origins.reserve(prefix_lines + body_origins.size());
+    const std::string prefix_name = entry_path + " (version, defines, preamble)";
+    for (size_t i = 0; i < prefix_lines; ++i) origins.push_back({prefix_name, static_cast<int>(i + 1)});
+    origins.insert(origins.end(), std::make_move_iterator(body_origins.begin()),
+                   std::make_move_iterator(body_origins.end()));
+    text += body;
+    // What the variant's defines decide is decided here, so the driver (and
+    // any ShaderTransform) gets no code of an effect the variant does not
+    // use; what only the driver knows (GL_FRAGMENT_PRECISION_HIGH) stays.
+    Result<std::string> resolved = resolve_conditionals(text, entry_path, origins);
+    if (!resolved) return resolved.error();
+    a.text = std::move(*resolved);
     return a;
 }
 

@@ -27,6 +27,9 @@ Result<std::string> expand_includes(const std::string& entry_path);
 // precede it, comments included, on some ES drivers), then any #extension
 // lines, then the injected defines and the ES 2.0/3.0 compatibility preamble,
 // then the expanded body. `es_major` is 2 (GLSL ES 1.00) or 3 (GLSL ES 3.00).
+// The conditionals the defines and the preamble decide are resolved
+// (shaders/conditional.h): the text carries no code of an effect the variant
+// does not use; only conditions on the driver's macros (GL_*) are left.
 struct AssembledSource {
     std::string text;
     // For messages: the variant's defines in one line.
