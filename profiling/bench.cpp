@@ -126,7 +126,7 @@ std::vector<std::string> bench_technique_names() {
     return names;
 }
 
-Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int segments) {
+Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int segments, double light_elevation_deg) {
     const SceneSpec* spec = find_spec(name);
     if (!spec) {
         std::string known;
@@ -143,11 +143,11 @@ Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int seg
     if (spec->kind == FieldKind::text) m.height.field.text = "PARALLAX";
     if (spec->kind == FieldKind::lines) m.height.field.count = 16;
     m.height_scale = spec->height_scale;
-    return bench_scene_of(spec->name, m, "", angle_deg, segments);
+    return bench_scene_of(spec->name, m, "", angle_deg, segments, light_elevation_deg);
 }
 
 Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& material, const std::string& base_dir,
-                                 double angle_deg, int segments) {
+                                 double angle_deg, int segments, double light_elevation_deg) {
     if (!(angle_deg >= 0.0 && angle_deg < 90.0))
         return make_error("view angle " + std::to_string(angle_deg) + " is outside [0, 90) degrees");
     SceneDesc s;
@@ -160,7 +160,7 @@ Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& ma
     s.camera.target = glm::vec3(0.0f);
     s.camera.up = angle_deg < 1.0 ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f);
     s.camera.fov_y_deg = 45.0f;
-    s.lights = {sun_light(35.0, 30.0)};
+    s.lights = {sun_light(light_elevation_deg, 30.0)};
 
     MaterialDesc m = material;
     m.name = "surface";
@@ -194,8 +194,9 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
     for (const BenchMaterial& m : options.materials) scenes.push_back(m.name);
     auto scene_at = [&](const std::string& name, double angle) -> Result<SceneDesc> {
         for (const BenchMaterial& m : options.materials)
-            if (m.name == name) return bench_scene_of(name, m.material, m.base_dir, angle, options.segments);
-        return bench_scene(name, angle, options.segments);
+            if (m.name == name)
+                return bench_scene_of(name, m.material, m.base_dir, angle, options.segments, options.light_elevation_deg);
+        return bench_scene(name, angle, options.segments, options.light_elevation_deg);
     };
     auto shadow_of = [&](const std::string& name) {
         for (const BenchMaterial& m : options.materials)
@@ -318,6 +319,7 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 row.technique = setting.technique;
                 row.samples = setting.samples;
                 row.shadow = shadow;
+                row.light_elevation_deg = options.light_elevation_deg;
                 row.shadow_samples = shadow == ShadowMode::none ? 0 : scene.materials[0].technique.shadow_samples;
                 row.pixels = error->pixels;
                 row.uv_error_mean = error->uv_error_mean;

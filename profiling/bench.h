@@ -23,14 +23,15 @@ LightDesc sun_light(double elevation_deg, double azimuth_deg);
 // Bench scenes: one plane, one material, seen from `angle_deg` off its normal.
 std::vector<std::string> bench_scene_names();
 // `segments`: quads per side of the plane (see bench.cpp for why 64).
-Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int segments = 64);
+Result<SceneDesc> bench_scene(const std::string& name, double angle_deg, int segments = 64,
+                              double light_elevation_deg = 35.0);
 // The shadow mode a bench scene measures (and its reference uses).
 ShadowMode bench_scene_shadow(const std::string& name);
 
 // The bench's plane and camera with another material (its uv transform and
 // technique reset): how `parallax plan --calibrate` measures a relief.
 Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& material, const std::string& base_dir,
-                                 double angle_deg, int segments = 64);
+                                 double angle_deg, int segments = 64, double light_elevation_deg = 35.0);
 
 // A material to bench beside the built-in bench scenes.
 struct BenchMaterial {
@@ -57,6 +58,7 @@ struct BenchOptions {
     bool exact_view = true;  // false: every technique with the per-vertex normalised view vector
     // Shadowed scenes: each setting at each of these shadow-ray sample counts.
     std::vector<int> shadow_samples{16};
+    double light_elevation_deg = 35.0;  // the bench's sun, above the plane (azimuth 30 degrees)
     std::vector<BenchMaterial> materials;  // benched after `scenes`
 };
 

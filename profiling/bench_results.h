@@ -20,6 +20,7 @@ struct BenchRow {
     int samples = 0;          // max_samples (0 where the technique has none)
     ShadowMode shadow = ShadowMode::none;
     int shadow_samples = 0;   // shadowed scenes: samples along the shadow ray
+    double light_elevation_deg = 35.0;  // the light, above the plane
     // Error against the exact reference (see src/reference/metrics.h).
     long pixels = 0;
     double uv_error_mean = 0.0;  // texels

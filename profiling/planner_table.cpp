@@ -1,5 +1,6 @@
 #include "profiling/planner_table.h"
 
+#include <algorithm>
 #include <map>
 
 #include "scene/material_images.h"
@@ -69,6 +70,7 @@ Result<CostTable> cost_table_from_runs(const std::vector<BenchRun>& runs, const 
             s.error_p95 = row.uv_error_p95;
             s.visibility_error = row.shadow_disagreement;
             s.cost = row.ratio_to_normal > 0.0 ? row.ratio_to_normal : 1.0;
+            s.light_elevation_deg = row.light_elevation_deg;
             table.rows.push_back(s);
         }
     }
@@ -95,31 +97,67 @@ BenchOptions grid_options(const TableGrid& grid, const std::string& command) {
 }  // namespace
 
 Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& command, const RenderTarget& target,
-                                     const std::function<Result<Image>()>& read_color, const Progress& progress) {
+                                     const std::function<Result<Image>()>& read_color, const Progress& progress,
+                                     const CostTable* keep) {
     BenchOptions plain = grid_options(grid, command);
     plain.scenes = grid.scenes;
-    // Shadow rows: POM at 32 samples under each shadow sample count (the
-    // planner adds the shadow's cost over its unshadowed twin to any technique).
-    BenchOptions shadowed = grid_options(grid, command);
-    shadowed.scenes = grid.shadow_scenes;
-    shadowed.techniques = {"pom"};
-    shadowed.samples = {32};
-    shadowed.shadow_samples = grid.shadow_samples;
-    const int plain_total = static_cast<int>(plain.scenes.size() * plain.angles.size() *
-                                             (3 + 3 * plain.samples.size() + 1));
+    const int plain_total = keep ? 0
+                                 : static_cast<int>(plain.scenes.size() * plain.angles.size() *
+                                                    (3 + 3 * plain.samples.size() + 1));
+    const int shadow_total = static_cast<int>(grid.shadow_scenes.size() * grid.shadow_angles.size() *
+                                              grid.shadow_samples.size() * grid.light_elevations.size());
     std::vector<BenchRun> runs;
-    Result<BenchRun> a = run_bench(plain, target, read_color, progress);
-    if (!a) return a.error();
-    runs.push_back(std::move(*a));
-    Result<BenchRun> b = run_bench(shadowed, target, read_color, [&](int done, int total, const std::string& what) {
-        if (progress) progress(plain_total + done, plain_total + total, what);
-    });
-    if (!b) return b.error();
-    runs.push_back(std::move(*b));
+    if (!keep) {
+        Result<BenchRun> a = run_bench(plain, target, read_color, [&](int done, int, const std::string& what) {
+            if (progress) progress(done, plain_total + shadow_total, what);
+        });
+        if (!a) return a.error();
+        runs.push_back(std::move(*a));
+    }
+    // Shadow rows: POM at 32 samples under each shadow sample count and
+    // light elevation (the planner adds the shadow's cost over its
+    // unshadowed twin to any technique).
+    int done_before = plain_total;
+    for (double elevation : grid.light_elevations) {
+        BenchOptions shadowed = grid_options(grid, command);
+        shadowed.scenes = grid.shadow_scenes;
+        shadowed.angles = grid.shadow_angles;
+        shadowed.techniques = {"pom"};
+        shadowed.samples = {32};
+        shadowed.shadow_samples = grid.shadow_samples;
+        shadowed.light_elevation_deg = elevation;
+        Result<BenchRun> b = run_bench(shadowed, target, read_color, [&](int done, int, const std::string& what) {
+            if (progress) progress(done_before + done, plain_total + shadow_total, what);
+        });
+        if (!b) return b.error();
+        done_before += static_cast<int>(b->rows.size());
+        runs.push_back(std::move(*b));
+    }
     Result<CostTable> table = cost_table_from_runs(runs, {});
     if (!table) return table.error();
     table->command = command;
-    return table;
+    if (!keep) return table;
+    // Every row of `keep` but its shadow rows, then the new shadow rows,
+    // their reliefs matched by name.
+    CostTable merged = *keep;
+    merged.rows.erase(std::remove_if(merged.rows.begin(), merged.rows.end(),
+                                     [](const CostSample& s) { return s.shadow != ShadowMode::none; }),
+                      merged.rows.end());
+    for (CostSample s : table->rows) {
+        const std::string& name = table->reliefs[static_cast<size_t>(s.relief)].name;
+        int index = -1;
+        for (size_t i = 0; i < merged.reliefs.size(); ++i)
+            if (merged.reliefs[i].name == name) index = static_cast<int>(i);
+        if (index < 0) {
+            merged.reliefs.push_back(table->reliefs[static_cast<size_t>(s.relief)]);
+            index = static_cast<int>(merged.reliefs.size() - 1);
+        }
+        s.relief = index;
+        merged.rows.push_back(s);
+    }
+    // Both runs stay on record: the kept rows' command and date, then these.
+    merged.command = keep->command + " (" + keep->date + "); shadow rows: " + command + " (" + table->date + ")";
+    return merged;
 }
 
 Result<CostTable> calibrate_material(const MaterialDesc& material, const std::string& base_dir,

@@ -19,6 +19,12 @@ struct TableGrid {
     std::vector<double> angles{0, 30, 60, 75, 85, 89};
     std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
     std::vector<int> shadow_samples{4, 8, 16, 32, 64};
+    // Shadow rows: view angles, and the light's elevations above the plane
+    // (a shadow's error depends on how low the light is most of all). Each
+    // shadowed scene, angle and elevation needs its own soft-shadow
+    // reference, the slowest part of the table: 64 of them here.
+    std::vector<double> shadow_angles{0, 30, 60, 75};
+    std::vector<double> light_elevations{10, 20, 35, 60};
     int frames = 5;
     int width = 256, height = 256;
 };
@@ -30,8 +36,10 @@ Result<CostTable> cost_table_from_runs(const std::vector<BenchRun>& runs, const 
 
 // Measures the generic grid (needs a current ES 3.0 context and a target of
 // the grid's size). `command` is recorded in the table.
+// `keep`: measure only the shadow rows and keep every other row of this table.
 Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& command, const RenderTarget& target,
-                                     const std::function<Result<Image>()>& read_color, const Progress& progress);
+                                     const std::function<Result<Image>()>& read_color, const Progress& progress,
+                                     const CostTable* keep = nullptr);
 
 // Measures one material's relief at these angles, every candidate of the
 // grid (and its shadow mode's sample counts when it asks for a shadow).

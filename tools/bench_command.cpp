@@ -37,6 +37,7 @@ struct BenchArgs {
     std::string out = "out/bench";
     std::string planner_table;  // write the planner's cost table here instead of the bench report
     std::string showcase;       // a scene: the planner against every effect, instead of the sweep
+    bool shadows_only = false;  // --planner-table: measure only the shadow rows, keep the file's others
     std::string command;
 };
 
@@ -57,6 +58,8 @@ int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
         grid.samples = {8, 32};
         grid.shadow_scenes = {"bricks_shadowed"};
         grid.shadow_samples = {8, 16};
+        grid.shadow_angles = {30};
+        grid.light_elevations = {35};
         grid.frames = 2;
     }
     platform::ContextOptions context_options;
@@ -65,9 +68,18 @@ int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
     if (!context) return fail(context.error().message);
     auto target = OffscreenTarget::create(grid.width, grid.height);
     if (!target) return fail(target.error().message);
+    std::optional<CostTable> keep;
+    if (a.shadows_only) {
+        Result<std::vector<std::uint8_t>> bytes = read_file_bounded(a.planner_table, 64u << 20, "cost table");
+        if (!bytes) return fail(bytes.error().message);
+        Result<CostTable> old = parse_cost_table(std::string(bytes->begin(), bytes->end()), a.planner_table);
+        if (!old) return fail(old.error().message);
+        keep = std::move(*old);
+    }
     Result<CostTable> table = profiling::measure_cost_table(
         grid, a.command, target->target(), [&target]() { return target->read_pixels(); },
-        [](int done, int total, const std::string& what) { show_progress("planner table", done, total, what); });
+        [](int done, int total, const std::string& what) { show_progress("planner table", done, total, what); },
+        keep ? &*keep : nullptr);
     if (!table) return fail(table.error().message);
     Status written = write_file_atomically(a.planner_table, cost_table_json(*table));
     if (!written) return fail(written.error().message);
@@ -189,6 +201,8 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--planner-table", args->planner_table,
                     "Measure the effect planner's cost table and write it to this file "
                     "(the library's is src/planner/cost_table.json)");
+    cmd->add_flag("--shadows-only", args->shadows_only,
+                  "With --planner-table: measure only the shadow rows, keeping the file's other rows");
     cmd->callback([args]() { set_exit_status(run(*args)); });
 }
 

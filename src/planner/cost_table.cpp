@@ -77,9 +77,9 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
     for (size_t i = 0; i < rows.size(); ++i) {
         const json& r = rows[i];
         const std::string path = origin + ": rows[" + std::to_string(i) + "]";
-        if (!r.is_array() || r.size() != kRowFields)
+        if (!r.is_array() || (r.size() != kRowFields && r.size() != kRowFields + 1))
             return make_error(path + ": expected [relief, angle, technique, samples, shadow, shadow_samples, "
-                                     "error_p95, visibility_error, cost]");
+                                     "error_p95, visibility_error, cost(, light_elevation)]");
         CostSample s;
         if (!r[0].is_number_integer() || r[0].get<long long>() < 0 ||
             r[0].get<long long>() >= static_cast<long long>(t.reliefs.size()))
@@ -111,6 +111,12 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
             *outs[k] = *v;
         }
         if (!(s.cost > 0.0)) return make_error(path + "[8]: the cost must be positive");
+        if (r.size() > kRowFields) {
+            Result<double> e = number_at(r[kRowFields], path + "[9]");
+            if (!e) return e.error();
+            if (!(*e > 0.0 && *e <= 90.0)) return make_error(path + "[9]: the light's elevation must be within (0, 90]");
+            s.light_elevation_deg = *e;
+        }
         t.rows.push_back(s);
     }
     return t;
@@ -144,7 +150,8 @@ std::string cost_table_json(const CostTable& t) {
         const CostSample& s = t.rows[i];
         out += "    [" + std::to_string(s.relief) + ", " + g(s.angle_deg) + ", \"" + technique_name(s.technique) + "\", " +
                std::to_string(s.samples) + ", \"" + shadow_mode_name(s.shadow) + "\", " + std::to_string(s.shadow_samples) +
-               ", " + g(s.error_p95) + ", " + g(s.visibility_error) + ", " + g(s.cost) + "]" +
+               ", " + g(s.error_p95) + ", " + g(s.visibility_error) + ", " + g(s.cost) +
+               (s.shadow != ShadowMode::none ? ", " + g(s.light_elevation_deg) : std::string()) + "]" +
                (i + 1 < t.rows.size() ? ",\n" : "\n");
     }
     out += "  ]\n}\n";

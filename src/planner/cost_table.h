@@ -33,6 +33,9 @@ struct CostSample {
     double visibility_error = 0.0;
     // Median over interleaved rounds of (frame time / normal mapping's).
     double cost = 1.0;
+    // The light's elevation above the surface (degrees) the row was
+    // measured with: what a shadow's error depends on most.
+    double light_elevation_deg = 35.0;
 };
 
 struct CostTable {

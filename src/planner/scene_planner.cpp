@@ -112,6 +112,7 @@ struct PointView {
     double pv_parallax; // per-vertex view: |delta (V.xy / V.z)| (unitless; times depth in texels)
     double pv_offset;   // per-vertex view: |delta V.xy| (offset limiting)
     unsigned lit;       // bit per light: the light is above this point's horizon
+    double light_elevation_deg;  // the lowest light above the horizon: what shadows depend on
 };
 
 // Linear interpolation in a table sorted by x, clamped at the ends.
@@ -128,12 +129,15 @@ struct Curve {
     std::vector<double> angles, error, visibility, cost;
 };
 
-using CurveKey = std::tuple<int, Technique, int, ShadowMode, int>;  // relief, technique, samples, shadow, shadow samples
+// relief, technique, samples, shadow, shadow samples, light elevation (tenths of a degree; 0 unshadowed)
+using CurveKey = std::tuple<int, Technique, int, ShadowMode, int, int>;
 
 std::map<CurveKey, Curve> curves_of(const CostTable& table) {
     std::map<CurveKey, std::vector<const CostSample*>> grouped;
     for (const CostSample& s : table.rows)
-        grouped[{s.relief, s.technique, s.samples, s.shadow, s.shadow_samples}].push_back(&s);
+        grouped[{s.relief, s.technique, s.samples, s.shadow, s.shadow_samples,
+                 s.shadow == ShadowMode::none ? 0 : static_cast<int>(std::lround(s.light_elevation_deg * 10.0))}]
+            .push_back(&s);
     std::map<CurveKey, Curve> out;
     for (auto& [key, rows] : grouped) {
         std::sort(rows.begin(), rows.end(), [](const CostSample* a, const CostSample* b) { return a->angle_deg < b->angle_deg; });
@@ -152,10 +156,12 @@ std::map<CurveKey, Curve> curves_of(const CostTable& table) {
     // costs at least what any smaller one does at the same angle, so that
     // noise never makes more samples look cheaper than fewer.
     for (auto it = out.begin(); it != out.end(); ++it) {
-        const auto& [relief, technique, samples, shadow, shadow_samples] = it->first;
+        const auto& [relief, technique, samples, shadow, shadow_samples, elevation] = it->first;
         for (auto prev = out.begin(); prev != it; ++prev) {
-            const auto& [r2, t2, s2, sh2, ss2] = prev->first;
-            if (r2 != relief || t2 != technique || sh2 != shadow || ss2 != shadow_samples || s2 >= samples) continue;
+            const auto& [r2, t2, s2, sh2, ss2, e2] = prev->first;
+            if (r2 != relief || t2 != technique || sh2 != shadow || ss2 != shadow_samples || e2 != elevation ||
+                s2 >= samples)
+                continue;
             if (prev->second.angles != it->second.angles) continue;
             for (size_t k = 0; k < it->second.cost.size(); ++k)
                 it->second.cost[k] = std::max(it->second.cost[k], prev->second.cost[k]);
@@ -224,7 +230,7 @@ struct ScenePlanner::Impl {
     std::map<CurveKey, Curve> generic_curves;
     std::vector<std::map<CurveKey, Curve>> calibration_curves;
     std::vector<ObjectSurvey> surveys;
-    std::vector<Mesh> meshes;  // for units_per_uv
+    std::vector<float> units_per_uv;  // per object: world units per mesh uv unit
 
     // Where a material's predictions come from.
     struct Source {
@@ -280,8 +286,9 @@ Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const SceneDesc& scen
     m.calibrations = std::move(options.calibrations);
     for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
     for (const ObjectDesc& o : scene.objects) {
-        m.meshes.push_back(build_object_mesh(o.mesh));
-        m.surveys.push_back(survey_mesh(m.meshes.back()));
+        const Mesh mesh = build_object_mesh(o.mesh);
+        m.units_per_uv.push_back(mesh.units_per_uv);
+        m.surveys.push_back(survey_mesh(mesh));
     }
     return p;
 }
@@ -339,7 +346,7 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
     // per tile over the world units a tile spans (renderer: units_per_tile).
     const double model_scale = std::cbrt(std::fabs(static_cast<double>(glm::determinant(model3))));
     const double tiles_per_unit = material ? material->uv.area_scale<double>() /
-                                                 std::max(1e-12, static_cast<double>(meshes[oi].units_per_uv) * model_scale)
+                                                 std::max(1e-12, static_cast<double>(units_per_uv[oi]) * model_scale)
                                            : 1.0;
     const double texels_per_unit = (mi < reliefs.size() ? std::max(1, reliefs[mi].traced_width) : 1) * tiles_per_unit;
     // Mesh uv to texels of the traced texture (the uv transform's linear part).
@@ -422,10 +429,17 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
             pv.pv_parallax = pv.pv_offset = 1e9;
         }
         pv.lit = 0;
+        pv.light_elevation_deg = 90.0;
         for (size_t l = 0; l < light_count; ++l) {
             const LightDesc& light = scene.lights[l];
             const glm::vec3 to_light = light.kind == LightKind::point ? light.position - p : -light.direction;
-            if (glm::dot(n, to_light) > 0.0f) pv.lit |= 1u << l;
+            const float length = glm::length(to_light);
+            if (!(length > 0.0f)) continue;
+            const float sine = glm::dot(n, to_light) / length;
+            if (sine > 0.0f) {
+                pv.lit |= 1u << l;
+                pv.light_elevation_deg = std::min(pv.light_elevation_deg, glm::degrees(std::asin(static_cast<double>(std::min(sine, 1.0f)))));
+            }
         }
         lit_any |= pv.lit;
         points.push_back(pv);
@@ -579,7 +593,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
 
     // Normal mapping's error and whether LOD would turn it on everywhere.
     auto curve = [&](const Source& s, Technique t, int samples, ShadowMode shadow, int shadow_samples) -> const Curve* {
-        auto it = s.curves->find({s.relief, t, samples, shadow, shadow_samples});
+        auto it = s.curves->find({s.relief, t, samples, shadow, shadow_samples, 0});
         return it == s.curves->end() ? nullptr : &it->second;
     };
     const double depth_texels = relief.features.depth_texels;
@@ -679,8 +693,9 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
     // context runs, with the exact or the per-vertex view, with LOD or not.
     std::vector<Candidate> candidates;
     for (const auto& [k, c] : *source.curves) {
-        const auto& [r, t, samples, shadow, shadow_samples] = k;
+        const auto& [r, t, samples, shadow, shadow_samples, elevation] = k;
         (void)c;
+        (void)elevation;
         if (r != source.relief || shadow != ShadowMode::none) continue;
         const TechniqueInfo& info = technique_info(t);
         if (info.min_es_major > caps.es_major) continue;
@@ -727,22 +742,54 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
         shadow_source.relief = shadow_relief;
         double best_error = std::numeric_limits<double>::infinity();
         std::vector<std::tuple<double, int, double>> options_by_cost;  // cost, samples, error
+        // Per shadow sample count, its curves at each light elevation.
+        std::map<std::pair<std::pair<Technique, int>, int>, std::vector<std::pair<double, const Curve*>>> by_count;
         for (const auto& [k, c] : *source.curves) {
-            const auto& [r, t, samples, shadow, ss] = k;
+            const auto& [r, t, samples, shadow, ss, elevation] = k;
             if (r != shadow_relief || shadow != request.shadow) continue;
-            const Curve* base = curve(shadow_source, t, samples, ShadowMode::none, 0);
+            by_count[{{t, samples}, ss}].emplace_back(elevation / 10.0, &c);
+        }
+        for (auto& [count, curves] : by_count) {
+            std::sort(curves.begin(), curves.end(),
+                      [](const auto& a, const auto& b) { return a.first < b.first; });
+            const Curve* base = curve(shadow_source, count.first.first, count.first.second, ShadowMode::none, 0);
             double e_sum = 0.0, w_sum = 0.0, c_sum = 0.0;
             for (const PointView& p : points) {
                 if (!p.lit) continue;
-                e_sum += interpolate(c.angles, c.visibility, p.angle_deg) * p.weight;
+                // Between the measured elevations linearly; under the lowest,
+                // its error grown with the shadow's length (1 / tan).
+                const double e = p.light_elevation_deg;
+                double visibility = 0.0, cost = 0.0;
+                if (e <= curves.front().first || curves.size() == 1) {
+                    const Curve& c = *curves.front().second;
+                    const double grow = e < curves.front().first
+                                            ? std::tan(glm::radians(curves.front().first)) / std::tan(glm::radians(std::max(e, 0.5)))
+                                            : 1.0;
+                    visibility = std::min(1.0, interpolate(c.angles, c.visibility, p.angle_deg) * grow);
+                    cost = interpolate(c.angles, c.cost, p.angle_deg);
+                } else if (e >= curves.back().first) {
+                    const Curve& c = *curves.back().second;
+                    visibility = interpolate(c.angles, c.visibility, p.angle_deg);
+                    cost = interpolate(c.angles, c.cost, p.angle_deg);
+                } else {
+                    size_t i = 1;
+                    while (curves[i].first < e) ++i;
+                    const double t = (e - curves[i - 1].first) / (curves[i].first - curves[i - 1].first);
+                    const Curve& a = *curves[i - 1].second;
+                    const Curve& b = *curves[i].second;
+                    visibility = (1.0 - t) * interpolate(a.angles, a.visibility, p.angle_deg) +
+                                 t * interpolate(b.angles, b.visibility, p.angle_deg);
+                    cost = (1.0 - t) * interpolate(a.angles, a.cost, p.angle_deg) + t * interpolate(b.angles, b.cost, p.angle_deg);
+                }
+                e_sum += visibility * p.weight;
                 const double base_cost = base ? interpolate(base->angles, base->cost, p.angle_deg) : 1.0;
-                c_sum += std::max(0.0, interpolate(c.angles, c.cost, p.angle_deg) - base_cost) * p.weight;
+                c_sum += std::max(0.0, cost - base_cost) * p.weight;
                 w_sum += p.weight;
             }
             const double e = w_sum > 0.0 ? e_sum / w_sum : 0.0;
             const double added = w_sum > 0.0 ? c_sum / w_sum : 0.0;
             best_error = std::min(best_error, e);
-            if (e <= request.shadow_max_error) options_by_cost.emplace_back(added, ss, e);
+            if (e <= request.shadow_max_error) options_by_cost.emplace_back(added, count.second, e);
         }
         if (options_by_cost.empty())
             return make_error(who + ": " + field_path + ".shadow.max_error: " + fmt("%g", request.shadow_max_error) +
@@ -878,7 +925,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
             // The relief's volume: a plane's between bias and bias + scale
             // along its normal (object space), any other mesh's box grown
             // by the depth; then in world space.
-            const float units_per_tile = meshes[oi].units_per_uv / material.uv.area_scale<float>();
+            const float units_per_tile = units_per_uv[oi] / material.uv.area_scale<float>();
             const float bottom = material.bias() * units_per_tile;
             const float top = (material.bias() + material.height_scale) * units_per_tile;
             glm::vec3 box_lo = surveys[oi].box_min, box_hi = surveys[oi].box_max;
