@@ -31,7 +31,7 @@ namespace px {
 
 namespace {
 
-constexpr int kMaxSurfacePoints = 640;  // per object: enough for the percentiles, cheap per frame
+constexpr int kMaxSurfacePoints = 320;  // per object: enough for the percentiles, cheap per frame
 
 bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
@@ -50,6 +50,7 @@ struct SurfacePoint {
     glm::vec2 corner_uvs[3];  // mesh uv
     glm::vec3 bary;
     float area = 0.0f;  // object-space area this point stands for
+    std::size_t triangle = 0;  // points of one triangle are consecutive
 };
 
 struct ObjectSurvey {
@@ -98,6 +99,7 @@ ObjectSurvey survey_mesh(const Mesh& mesh) {
                 p.normal = glm::length(n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
                 p.tangent = v[0]->tangent;
                 p.area = area * static_cast<float>(stride) / static_cast<float>(points);
+                p.triangle = t;
                 s.points.push_back(p);
             }
     }
@@ -374,6 +376,10 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
     double mip_lo = std::numeric_limits<double>::max(), mip_hi = -std::numeric_limits<double>::max();
     unsigned lit_any = 0;
     const size_t light_count = std::min<size_t>(scene.lights.size(), 32);
+    std::size_t cached_triangle = static_cast<std::size_t>(-1);
+    glm::dvec3 corner_to_eye[3];
+    double density = texels_per_unit, area_scale = 1.0;
+    points.reserve(survey.points.size());
     for (const SurfacePoint& sp : survey.points) {
         const glm::vec3 p = glm::vec3(model * glm::vec4(sp.position, 1.0f));
         glm::vec3 n = normal_matrix * sp.normal;
@@ -394,20 +400,29 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
         const double pixel_world = pixel_angle * depth * (depth / distance);
         // Texels per world unit on this triangle: from its area in the
         // texture (uv transform and texture size) over its area in the world.
-        const glm::vec3 c0 = glm::vec3(model * glm::vec4(sp.corners[0], 1.0f));
-        const glm::vec3 c1 = glm::vec3(model * glm::vec4(sp.corners[1], 1.0f));
-        const glm::vec3 c2 = glm::vec3(model * glm::vec4(sp.corners[2], 1.0f));
-        const double world_triangle = 0.5 * glm::length(glm::cross(c1 - c0, c2 - c0));
-        const glm::dvec2 t1 = uv_to_texels * glm::dvec2(sp.corner_uvs[1] - sp.corner_uvs[0]);
-        const glm::dvec2 t2 = uv_to_texels * glm::dvec2(sp.corner_uvs[2] - sp.corner_uvs[0]);
-        const double texel_triangle = 0.5 * std::fabs(t1.x * t2.y - t1.y * t2.x);
-        const double density = world_triangle > 0.0 && texel_triangle > 0.0 ? std::sqrt(texel_triangle / world_triangle)
-                                                                             : texels_per_unit;
+        // Once per triangle (its points are consecutive): the corners in
+        // the world, the unit vectors from them to the eye, the density.
+        if (sp.triangle != cached_triangle) {
+            cached_triangle = sp.triangle;
+            glm::vec3 c[3];
+            for (int k = 0; k < 3; ++k) {
+                c[k] = glm::vec3(model * glm::vec4(sp.corners[k], 1.0f));
+                const glm::dvec3 to = glm::dvec3(camera.position - c[k]);
+                const double len = glm::length(to);
+                corner_to_eye[k] = len > 0.0 ? to / len : glm::dvec3(0.0);
+            }
+            const double world_triangle = 0.5 * glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
+            const glm::dvec2 t1 = uv_to_texels * glm::dvec2(sp.corner_uvs[1] - sp.corner_uvs[0]);
+            const glm::dvec2 t2 = uv_to_texels * glm::dvec2(sp.corner_uvs[2] - sp.corner_uvs[0]);
+            const double texel_triangle = 0.5 * std::fabs(t1.x * t2.y - t1.y * t2.x);
+            density = world_triangle > 0.0 && texel_triangle > 0.0 ? std::sqrt(texel_triangle / world_triangle)
+                                                                   : texels_per_unit;
+            const double object_triangle =
+                0.5 * static_cast<double>(glm::length(glm::cross(sp.corners[1] - sp.corners[0], sp.corners[2] - sp.corners[0])));
+            area_scale = world_triangle / std::max(1e-30, object_triangle);
+        }
         const double rho = density * pixel_world / cos_view;
-        const double world_area = 0.5 * glm::length(glm::cross(c1 - c0, c2 - c0)) /
-                                  std::max(1e-30, 0.5 * static_cast<double>(glm::length(glm::cross(
-                                                      sp.corners[1] - sp.corners[0], sp.corners[2] - sp.corners[0])))) *
-                                  sp.area;
+        const double world_area = area_scale * sp.area;
         PointView pv;
         pv.angle_deg = glm::degrees(std::acos(std::min(1.0, cos_view)));
         pv.rho = rho;
@@ -419,9 +434,13 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
         const glm::vec3 b = glm::cross(n, t);
         auto frame = [&](const glm::vec3& v) { return glm::dvec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); };
         const glm::dvec3 exact = glm::normalize(frame(to_eye));
-        glm::dvec3 interpolated = static_cast<double>(sp.bary.x) * glm::normalize(frame(camera.position - c0)) +
-                                  static_cast<double>(sp.bary.y) * glm::normalize(frame(camera.position - c1)) +
-                                  static_cast<double>(sp.bary.z) * glm::normalize(frame(camera.position - c2));
+        // The frame is orthonormal: interpolate the corners' unit vectors
+        // in the world, then express the result in it.
+        const glm::dvec3 mixed = static_cast<double>(sp.bary.x) * corner_to_eye[0] +
+                                 static_cast<double>(sp.bary.y) * corner_to_eye[1] +
+                                 static_cast<double>(sp.bary.z) * corner_to_eye[2];
+        const glm::dvec3 interpolated(glm::dot(mixed, glm::dvec3(t)), glm::dot(mixed, glm::dvec3(b)),
+                                      glm::dot(mixed, glm::dvec3(n)));
         if (interpolated.z > 1e-9) {
             pv.pv_parallax = glm::length(glm::dvec2(interpolated) / interpolated.z - glm::dvec2(exact) / exact.z);
             pv.pv_offset = glm::length(glm::dvec2(interpolated) - glm::dvec2(exact));
@@ -641,9 +660,10 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
         for (size_t k = 0; k < ys.size(); ++k) sum += b.weight[k] * ys[k];
         return b.total > 0.0 ? sum / b.total : 0.0;
     };
-    auto lod_blend = [&](const PointView& p) {
-        return std::clamp((std::log2(std::max(p.rho, 1e-9)) - fade_start) / request.lod_band, 0.0, 1.0);
-    };
+    // Each point's LOD fade (0: the technique, 1: normal mapping), once.
+    std::vector<double> blends(points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+        blends[i] = std::clamp((std::log2(std::max(points[i].rho, 1e-9)) - fade_start) / request.lod_band, 0.0, 1.0);
     auto predict_cost = [&](const Source& s, const Candidate& c) {
         Prediction out;
         const Curve* tc = curve(s, c.technique, c.samples, ShadowMode::none, 0);
@@ -657,7 +677,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
         }
         double sum = 0.0;
         for (size_t i = 0; i < points.size(); ++i)
-            sum += (lod_blend(points[i]) >= 1.0 ? 1.0 : value(b, tc->cost, i)) * points[i].weight;
+            sum += (blends[i] >= 1.0 ? 1.0 : value(b, tc->cost, i)) * points[i].weight;
         out.cost = b.total > 0.0 ? sum / b.total : 0.0;
         return out;
     };
@@ -676,8 +696,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
             double e = value(b, tc->error, i) * s.depth_scale;
             if (per_vertex) e += depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset : p.pv_parallax);
             if (c.lod) {
-                const double blend = lod_blend(p);
-                e = (1.0 - blend) * e + blend * value(bn, nc->error, i) * s.depth_scale;
+                e = (1.0 - blends[i]) * e + blends[i] * value(bn, nc->error, i) * s.depth_scale;
             }
             errors.emplace_back(e / std::max(1.0, p.rho), p.weight);
         }
