@@ -175,14 +175,18 @@ Result<CostTable> calibrate_material(const MaterialDesc& material, const std::st
     runs.push_back(std::move(*plain));
     std::vector<BenchMaterial> materials = o.materials;
     if (material.effects && material.effects->shadow != ShadowMode::none) {
-        BenchOptions s = o;
-        s.materials = {{name, material, base_dir, material.effects->shadow}};
-        s.techniques = {"pom"};
-        s.samples = {32};
-        s.shadow_samples = grid.shadow_samples;
-        Result<BenchRun> shadowed = run_bench(s, target, read_color, progress);
-        if (!shadowed) return shadowed.error();
-        runs.push_back(std::move(*shadowed));
+        // As the generic table: every shadow sample count at each light elevation.
+        for (double elevation : grid.light_elevations) {
+            BenchOptions s = o;
+            s.materials = {{name, material, base_dir, material.effects->shadow}};
+            s.techniques = {"pom"};
+            s.samples = {32};
+            s.shadow_samples = grid.shadow_samples;
+            s.light_elevation_deg = elevation;
+            Result<BenchRun> shadowed = run_bench(s, target, read_color, progress);
+            if (!shadowed) return shadowed.error();
+            runs.push_back(std::move(*shadowed));
+        }
     }
     Result<CostTable> table = cost_table_from_runs(runs, materials);
     if (!table) return table.error();

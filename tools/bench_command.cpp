@@ -38,6 +38,7 @@ struct BenchArgs {
     std::string planner_table;  // write the planner's cost table here instead of the bench report
     std::string showcase;       // a scene: the planner against every effect, instead of the sweep
     bool shadows_only = false;  // --planner-table: measure only the shadow rows, keep the file's others
+    std::string calibration_cache = "off";  // --showcase: plan with these calibrations
     std::string command;
 };
 
@@ -100,6 +101,7 @@ int run_showcase_bench(const BenchArgs& a, int width, int height) {
     if (!target) return fail(target.error().message);
     RendererOptions options;
     options.get_proc_address = platform::HeadlessContext::proc_loader();
+    options.planner.calibrations = load_calibrations(a.calibration_cache);
     Result<profiling::ShowcaseRun> run = profiling::run_showcase(
         *scene, options, a.frames > 0 ? a.frames : 9, target->target(), a.command,
         [](const std::string& what) { std::fprintf(stderr, "showcase: %s\n", what.c_str()); },
@@ -201,6 +203,8 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--planner-table", args->planner_table,
                     "Measure the effect planner's cost table and write it to this file "
                     "(the library's is src/planner/cost_table.json)");
+    cmd->add_option("--calibration-cache", args->calibration_cache,
+                    "With --showcase: plan with the calibrations in this folder (default off: the generic table)");
     cmd->add_flag("--shadows-only", args->shadows_only,
                   "With --planner-table: measure only the shadow rows, keeping the file's other rows");
     cmd->callback([args]() { set_exit_status(run(*args)); });
