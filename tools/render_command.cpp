@@ -85,7 +85,11 @@ int run_render(const RenderArgs& a) {
     if (!a.technique.empty()) {
         Result<Technique> t = parse_technique(a.technique);
         if (!t) return fail("--technique: " + t.error().message);
-        for (MaterialDesc& m : scene->materials) m.technique.technique = *t;
+        // An explicit technique for every material: effect requests give way.
+        for (MaterialDesc& m : scene->materials) {
+            m.technique.technique = *t;
+            m.effects.reset();
+        }
     }
 
     platform::ContextOptions options;
@@ -218,7 +222,7 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("scene", args->scene, "A scene file (.json) or the name of a built-in scene (default: default)");
     cmd->add_option("-o,--output", args->output, "Output PNG (default: out/<scene>.png)");
     cmd->add_option("--size", args->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-    cmd->add_option("--technique", args->technique, "Override every material's technique");
+    cmd->add_option("--technique", args->technique, "Override every material's technique (and any effects it declares)");
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed frames after the warm-up frame")->capture_default_str();
     cmd->add_option("--program-cache", args->program_cache,
