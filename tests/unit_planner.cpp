@@ -3,6 +3,7 @@
 // hand-written table (so that each rule is tested on numbers the test states).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "planner/cost_table.h"
@@ -400,6 +401,30 @@ TEST(Planner, CalibrationReplacesTheGenericTable) {
     ASSERT_TRUE((*p)[0].generic_key.has_value());
     EXPECT_EQ((*p)[0].generic_key->max_samples, 8);
     EXPECT_NE((*p)[0].prediction_source.find("calibrated"), std::string::npos);
+}
+
+TEST(Planner, ACalibrationWithNothingToChooseFromIsAnErrorNotACrash) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    ASSERT_TRUE(images.ok());
+    const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    // A cache file that matches the relief but holds only shadow rows.
+    CostTable calibration = small_table();
+    calibration.reliefs[0].features = relief.features;
+    calibration.rows.erase(std::remove_if(calibration.rows.begin(), calibration.rows.end(),
+                                          [](const CostSample& s) { return s.shadow == ShadowMode::none; }),
+                           calibration.rows.end());
+    PlannerOptions options;
+    const CostTable generic = small_table();
+    options.table = &generic;
+    options.calibrations = {calibration};
+    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
+    ASSERT_TRUE(planner.ok());
+    Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 128, 128);
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.error().message.find("measured no candidate"), std::string::npos) << p.error().message;
 }
 
 }  // namespace

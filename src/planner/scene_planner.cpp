@@ -862,6 +862,8 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
     double best_error = 0.0;
     std::string best_name;
     const std::optional<Candidate> pick = choose(source, chosen, best_error, best_name);
+    if (!pick && best_name.empty())
+        return make_error(who + ": the cost table (" + source.label + ") measured no candidate this context runs");
     if (!pick) {
         return make_error(who + ": " + field_path + ".parallax.max_error_texels: " + fmt("%g", request.max_error_texels) +
                           " texels is below what any technique reaches on this relief at view angles up to " +
