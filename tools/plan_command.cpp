@@ -89,8 +89,8 @@ int calibrate(const PlanArgs& a, const SceneDesc& scene, const std::string& dir,
         std::vector<double> at = bracketing_angles(grid.angles, range.first, std::min(range.second, 89.0));
         Result<CostTable> table = profiling::calibrate_material(
             *m, scene.base_dir, at, grid, a.command, target->target(), [&target]() { return target->read_pixels(); },
-            [&name](int done, int total, const std::string& what) {
-                show_progress(("calibrating '" + name + "'").c_str(), done, total, what);
+            [label = "calibrating '" + name + "'"](int done, int total, const std::string& what) {
+                show_progress(label.c_str(), done, total, what);
             });
         if (!table) return fail("calibrating material '" + name + "': " + table.error().message);
         const std::string file = calibration_file(dir, features);
