@@ -116,7 +116,4 @@ private:
 // Measures a material's relief the way the planner needs it, from its images.
 MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDesc& material);
 
-// "pom samples=32 shadow=soft x16 depth exact-view" plus a one-line reason list.
-std::string describe_plan(const ObjectPlan& plan);
-
 }  // namespace px

@@ -245,8 +245,7 @@ struct ScenePlanner::Impl {
     Source generic_source(const MaterialRelief& r) const;
     std::optional<Source> calibrated_source(const MaterialRelief& r) const;
 
-    Result<ObjectPlan> plan_object(size_t object_index, const CameraDesc& camera, int width, int height,
-                                   const std::vector<ObjectView>& views,
+    Result<ObjectPlan> plan_object(size_t object_index, const std::vector<ObjectView>& views,
                                    const std::vector<std::vector<PointView>>& points,
                                    const std::vector<glm::vec4>& screen_boxes,
                                    const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const;
@@ -499,7 +498,7 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const CameraDesc& camera, int
     std::vector<ObjectPlan> plans;
     plans.reserve(n);
     for (size_t i = 0; i < n; ++i) {
-        Result<ObjectPlan> p = m.plan_object(i, camera, width, height, views, points, screen_boxes, world_boxes);
+        Result<ObjectPlan> p = m.plan_object(i, views, points, screen_boxes, world_boxes);
         if (!p) return p.error();
         plans.push_back(std::move(*p));
     }
@@ -517,14 +516,10 @@ struct Prediction {
 
 }  // namespace
 
-Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& camera, int width, int height,
-                                                   const std::vector<ObjectView>& views,
+Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<ObjectView>& views,
                                                    const std::vector<std::vector<PointView>>& all_points,
                                                    const std::vector<glm::vec4>& screen_boxes,
                                                    const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const {
-    (void)camera;
-    (void)width;
-    (void)height;
     const ObjectDesc& object = scene.objects[oi];
     const size_t mi = scene.material_index(object.material);
     if (mi >= scene.materials.size())
@@ -994,7 +989,5 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const CameraDesc& 
     key = key.canonical();
     return plan;
 }
-
-std::string describe_plan(const ObjectPlan& plan) { return plan.key.describe(); }
 
 }  // namespace px
