@@ -9,7 +9,8 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
 # Debian 12 packages the build and the tests need.
 DEBIAN_PACKAGES := cmake make g++ libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
-	libglm-dev libstb-dev libjpeg62-turbo-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev glslang-tools glslang-dev
+	libglm-dev libstb-dev libjpeg62-turbo-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev glslang-tools glslang-dev \
+	libastcenc-dev libzstd-dev
 
 .PHONY: all deps configure build run test sanitize sanitize-deps clean
 

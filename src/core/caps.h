@@ -3,8 +3,10 @@
 // without any GL.
 #pragma once
 
+#include <cstdint>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace px {
 
@@ -26,6 +28,8 @@ struct Caps {
     std::string renderer;      // GL_RENDERER
     std::string vendor;        // GL_VENDOR
     std::set<std::string> extensions;
+    // GL_COMPRESSED_TEXTURE_FORMATS: what glCompressedTexImage2D takes here.
+    std::vector<std::uint32_t> compressed_formats;
     int max_texture_size = 2048;
     int max_varying_vectors = 8;
     bool fragment_highp = true;  // fragment shaders have highp float

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <vector>
 
 #include "gl/gl.h"
 
@@ -41,6 +42,13 @@ Caps query_caps() {
     std::istringstream ext(gl_string(GL_EXTENSIONS));
     for (std::string e; ext >> e;) c.extensions.insert(e);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &c.max_texture_size);
+    GLint formats = 0;
+    glGetIntegerv(GL_NUM_COMPRESSED_TEXTURE_FORMATS, &formats);
+    if (formats > 0 && formats <= 4096) {
+        std::vector<GLint> list(static_cast<std::size_t>(formats));
+        glGetIntegerv(GL_COMPRESSED_TEXTURE_FORMATS, list.data());
+        for (GLint f : list) c.compressed_formats.push_back(static_cast<std::uint32_t>(f));
+    }
     glGetIntegerv(GL_MAX_VARYING_VECTORS, &c.max_varying_vectors);
     c.fragment_mediump_float = precision(GL_FRAGMENT_SHADER, GL_MEDIUM_FLOAT);
     c.fragment_highp_float = precision(GL_FRAGMENT_SHADER, GL_HIGH_FLOAT);
