@@ -255,7 +255,7 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
             if (!truth) return with_context("reference for " + scene_name, truth.error());
             Result<MaterialImages> images = build_material_images(base->materials[0], base->base_dir);
             if (!images) return images.error();
-            const HeightField field = reference::quantized_8bit(images->field);
+            const HeightField field = images->traced;
 
             SceneDesc normal_scene = *base;
             normal_scene.materials[0].technique.technique = Technique::normal;

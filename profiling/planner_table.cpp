@@ -20,7 +20,7 @@ std::string relief_name(const std::string& scene) {
 Result<ReliefFeatures> features_of(const SceneDesc& scene) {
     Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
     if (!images) return images.error();
-    return measure_relief(quantized_8bit(images->field), scene.materials[0].height_scale);
+    return measure_relief(images->traced, scene.materials[0].height_scale);
 }
 
 }  // namespace

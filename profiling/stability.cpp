@@ -543,7 +543,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
             if (!ref) return with_context("case '" + c.name + "' reference", ref.error());
             Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
             if (!images) return images.error();
-            const HeightField traced = quantized_8bit(images->field);
+            const HeightField traced = images->traced;
             searches.push_back(search_bounds(*ref, traced, c.samples));
             filtered_bounds(*ref, traced, searches.back());
             refs.push_back(std::move(*ref));

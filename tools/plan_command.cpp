@@ -84,7 +84,7 @@ int calibrate(const PlanArgs& a, const SceneDesc& scene, const std::string& dir,
         if (!m || !(m->height_scale > 0.0f)) continue;
         Result<MaterialImages> images = build_material_images(*m, scene.base_dir);
         if (!images) return fail(images.error().message);
-        const ReliefFeatures features = measure_relief(quantized_8bit(images->field), m->height_scale);
+        const ReliefFeatures features = measure_relief(images->traced, m->height_scale);
         if (!(features.range > 0.0)) continue;
         std::vector<double> at = bracketing_angles(grid.angles, range.first, std::min(range.second, 89.0));
         Result<CostTable> table = profiling::calibrate_material(

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "render/offscreen_target.h"
 #include "render/renderer.h"
 #include "plan_report.h"
+#include "texture_assets.h"
 
 #include <glm/glm.hpp>
 
@@ -37,6 +39,8 @@ struct RenderArgs {
     std::string camera_path;        // "", orbit or dolly
     std::string calibration_cache;  // "": the default folder; off: none
     std::string program_cache;  // empty: default_program_cache_dir(); "off": none
+    std::string textures;       // "": the scene's own; else an asset variant (texture/convert.h)
+    bool decode_textures = false;
 };
 
 // The camera of frame i of n along a path: orbit turns it around the
@@ -92,12 +96,29 @@ int run_render(const RenderArgs& a) {
         }
     }
 
+    // --textures: every material's textures through the asset step into that
+    // variant (files in a temporary folder, removed at exit), drawn from them.
+    std::optional<TempFolder> texture_folder;
+    if (!a.textures.empty()) {
+        Result<AssetFormats> formats = asset_formats(a.textures);
+        if (!formats) return fail("--textures: " + formats.error().message);
+        Result<TempFolder> folder = TempFolder::create();
+        if (!folder) return fail(folder.error().message);
+        texture_folder.emplace(std::move(*folder));
+        ConvertOptions convert;
+        convert.formats = *formats;
+        Result<std::vector<ConvertedFile>> files =
+            convert_scene_textures(*scene, convert, texture_folder->path(), show_progress);
+        if (!files) return fail(in_scene_file(scene->source, "--textures " + a.textures + ": " + files.error().message));
+    }
+
     platform::ContextOptions options;
     options.es_major = a.es;
     Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
+    renderer_options.force_texture_decode = a.decode_textures;
     renderer_options.planner.calibrations =
         load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
@@ -192,6 +213,13 @@ int run_render(const RenderArgs& a) {
             for (const std::string& note : r.notes) std::printf("             note: %s\n", note.c_str());
         }
     }
+    for (const std::string& note : (*renderer)->texture_notes()) std::printf("texture    note: %s\n", note.c_str());
+    for (const TextureUpload& u : (*renderer)->texture_uploads()) {
+        if (u.container == "image" && a.textures.empty() && !a.decode_textures) continue;
+        std::printf("texture    %s: %s %s %ux%u, %d level(s), %llu bytes on the GPU: %s\n", u.what.c_str(),
+                    u.container.c_str(), format_name(u.format), u.width, u.height, u.levels,
+                    static_cast<unsigned long long>(u.gpu_bytes), u.path.c_str());
+    }
     std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
     std::printf("frame      %.2f ms median of %d (min %.2f, max %.2f), %d program(s); wall clock around glFinish\n",
                 times_ms[times_ms.size() / 2], a.frames, times_ms.front(), times_ms.back(),
@@ -228,6 +256,11 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--program-cache", args->program_cache,
                      "Folder of cached program binaries, or 'off' (default: $XDG_CACHE_HOME/parallaxes/programs "
                      "or ~/.cache/parallaxes/programs)");
+    cmd->add_option("--textures", args->textures,
+                    "Draw from this variant of the scene's textures, made by the asset step (raw, etc1, etc2, astc, "
+                    "astc_WxH, pvrtc, bc), and print per texture whether it went up directly or was decoded on the CPU");
+    cmd->add_flag("--decode-textures", args->decode_textures,
+                  "Decode every texture file on the CPU (RGBA8 upload) even where the context samples its format");
     cmd->add_flag("--list", args->list, "List techniques and built-in scenes");
     cmd->add_flag("--explain", args->explain,
                   "Print the plan per object: effects asked for, variant chosen, prediction, what was dropped and why");

@@ -10,8 +10,15 @@ uniform mediump sampler2D u_normal_map;
 // The traced height. GLSL ES 1.00 always reads it from its own texture, bound
 // at base level only (see below); when packed, that texture is the packed
 // normal map again, without mips, and height is its alpha.
+// An 11-bit height map (EAC R11) is read at highp where the exact walk
+// needs every one of its 2048 levels apart (fp16 keeps 11 bits, not 2048
+// values of v / 2047).
 #if defined(PX_READS_HEIGHT) && (!defined(PX_PACKED_HEIGHT) || PX_ES < 3)
+#ifdef PX_HEIGHT_11BIT
+uniform highp sampler2D u_height_map;
+#else
 uniform mediump sampler2D u_height_map;
+#endif
 #endif
 
 uniform mediump float u_height_scale;     // relief depth, tile units

@@ -50,7 +50,11 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     mediump vec4 normal_texel = texture2D(u_normal_map, uv);
 #endif
 #endif
-#ifdef PX_NORMAL_MAP
+#if defined(PX_NORMAL_MAP) && defined(PX_NORMAL_RG)
+    // Two-channel normal maps (EAC RG11, BC5) hold x and y; z >= 0 follows.
+    mediump vec2 normal_xy = normal_texel.xy * 2.0 - 1.0;
+    mediump vec3 normal = normalize(vec3(normal_xy, sqrt(max(1.0 - dot(normal_xy, normal_xy), 0.0))));
+#elif defined(PX_NORMAL_MAP)
     mediump vec3 normal = normalize(normal_texel.xyz * 2.0 - 1.0);
 #else
     mediump vec3 normal = vec3(0.0, 0.0, 1.0);

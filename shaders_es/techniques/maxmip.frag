@@ -30,7 +30,7 @@
 
 // The max pyramid: all levels uploaded as mip levels 0..u_max_levels-1,
 // read with texelFetch only (GL_NEAREST_MIPMAP_NEAREST keeps it complete).
-// 8-bit maxima (R): mediump tells every 8-bit value apart (px_exact_8bit
+// 8-bit maxima (R): mediump tells every 8-bit value apart (px_exact_height
 // makes each one exactly byte / 255 again).
 uniform mediump sampler2D u_max_map;
 uniform mediump int u_max_levels;  // levels of u_max_map: log2(max(width, height)) + 1
@@ -42,14 +42,28 @@ uniform mediump int u_max_levels;  // levels of u_max_map: log2(max(width, heigh
 // to 2.4e-4 off), and on a grazing ray a height that far off moves the hit
 // by texels. Rounding to the nearest 1/255 restores the exact value (the
 // same for the pyramid and the corners, so the bound stays conservative).
-PX_HIGHP float px_exact_8bit(PX_HIGHP float texel) {
+// An 11-bit height map (PX_HEIGHT_11BIT, EAC R11) is snapped to v / 2047
+// the same way, its height read at highp; its pyramid holds each maximum
+// in two exact 8-bit channels (R * 256 + G), divided by the same 2047.0.
+#ifdef PX_HEIGHT_11BIT
+PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
+    return floor(texel * 2047.0 + 0.5) / 2047.0;
+}
+#else
+PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
     return floor(texel * 255.0 + 0.5) / 255.0;
 }
+#endif
 
 // The max of `node` (integer, from the tile origin) at `level`; the index
 // wraps with a mask (sizes are powers of two, so this is GL_REPEAT).
 PX_HIGHP float px_node_max(int level, highp ivec2 node, highp ivec2 shift, highp ivec2 mask) {
-    return px_exact_8bit(texelFetch(u_max_map, node & (mask >> shift), level).r);
+#ifdef PX_HEIGHT_11BIT
+    mediump vec2 t = texelFetch(u_max_map, node & (mask >> shift), level).rg;
+    return (floor(t.r * 255.0 + 0.5) * 256.0 + floor(t.g * 255.0 + 0.5)) / 2047.0;
+#else
+    return px_exact_height(texelFetch(u_max_map, node & (mask >> shift), level).r);
+#endif
 }
 
 // Cells only move forward along the ray: a rounded position must never send
@@ -156,10 +170,10 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
             PX_HIGHP vec2 p1 = clamp(o + t_stop * dir - lo_rel, 0.0, 1.0);
             highp ivec2 c0 = cell & mask;
             highp ivec2 c1 = (cell + 1) & mask;
-            PX_HIGHP vec4 corners = vec4(px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, c0, 0).PX_HEIGHT_CHANNEL),
-                                         px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c1.x, c0.y), 0).PX_HEIGHT_CHANNEL),
-                                         px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c0.x, c1.y), 0).PX_HEIGHT_CHANNEL),
-                                         px_exact_8bit(texelFetch(PX_HEIGHT_SAMPLER, c1, 0).PX_HEIGHT_CHANNEL));
+            PX_HIGHP vec4 corners = vec4(px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, c0, 0).PX_HEIGHT_CHANNEL),
+                                         px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c1.x, c0.y), 0).PX_HEIGHT_CHANNEL),
+                                         px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c0.x, c1.y), 0).PX_HEIGHT_CHANNEL),
+                                         px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, c1, 0).PX_HEIGHT_CHANNEL));
             PX_HIGHP float s;
             if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, corners, s)) {
                 t = t + s * (t_stop - t);

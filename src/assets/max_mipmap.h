@@ -33,17 +33,24 @@ struct MaxMipmap {
     // (R = max height * 255), row 0 = v = 0; levels.back() is 1 x 1. Ready to
     // upload as mip level k of a texture read with texelFetch.
     std::vector<Image> levels;
+    // 8: one channel per level (byte = max * 255). 11: two (R * 256 + G =
+    // max * 2047), for 11-bit height maps (EAC R11).
+    int bits = 8;
 
     int level_count() const { return static_cast<int>(levels.size()); }
-    // The 8-bit max of node (x, y) of `level`; x and y wrap (any integer).
+    // The max of node (x, y) of `level` in texel steps (0..255 or 0..2047);
+    // x and y wrap (any integer).
+    int max_value(int level, long long x, long long y) const;
+    // The same clamped to a byte (8-bit pyramids: the value itself).
     std::uint8_t max_byte(int level, long long x, long long y) const;
-    // The same as a normalised height (byte / 255), as the shader reads it.
+    // The same as a normalised height (value / 255 or / 2047), as the shader reads it.
     float max_height(int level, long long x, long long y) const;
 };
 
 // Builds the pyramid from the field quantised to 8 bits (round(h * 255), h
 // clamped to [0, 1]). Errors: an empty field, a width or height that is not a
 // power of two (the message names the size), texel count not width * height.
-Result<MaxMipmap> build_max_mipmap(const HeightField& field);
+// `bits`: 8 (heights quantised to byte / 255) or 11 (v / 2047).
+Result<MaxMipmap> build_max_mipmap(const HeightField& field, int bits = 8);
 
 }  // namespace px

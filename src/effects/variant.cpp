@@ -17,6 +17,10 @@ VariantKey VariantKey::canonical() const {
     VariantKey k = *this;
     if (!has_option(k.technique, kOptHeight)) k.packed_height = false;
     if (!has_option(k.technique, kOptHeight)) k.exact_view = false;
+    if (!(technique_info(k.technique).options & kOptNormals)) k.normal_rg = false;
+    // Only the exact walk snaps heights to their texel grid.
+    if (!has_option(k.technique, kOptSteps)) k.height_11bit = false;
+    if (k.packed_height) k.height_11bit = false;
     if (technique_info(k.technique).always_exact_view) k.exact_view = true;
     if (!has_option(k.technique, kOptSamples) && !has_option(k.technique, kOptSteps)) k.max_samples = 0;
     if (!has_option(k.technique, kOptRefine)) k.refine_steps = 0;
@@ -44,6 +48,8 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.debug_output & 0x7) << 44;  // 3 bits
     b |= static_cast<std::uint64_t>(k.exact_view) << 47;
     b |= static_cast<std::uint64_t>(k.no_fragment_highp) << 48;
+    b |= static_cast<std::uint64_t>(k.normal_rg) << 49;
+    b |= static_cast<std::uint64_t>(k.height_11bit) << 50;
     return b;
 }
 
@@ -57,6 +63,8 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (info.options & kOptHeight) d.push_back({"PX_READS_HEIGHT", ""});
     if (k.packed_height) d.push_back({"PX_PACKED_HEIGHT", ""});
     if (k.exact_view) d.push_back({"PX_EXACT_VIEW", ""});
+    if (k.normal_rg) d.push_back({"PX_NORMAL_RG", ""});
+    if (k.height_11bit) d.push_back({"PX_HEIGHT_11BIT", ""});
     // The loop bound: samples of a linear search, or steps of an exact walk.
     if (info.options & (kOptSamples | kOptSteps)) d.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
     if (info.options & kOptRefine) d.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
@@ -91,9 +99,19 @@ std::string VariantKey::describe() const {
     if (k.lod) s << " lod";
     if (k.exact_view) s << " exact-view";
     if (has_option(k.technique, kOptHeight)) s << (k.packed_height ? " packed" : " separate-height");
+    if (k.normal_rg) s << " normal-rg";
+    if (k.height_11bit) s << " height-11bit";
     if (k.debug_output) s << " debug" << int(k.debug_output);
     if (k.no_fragment_highp) s << " no-fragment-highp";
     return s.str();
+}
+
+VariantKey VariantKey::with_layout(const TextureLayout& layout) const {
+    VariantKey k = *this;
+    k.packed_height = layout.packed_height;
+    k.normal_rg = layout.normal_rg;
+    k.height_11bit = layout.height_11bit;
+    return k;
 }
 
 std::vector<VariantKey> enumerate_variants(int es_major) {
@@ -127,6 +145,15 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                         k.exact_view = true;
                         add(k);
                     }
+        // Compressed-texture layouts: two-channel normals, 11-bit heights.
+        for (int layout = 0; layout < 2; ++layout) {
+            VariantKey k = base;
+            k.packed_height = false;
+            k.normal_rg = true;
+            k.height_11bit = layout != 0;
+            k.shadow = ShadowMode::soft;
+            add(k);
+        }
         // Debug outputs, with every option the technique has switched on.
         for (int debug = 1; debug <= 4; ++debug) {
             VariantKey k = base;

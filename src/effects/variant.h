@@ -18,6 +18,15 @@ struct ShaderDefine {
     std::string value;  // empty: "#define NAME"
 };
 
+// How a material's textures hold what the shaders read; set at load from
+// the texture files (scene/material_images.h) and applied to every variant
+// drawn with the material.
+struct TextureLayout {
+    bool packed_height = true;  // height in the normal map's alpha (RGBA8 sources)
+    bool normal_rg = false;     // normal x, y in R, G (EAC RG11, BC5); z = sqrt(1 - x^2 - y^2)
+    bool height_11bit = false;  // traced height has 11-bit texels (EAC R11): the exact walk snaps to 1/2047
+};
+
 struct VariantKey {
     Technique technique = Technique::normal;
     ShadowMode shadow = ShadowMode::none;
@@ -25,6 +34,8 @@ struct VariantKey {
     bool lod = false;
     bool packed_height = true;    // height in the normal map's alpha
     bool exact_view = false;      // PX_EXACT_VIEW: highp unnormalised view vector
+    bool normal_rg = false;       // PX_NORMAL_RG: two-channel normal map, z reconstructed
+    bool height_11bit = false;    // PX_HEIGHT_11BIT: highp height reads snapped to 1/2047 (maxmip)
     std::uint8_t es_major = 3;    // 2: GLSL ES 1.00, 3: GLSL ES 3.00
     // GLSL ES 1.00 only: the fragment stage has no highp (PX_NO_FRAGMENT_HIGHP),
     // as on Mali-400-class GPUs; PX_HIGHP declarations there are mediump.
@@ -46,6 +57,9 @@ struct VariantKey {
     std::vector<ShaderDefine> defines() const;
     std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
     std::string describe() const;  // "pom es3 samples=32 shadow=soft depth packed"
+
+    // The key with a material's texture layout applied.
+    VariantKey with_layout(const TextureLayout& layout) const;
 };
 
 // Every variant the program can build for an ES version on a context that

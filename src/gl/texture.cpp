@@ -5,6 +5,7 @@
 #include "core/numeric.h"
 #include "gl/errors.h"
 #include "gl/state.h"
+#include "texture/decode.h"
 
 namespace px {
 
@@ -72,9 +73,11 @@ Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, co
     Texture t = new_bound_texture(pyramid.width, pyramid.height, caps);
     for (int level = 0; level < pyramid.level_count(); ++level) {
         const Image& image = pyramid.levels[static_cast<size_t>(level)];
-        if (image.channels != 1) return make_error(what + ": max pyramid levels must have one channel");
-        glTexImage2D(GL_TEXTURE_2D, level, GL_R8, image.width, image.height, 0, GL_RED, GL_UNSIGNED_BYTE,
-                     image.pixels.data());
+        const int channels = pyramid.bits == 11 ? 2 : 1;
+        if (image.channels != channels)
+            return make_error(what + ": max pyramid levels must have " + std::to_string(channels) + " channel(s)");
+        glTexImage2D(GL_TEXTURE_2D, level, channels == 2 ? GL_RG8 : GL_R8, image.width, image.height, 0,
+                     channels == 2 ? GL_RG : GL_RED, GL_UNSIGNED_BYTE, image.pixels.data());
     }
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, pyramid.level_count() - 1);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
@@ -82,6 +85,104 @@ Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, co
     glBindTexture(GL_TEXTURE_2D, 0);
     Status s = check_gl("uploading " + what);
     if (!s) return s.error();
+    return t;
+}
+
+Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
+                                    bool mipmaps, bool force_decode, TextureUpload* report) {
+    if (data.levels.empty() || data.width < 1 || data.height < 1) return make_error(what + ": empty texture");
+    const std::string size = std::to_string(data.width) + "x" + std::to_string(data.height);
+    if (data.width > static_cast<std::uint32_t>(caps.max_texture_size) ||
+        data.height > static_cast<std::uint32_t>(caps.max_texture_size))
+        return make_error(what + ": " + size + " exceeds this context's GL_MAX_TEXTURE_SIZE of " +
+                          std::to_string(caps.max_texture_size));
+    const bool pot = is_power_of_two(data.width) && is_power_of_two(data.height);
+    if (!caps.npot_mipmaps() && !pot)
+        return make_error(what + ": " + size +
+                          " is not a power of two, and this OpenGL ES 2.0 context lacks GL_OES_texture_npot, "
+                          "so it can neither repeat nor mipmap it");
+    const FormatInfo& f = format_info(data.format);
+    const bool direct = !force_decode && context_samples(caps, data.format) &&
+                        // ES 2.0 has no RG textures without GL_EXT_texture_rg: expand on the CPU.
+                        !(data.format == TextureFormat::rg8 && !caps.context_es3() && !caps.has("GL_EXT_texture_rg"));
+    const int chain = full_mip_count(data.width, data.height);
+    const int given = static_cast<int>(data.levels.size());
+    // ES 2.0 has no GL_TEXTURE_MAX_LEVEL: a partial chain is incomplete there.
+    const bool use_mips = mipmaps && given > 1 && (given == chain || caps.context_es3());
+    const int levels = use_mips ? given : 1;
+    Texture t = new_bound_texture(static_cast<int>(data.width), static_cast<int>(data.height), caps);
+    std::uint64_t gpu_bytes = 0, file_bytes = 0;
+    for (int level = 0; level < given; ++level)
+        file_bytes += data.levels[static_cast<size_t>(level)].image_bytes;
+    for (int level = 0; level < levels; ++level) {
+        const TextureLevel& l = data.levels[static_cast<size_t>(level)];
+        const GLsizei w = static_cast<GLsizei>(l.width), h = static_cast<GLsizei>(l.height);
+        if (direct && f.compressed()) {
+            glCompressedTexImage2D(GL_TEXTURE_2D, level, upload_internal_format(caps, data.format), w, h, 0,
+                                   static_cast<GLsizei>(l.image_bytes), data.image(static_cast<size_t>(level)));
+            gpu_bytes += l.image_bytes;
+        } else if (direct) {
+            GLenum format = GL_RGBA;
+            GLint internal = GL_RGBA;
+            switch (data.format) {
+            case TextureFormat::r8:
+                format = caps.context_es3() ? GL_RED : GL_LUMINANCE;
+                internal = caps.context_es3() ? GL_R8 : GL_LUMINANCE;
+                break;
+            case TextureFormat::rg8:
+                format = GL_RG;
+                internal = caps.context_es3() ? GL_RG8 : GL_RG;
+                break;
+            case TextureFormat::rgb8:
+                format = GL_RGB;
+                internal = caps.context_es3() ? GL_RGB8 : GL_RGB;
+                break;
+            default:
+                format = GL_RGBA;
+                internal = caps.context_es3() ? GL_RGBA8 : GL_RGBA;
+                break;
+            }
+            glTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0, format, GL_UNSIGNED_BYTE,
+                         data.image(static_cast<size_t>(level)));
+            gpu_bytes += l.image_bytes;
+        } else {
+            Result<Image> rgba = decode_rgba8(data, static_cast<size_t>(level));
+            if (!rgba) return with_context(what + " level " + std::to_string(level), rgba.error());
+            glTexImage2D(GL_TEXTURE_2D, level, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba->pixels.data());
+            gpu_bytes += rgba->pixels.size();
+        }
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, use_mips ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    if (caps.context_es3()) glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    Status s = check_gl("uploading " + what + " (" + format_name(data.format) + ")");
+    if (!s) return s.error();
+    if (report) {
+        report->what = what;
+        report->container = container_name(data.container);
+        report->format = data.format;
+        report->width = data.width;
+        report->height = data.height;
+        report->levels = levels;
+        report->direct = direct;
+        report->file_bytes = file_bytes;
+        report->gpu_bytes = gpu_bytes;
+        if (direct)
+            report->path = f.compressed() ? "direct (glCompressedTexImage2D)" : "direct (glTexImage2D)";
+        else if (force_decode)
+            report->path = "CPU decode to RGBA8 (decoding forced)";
+        else if (data.format == TextureFormat::rg8)
+            report->path = "expanded to RGBA8 (no GL_EXT_texture_rg)";
+        else
+            report->path = std::string("CPU decode to RGBA8 (this context does not sample ") + format_name(data.format) +
+                           "; it needs " + format_requirement(data.format) + ")";
+        if (mipmaps && given < chain)
+            report->path += use_mips ? "; " + std::to_string(given) + " of " + std::to_string(chain) + " mip levels"
+                                     : "; no mip chain: sampled without mipmaps";
+    }
     return t;
 }
 

@@ -8,6 +8,7 @@
 #include "core/result.h"
 #include "gl/caps.h"
 #include "gl/handles.h"
+#include "texture/texture_data.h"
 
 namespace px {
 
@@ -24,9 +25,35 @@ struct Texture {
 // tracing loops on GLSL ES 1.00, which has no gradient sampling).
 Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps = true);
 
+// How a texture file's data reached the GPU, for the render's report.
+struct TextureUpload {
+    std::string what;        // "material 'stone' height (file 'h.ktx')"
+    std::string container;   // "KTX 1.1", ..., or "image"
+    TextureFormat format = TextureFormat::rgba8;  // as the file holds it
+    std::uint32_t width = 0, height = 0;
+    int levels = 0;          // uploaded
+    bool direct = true;      // the context samples the format: uploaded as it is
+    std::string path;        // "direct (glCompressedTexImage2D)", "CPU decode to RGBA8 (needs ...)"
+    std::uint64_t file_bytes = 0;  // the data as given, all levels
+    std::uint64_t gpu_bytes = 0;   // what the upload handed the GPU, all levels
+};
+
+// A TextureData (texture/texture_data.h), level 0 of layer 0, face 0 and
+// every level the file gives below it, as they are: through
+// glCompressedTexImage2D where the context samples the format
+// (context_samples), otherwise decoded on the CPU and uploaded as RGBA8
+// (force_decode: always). Levels fewer than the full chain are used as
+// given (ES 3.0: GL_TEXTURE_MAX_LEVEL; ES 2.0: the base level alone,
+// sampled without mipmaps). mipmaps = false: the base level only,
+// GL_LINEAR. Errors: an empty or oversized texture, a non-power-of-two size
+// on an ES 2.0 context without GL_OES_texture_npot, a GL error.
+Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
+                                    bool mipmaps, bool force_decode, TextureUpload* report);
+
 // The maximum mip-map pyramid (assets/max_mipmap.h): every level uploaded
 // as it is (never glGenerateMipmap, which averages), GL_R8, nearest
-// filtering, read with texelFetch. OpenGL ES 3.0 only.
+// filtering, read with texelFetch. OpenGL ES 3.0 only. 11-bit pyramids go
+// up as GL_RG8 (R = high bits, G = low byte).
 Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, const std::string& what);
 
 // Binds the texture to GL_TEXTURE_2D of the active unit.

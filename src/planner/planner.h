@@ -82,8 +82,9 @@ struct ObjectPlan {
 
 // Per material, what the planner knows of its relief, measured once.
 struct MaterialRelief {
-    ReliefFeatures features;  // of the traced field, 8-bit as the GPU samples it
+    ReliefFeatures features;  // of the traced field as the GPU samples it
     int traced_width = 0, traced_height = 0;
+    TextureLayout layout;     // applied to every variant the material draws with
 };
 
 struct PlannerOptions {

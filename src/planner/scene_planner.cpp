@@ -258,6 +258,7 @@ ScenePlanner::~ScenePlanner() = default;
 
 MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDesc& material) {
     MaterialRelief r;
+    r.layout.packed_height = material.pack_height_in_normal_alpha;
     r.traced_width = traced_8bit.width;
     r.traced_height = traced_8bit.height;
     r.features = measure_relief(traced_8bit, material.height_scale);
@@ -500,6 +501,8 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const CameraDesc& camera, int
     for (size_t i = 0; i < n; ++i) {
         Result<ObjectPlan> p = m.plan_object(i, views, points, screen_boxes, world_boxes);
         if (!p) return p.error();
+        const size_t mi = m.scene.material_index(m.scene.objects[i].material);
+        if (mi < m.reliefs.size()) p->key = p->key.with_layout(m.reliefs[mi].layout);
         plans.push_back(std::move(*p));
     }
     return plans;

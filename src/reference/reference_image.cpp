@@ -312,6 +312,8 @@ void shade_pixel(const Frame& f, int x, int y, const PixelOut& out, const PlaneD
     // px_shade: ambient * albedo + per light visibility * colour * (albedo N.L + specular).
     const glm::dvec3 albedo = glm::dvec3(sample_bilinear(m.images.albedo, hit.uv));
     glm::dvec3 normal = glm::dvec3(sample_bilinear(m.images.normal, hit.uv)) * 2.0 - 1.0;
+    if (m.images.layout.normal_rg)  // two-channel normal maps: z follows from x and y, as the shader does
+        normal.z = std::sqrt(std::max(1.0 - normal.x * normal.x - normal.y * normal.y, 0.0));
     normal = glm::length(normal) > 0.0 ? glm::normalize(normal) : glm::dvec3(0.0, 0.0, 1.0);
     glm::dvec3 color = f.ambient * albedo;
     double first_visibility = 1.0;
@@ -436,10 +438,10 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         MaterialData& m = materials[mi];
         if (!built[mi]) {
             const MaterialDesc& desc = scene.materials[mi];
-            Result<MaterialImages> images = build_material_images(desc, scene.base_dir);
+            Result<MaterialImages> images = build_material_images(desc, scene.base_dir, options.images);
             if (!images) return images.error();
             m.images = std::move(*images);
-            m.traced = quantized_8bit(m.images.field);
+            m.traced = m.images.traced;
             m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
             m.uv_matrix = desc.uv.matrix<double>();
             m.uv_offset = glm::dvec2(desc.uv.offset);

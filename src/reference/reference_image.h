@@ -6,6 +6,8 @@
 // (reference/metrics.h).
 #pragma once
 
+#include "scene/material_images.h"
+
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -29,6 +31,9 @@ struct ReferenceOptions {
     // hit falls past the far or before the near plane). Off, only the nearest
     // polygon is traced, as before the option.
     bool depth_composite = false;
+    // Build each material's images as the renderer drawing the comparison
+    // did (Renderer::material_image_options): the same resampled textures.
+    MaterialImageOptions images;
 };
 
 struct ReferenceImage {

@@ -14,6 +14,8 @@
 #include "gl/errors.h"
 #include "gl/program.h"
 #include "render/target.h"
+#include "gl/texture.h"
+#include "scene/material_images.h"
 #include "scene/scene.h"
 
 namespace px {
@@ -44,6 +46,12 @@ struct RendererOptions {
     // here (`load`) before compiling and stored (`store`) after a fresh
     // link. Empty: every program is compiled from source.
     ProgramBinaryStore program_binaries;
+    // Decode every texture file on the CPU and upload RGBA8, even where the
+    // context samples its format (tests of the fallback path).
+    bool force_texture_decode = false;
+    // Draw as a context without GL_OES_texture_npot would (ES 2.0): every
+    // non-power-of-two texture is resampled (tests of that path).
+    bool emulate_no_texture_npot = false;
 };
 
 // What the renderer decided for one object: shown by `parallax render` and
@@ -97,6 +105,14 @@ public:
     Status prepare(const std::vector<std::vector<ObjectPlan>>& frames, const RenderTarget& warm_target);
 
     const std::vector<DrawReport>& reports() const { return reports_; }
+    // How each texture of the loaded scene reached the GPU (texture files:
+    // direct upload or CPU decode; images: RGBA8), in load order.
+    const std::vector<TextureUpload>& texture_uploads() const { return texture_uploads_; }
+    // What was resampled at load and why (MaterialImages::notes), per material.
+    const std::vector<std::string>& texture_notes() const { return texture_notes_; }
+    // The options the exact reference must build its images with to see
+    // the textures this context draws (scene/material_images.h).
+    MaterialImageOptions material_image_options() const;
     size_t program_count() const;
     // How the loaded scene's programs were made (compiled, from binaries,
     // stored entries rejected); all zero before a load.
@@ -120,6 +136,9 @@ private:
     ProgramBinarySupport binary_support_;
     std::unique_ptr<GpuScene> scene_;
     std::vector<DrawReport> reports_;
+    std::vector<TextureUpload> texture_uploads_;
+    std::vector<std::string> texture_notes_;
+    bool force_texture_decode_ = false;
 };
 
 }  // namespace px

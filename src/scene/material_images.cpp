@@ -4,8 +4,11 @@
 #include "core/limits.h"
 #include "core/numeric.h"
 #include "scene/scene_format.h"
+#include "texture/containers.h"
+#include "texture/decode.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace px {
@@ -17,6 +20,22 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
     return base_dir + "/" + path;
 }
 
+}  // namespace
+
+Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir);
+
+bool is_texture_file(const std::string& path) {
+    auto ends = [&](const char* suffix) {
+        const std::string s(suffix);
+        if (path.size() < s.size()) return false;
+        for (size_t i = 0; i < s.size(); ++i)
+            if (std::tolower(static_cast<unsigned char>(path[path.size() - s.size() + i])) != s[i]) return false;
+        return true;
+    };
+    return ends(".ktx") || ends(".ktx2") || ends(".pvr");
+}
+
+namespace {
 
 Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir) {
     const TextureSource& s = m.height;
@@ -30,6 +49,7 @@ Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_d
         }
         case TextureSource::Kind::procedural: return make_height_field(s.field);
         case TextureSource::Kind::file: {
+            if (is_texture_file(s.path)) return make_error("internal: a texture file is loaded by build_material_images");
             Result<Image> image = load_image(resolve(base_dir, s.path), 1);
             if (!image) return image.error();
             return height_field_from_image(*image, s.convention);
@@ -51,9 +71,13 @@ Result<ImageInfo> source_size(const TextureSource& s, const std::string& base_di
         case TextureSource::Kind::none:
         case TextureSource::Kind::color: return ImageInfo{4, 4};
         case TextureSource::Kind::procedural: return ImageInfo{s.field.size, s.field.size};
-        case TextureSource::Kind::file:
+        case TextureSource::Kind::file: {
             if (!read_file_headers) return ImageInfo{0, 0};
-            return read_image_info(resolve(base_dir, s.path));
+            if (!is_texture_file(s.path)) return read_image_info(resolve(base_dir, s.path));
+            Result<TextureData> t = read_texture_file(resolve(base_dir, s.path));
+            if (!t) return t.error();
+            return ImageInfo{static_cast<int>(t->width), static_cast<int>(t->height)};
+        }
     }
     return ImageInfo{0, 0};
 }
@@ -119,19 +143,163 @@ Status check_scene_resources(const SceneDesc& scene, bool read_file_headers) {
     return {};
 }
 
-Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::string& base_dir) {
+namespace {
+
+int next_power_of_two(int v) {
+    int p = 1;
+    while (p < v && p < kMaxTextureSize) p *= 2;
+    return p;
+}
+
+HeightField resample_field(const HeightField& f, int w, int h) {
+    HeightField out;
+    out.width = w;
+    out.height = h;
+    out.texels.resize(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            out.ref(x, y) = static_cast<float>(f.sample_bilinear((x + 0.5) / w, (y + 0.5) / h));
+    return out;
+}
+
+Image resample_image(const Image& img, int w, int h) {
+    Image out;
+    out.width = w;
+    out.height = h;
+    out.channels = img.channels;
+    out.pixels.resize(static_cast<size_t>(w) * h * img.channels);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const BilinearTaps t = bilinear_taps((x + 0.5) / w, (y + 0.5) / h, img.width, img.height);
+            for (int c = 0; c < img.channels; ++c) {
+                const double v = (1 - t.ax) * (1 - t.ay) * img.texel(t.x0, t.y0)[c] + t.ax * (1 - t.ay) * img.texel(t.x1, t.y0)[c] +
+                                 (1 - t.ax) * t.ay * img.texel(t.x0, t.y1)[c] + t.ax * t.ay * img.texel(t.x1, t.y1)[c];
+                out.texel(x, y)[c] = static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 255.0)));
+            }
+        }
+    return out;
+}
+
+bool pot(int w, int h) { return is_power_of_two(w) && is_power_of_two(h); }
+
+std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+}  // namespace
+
+Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::string& base_dir,
+                                             const MaterialImageOptions& options) {
+    Result<MaterialImages> built = build_material_images_as_given(m, base_dir);
+    if (!built) return built;
+    MaterialImages& out = *built;
+    // maxmip (explicit, or possible under effects) on a non-power-of-two field.
+    const bool maxmip_possible = m.effects ? (m.effects->parallax && m.height_scale > 0.0f)
+                                           : m.technique.technique == Technique::maxmip;
+    const bool field_npot = !pot(out.field.width, out.field.height);
+    if (field_npot && (maxmip_possible || options.power_of_two_textures)) {
+        const int w = next_power_of_two(out.field.width), h = next_power_of_two(out.field.height);
+        out.notes.push_back("height " + size_text(out.field.width, out.field.height) + " resampled to " + size_text(w, h) +
+                            " (bilinear, 8-bit): " +
+                            (options.power_of_two_textures
+                                 ? "this OpenGL ES 2.0 context lacks GL_OES_texture_npot"
+                                 : "maxmip's max pyramid halves every level exactly"));
+        out.field = resample_field(out.field, w, h);
+        out.traced = quantized_8bit(out.field);
+        out.layout.height_11bit = false;
+        out.height_texture.reset();
+        if (out.layout.packed_height) {
+            // The packed normal map carries the height: rebuild it at the new size.
+            Image normal = resample_image(out.normal, w, h);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) normal.texel(x, y)[3] = to_unorm8(out.traced.at(x, y));
+            out.normal = std::move(normal);
+            out.normal_texture.reset();
+        } else {
+            out.height = height_image(out.traced);
+        }
+    }
+    if (options.power_of_two_textures) {
+        const std::pair<Image*, std::optional<TextureData>*> slots[] = {{&out.albedo, &out.albedo_texture},
+                                                                        {&out.normal, &out.normal_texture}};
+        const char* names[] = {"albedo", "normal map"};
+        for (int i = 0; i < 2; ++i) {
+            Image& img = *slots[i].first;
+            if (pot(img.width, img.height)) continue;
+            const int w = next_power_of_two(img.width), h = next_power_of_two(img.height);
+            out.notes.push_back(std::string(names[i]) + " " + size_text(img.width, img.height) + " resampled to " +
+                                size_text(w, h) + " (bilinear" + (slots[i].second->has_value() ? ", decoded from its file" : "") +
+                                "): this OpenGL ES 2.0 context lacks GL_OES_texture_npot");
+            img = resample_image(img, w, h);
+            slots[i].second->reset();
+        }
+    }
+    return built;
+}
+
+Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir) {
     const std::string where = "material '" + echo(m.name) + "'";
     MaterialImages out;
-    Result<HeightField> field = load_height(m, base_dir);
-    if (!field) return with_context(where + " height", field.error());
-    out.field = std::move(*field);
+    const auto texture_file = [&](const TextureSource& s) {
+        return s.kind == TextureSource::Kind::file && is_texture_file(s.path);
+    };
+    const auto read_texture_source = [&](const TextureSource& s, const char* slot) -> Result<TextureData> {
+        Result<TextureData> t = read_texture_file(resolve(base_dir, s.path));
+        if (!t) return with_context(where + " " + slot, t.error());
+        if (t->layers != 1 || t->faces != 1)
+            return make_error(where + " " + slot + ": '" + echo_path(s.path) + "' holds " + std::to_string(t->layers) +
+                              " layers and " + std::to_string(t->faces) +
+                              " faces; a material's texture is one 2D image (with its mip levels)");
+        return t;
+    };
+    // Texture files are never packed: each keeps its own layout (height in
+    // one channel, normals in two or three).
+    const bool any_texture_file = texture_file(m.height) || texture_file(m.normal) || texture_file(m.albedo);
+    const bool packed = m.pack_height_in_normal_alpha && !any_texture_file;
+    out.layout.packed_height = packed;
+    if (texture_file(m.height)) {
+        if (m.height.convention == HeightConvention::depth)
+            return make_error(where + " height: '" + echo_path(m.height.path) +
+                              "' is a texture file, which the GPU samples as it is: it must hold height (white is "
+                              "high); convert depth maps with `parallax convert --depth`");
+        Result<TextureData> t = read_texture_source(m.height, "height");
+        if (!t) return t.error();
+        Result<HeightField> f = height_field_from_texture(*t, HeightConvention::height);
+        if (!f) return with_context(where + " height '" + echo_path(m.height.path) + "'", f.error());
+        out.field = std::move(*f);
+        out.traced = out.field;
+        out.layout.height_11bit = height_bits(t->format) == 11;
+        out.height_texture = std::move(*t);
+    } else {
+        Result<HeightField> field = load_height(m, base_dir);
+        if (!field) return with_context(where + " height", field.error());
+        out.field = std::move(*field);
+        out.traced = quantized_8bit(out.field);
+    }
+    if (texture_file(m.normal)) {
+        Result<TextureData> t = read_texture_source(m.normal, "normal");
+        if (!t) return t.error();
+        Result<Image> level0 = decode_rgba8(*t);
+        if (!level0) return with_context(where + " normal '" + echo_path(m.normal.path) + "'", level0.error());
+        out.layout.normal_rg = format_info(t->format).channels == 2;
+        out.normal = std::move(*level0);
+        out.normal_texture = std::move(*t);
+    }
+    if (texture_file(m.albedo)) {
+        Result<TextureData> t = read_texture_source(m.albedo, "albedo");
+        if (!t) return t.error();
+        Result<Image> level0 = decode_rgba8(*t);
+        if (!level0) return with_context(where + " albedo '" + echo_path(m.albedo.path) + "'", level0.error());
+        out.albedo = std::move(*level0);
+        out.albedo_texture = std::move(*t);
+    }
 
     // Normal map: derived from the height field so it matches the traced
     // surface, unless the material gives one.
-    if (m.normal.kind == TextureSource::Kind::file) {
+    if (out.normal_texture) {
+        // read above
+    } else if (m.normal.kind == TextureSource::Kind::file) {
         Result<Image> normal = load_image(resolve(base_dir, m.normal.path), 4);
         if (!normal) return with_context(where + " normal", normal.error());
-        if (m.pack_height_in_normal_alpha) {
+        if (packed) {
             if (normal->width != out.field.width || normal->height != out.field.height)
                 return make_error(where + ": the normal map '" + echo_path(m.normal.path) + "' (" + std::to_string(normal->width) + "x" +
                                   std::to_string(normal->height) + ") and height map" + (m.height.kind == TextureSource::Kind::file ? " '" + echo_path(m.height.path) + "'" : std::string()) + " (" +
@@ -146,7 +314,7 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
         Result<HeightField> bumps = make_height_field(m.normal.field);
         if (!bumps) return with_context(where + " normal", bumps.error());
         out.normal = derive_normal_map(*bumps, m.height_scale, false);
-        if (m.pack_height_in_normal_alpha) {
+        if (packed) {
             if (bumps->width != out.field.width || bumps->height != out.field.height)
                 return make_error(where + ": the procedural normal field and the height field must be the same size "
                                           "to pack height into the normal map's alpha");
@@ -154,11 +322,11 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
                 for (int x = 0; x < bumps->width; ++x) out.normal.texel(x, y)[3] = to_unorm8(out.field.at(x, y));
         }
     } else {
-        out.normal = derive_normal_map(out.field, m.height_scale, m.pack_height_in_normal_alpha);
+        out.normal = derive_normal_map(out.field, m.height_scale, packed);
     }
-    if (!m.pack_height_in_normal_alpha) out.height = height_image(out.field);
+    if (!packed) out.height = height_image(out.field);
 
-    switch (m.albedo.kind) {
+    if (!out.albedo_texture) switch (m.albedo.kind) {
         case TextureSource::Kind::none:
             out.albedo = make_solid_image(4, 4, 204, 204, 204);
             break;

@@ -7,19 +7,54 @@
 #include "assets/heightfield.h"
 #include "assets/image.h"
 #include "core/result.h"
+#include "effects/variant.h"
 #include "scene/scene.h"
+#include "texture/texture_data.h"
 
 namespace px {
 
 struct MaterialImages {
+    // Level 0 of each texture as RGBA8 (decoded where a file is compressed):
+    // what the exact reference shades with.
     Image albedo;
-    Image normal;                 // RGB normal; alpha = height when packed
+    Image normal;                 // RGB normal (RG with z reconstructed when layout.normal_rg); alpha = height when packed
     std::optional<Image> height;  // separate height map (not packed)
     HeightField field;            // the height field itself, for references and tests
+    // The field as the GPU samples it: 8-bit texels (byte / 255), or 11-bit
+    // ones (v / 2047) from an EAC height map. What the reference traces.
+    HeightField traced;
+    // Texture files (KTX 1.1, KTX 2.0, PVR v3) as given, with every level:
+    // uploaded as they are (or decoded on the CPU where the context cannot
+    // sample their format). Empty: the slot uploads the Image above.
+    std::optional<TextureData> albedo_texture, normal_texture, height_texture;
+    TextureLayout layout;         // how the textures hold what the shaders read
+    // What was resampled on the way, and why ("height 200x120 resampled to
+    // 256x128 (bilinear): maxmip's max pyramid halves every level exactly").
+    std::vector<std::string> notes;
 };
 
-// Errors name the material and the source (file path or field).
-Result<MaterialImages> build_material_images(const MaterialDesc& material, const std::string& base_dir);
+// What the context asks of sizes; the same for the renderer and the exact
+// reference, so that both see the same textures.
+struct MaterialImageOptions {
+    // Every non-power-of-two texture resampled to the next power of two
+    // (bilinear; files decoded first): an ES 2.0 context without
+    // GL_OES_texture_npot can neither repeat nor mipmap it.
+    bool power_of_two_textures = false;
+};
+
+// Errors name the material and the source (file path or field). A file is
+// read as a texture container when it starts with a KTX or PVR identifier,
+// and as an image (PNG, JPEG, TGA) otherwise.
+// A maxmip material (by its technique, or by effects, under which the
+// planner may choose it) with a non-power-of-two height map gets
+// it resampled to the next power of two each way (bilinear, 8-bit): the max
+// pyramid halves every level exactly. Both resamplings are in `notes`.
+Result<MaterialImages> build_material_images(const MaterialDesc& material, const std::string& base_dir,
+                                             const MaterialImageOptions& options = {});
+
+// Whether a source file is read as a texture container (by its extension:
+// .ktx, .ktx2, .pvr, any case) rather than as an image.
+bool is_texture_file(const std::string& path);
 
 // The scene's resources against the limits of core/limits.h, before anything
 // is generated or decoded: every texture's size (procedural sizes from the
