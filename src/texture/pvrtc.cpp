@@ -2,8 +2,12 @@
 //
 // Sources: S. Fenney, "Texture Compression using Low-Frequency Signal
 // Modulation" (Graphics Hardware 2003), and Imagination's PVRTC format
-// description (PowerVR "PVRTC and Texture Compression User Guide", the
-// Khronos Data Format Specification's PVRTC chapter). Facts used:
+// description; the integer arithmetic (widening of the bilinear sums, the
+// truncating / 8 of the modulation, the rounding of the 2 bpp averages) is
+// that of Imagination's published reference decompressor (PowerVR SDK,
+// PVRTDecompress), which this file reimplements from its description. It
+// matches Basis Universal's PVRTC1 decoder exactly on the test image in
+// tests/data/textures. Facts used:
 //
 //  * A 64-bit block (little-endian) is a 32-bit modulation word followed by
 //    a 32-bit colour word. Blocks cover 4x4 texels (4 bpp) or 8x4 (2 bpp)
