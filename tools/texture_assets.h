@@ -1,46 +1,12 @@
-// The asset step for whole scenes: every material's textures converted to
-// one variant (texture/convert.h) and written as texture files, and a scene
-// made to draw from them. Shared by `parallax convert`, `parallax render
-// --textures` and the benchmark.
+// Temporary folders for the commands that convert textures on the way.
 #pragma once
 
 #include <string>
-#include <vector>
 
 #include "core/result.h"
-#include "scene/scene.h"
-#include "texture/containers.h"
-#include "texture/convert.h"
+#include "scene/scene_textures.h"
 
 namespace px::tools {
-
-struct ConvertOptions {
-    AssetFormats formats;            // per slot
-    ContainerKind container = ContainerKind::ktx1;  // ktx1, ktx2 or pvr3
-    int zstd_level = 0;              // KTX 2.0: 0 none, 1..22
-    bool mipmaps = true;
-};
-
-// One written file, for the command's report.
-struct ConvertedFile {
-    std::string material;
-    std::string slot;    // height, normal, albedo
-    std::string path;
-    TextureFormat format = TextureFormat::rgba8;
-    std::uint32_t width = 0, height = 0;
-    int levels = 0;
-    std::uint64_t bytes = 0;       // the file's size
-    std::uint64_t rgba8_bytes = 0; // the same texture as RGBA8 with a full chain
-    double seconds = 0.0;          // encoding time
-};
-
-// Converts each material's file and procedural sources (colour sources stay
-// colours) into `folder`/<material index>_<slot>.<ext>, and returns the
-// files. `scene` is changed to read them (texture files are never packed).
-// `progress`: called per texture ("material 'stone' height", i, n).
-Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, const ConvertOptions& options,
-                                                          const std::string& folder,
-                                                          void (*progress)(const char*, int, int, const std::string&));
 
 // A fresh private folder under $TMPDIR (or /tmp) for converted textures,
 // removed with everything in it when the value goes.
@@ -57,7 +23,5 @@ private:
     explicit TempFolder(std::string path) : path_(std::move(path)) {}
     std::string path_;
 };
-
-const char* container_extension(ContainerKind kind);  // "ktx", "ktx2", "pvr"
 
 }  // namespace px::tools

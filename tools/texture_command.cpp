@@ -12,6 +12,7 @@
 #include "scene/material_images.h"
 #include "texture/containers.h"
 #include "texture/decode.h"
+#include "core/files.h"
 #include "texture_assets.h"
 
 namespace px::tools {
