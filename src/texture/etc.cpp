@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -248,25 +249,21 @@ struct Fit {
 // RGB A1 non-opaque modifiers (0, +b, -b).
 int table_error(const Sub& sub, const int base[3], int table, bool punch, int limit) {
     const int a = kEtcTable[table][0], b = kEtcTable[table][1];
-    int mods[4] = {a, b, -a, -b};
-    int count = 4;
-    if (punch) {
-        mods[0] = 0;
-        mods[1] = b;
-        mods[2] = -b;
-        count = 3;
+    // Four candidates, laid out for the compiler to vectorise; RGB A1's
+    // three (0, +b, -b) repeat -b.
+    const int mods[4] = {punch ? 0 : a, b, punch ? -b : -a, -b};
+    int cr[4], cg[4], cb[4];
+    for (int k = 0; k < 4; ++k) {
+        cr[k] = clamp255(base[0] + mods[k]);
+        cg[k] = clamp255(base[1] + mods[k]);
+        cb[k] = clamp255(base[2] + mods[k]);
     }
-    int cand[4][3];
-    for (int k = 0; k < count; ++k)
-        for (int c = 0; c < 3; ++c) cand[k][c] = clamp255(base[c] + mods[k]);
     int err = 0;
     for (int i = 0; i < sub.n; ++i) {
-        int best = INT_MAX;
-        for (int k = 0; k < count; ++k) {
-            const int e = sq(cand[k][0] - sub.px[i][0]) + sq(cand[k][1] - sub.px[i][1]) + sq(cand[k][2] - sub.px[i][2]);
-            best = std::min(best, e);
-        }
-        err += best;
+        const int pr = sub.px[i][0], pg = sub.px[i][1], pb = sub.px[i][2];
+        int e[4];
+        for (int k = 0; k < 4; ++k) e[k] = sq(cr[k] - pr) + sq(cg[k] - pg) + sq(cb[k] - pb);
+        err += std::min(std::min(e[0], e[1]), std::min(e[2], e[3]));
         if (err >= limit) return err;
     }
     return err;
@@ -292,10 +289,35 @@ int best_index(const int p[3], const int base[3], int table, bool punch) {
 
 inline int dequant(int q, int bits) { return bits == 4 ? ext4(q) : ext5(q); }
 
-void eval_base(const Sub& sub, const int q[3], int bits, bool punch, Fit& best) {
+// All eight tables for one base colour. Where no modifier of a table can
+// clamp (base - b >= 0 and base + b <= 255 in every channel) the error of
+// a texel p with modifier m is |p - base|^2 - 2 m sum(p - base) + 3 m^2,
+// so the per-texel sums are shared by all tables; otherwise table_error.
+void eval_base(const Sub& sub, const int q[3], int bits, bool punch, Fit& best, int t_lo = 0, int t_hi = 7) {
     const int base[3] = {dequant(q[0], bits), dequant(q[1], bits), dequant(q[2], bits)};
-    for (int t = 0; t < 8; ++t) {
-        const int e = table_error(sub, base, t, punch, best.err);
+    int norm[8], sum[8];
+    for (int i = 0; i < sub.n; ++i) {
+        const int e0 = sub.px[i][0] - base[0], e1 = sub.px[i][1] - base[1], e2 = sub.px[i][2] - base[2];
+        norm[i] = e0 * e0 + e1 * e1 + e2 * e2;
+        sum[i] = e0 + e1 + e2;
+    }
+    const int lo = std::min(base[0], std::min(base[1], base[2]));
+    const int hi = std::max(base[0], std::max(base[1], base[2]));
+    for (int t = t_lo; t <= t_hi; ++t) {
+        const int a = kEtcTable[t][0], b = kEtcTable[t][1];
+        int e;
+        if (lo - b >= 0 && hi + b <= 255) {
+            const int ma = punch ? 0 : a;
+            e = 0;
+            for (int i = 0; i < sub.n && e < best.err; ++i) {
+                const int d = sum[i];
+                // Candidates +-ma and +-b: the sign matching d is the better one.
+                const int sa = d >= 0 ? ma : -ma, sb = d >= 0 ? b : -b;
+                e += norm[i] + std::min(3 * sa * sa - 2 * sa * d, 3 * sb * sb - 2 * sb * d);
+            }
+        } else {
+            e = table_error(sub, base, t, punch, best.err);
+        }
         if (e < best.err) {
             best.err = e;
             best.table = t;
@@ -316,9 +338,19 @@ Fit search_base(const Sub& sub, int bits, const int lo[3], const int hi[3], cons
         std::copy(cur, cur + 3, best.q);
         return best;
     }
+    // Bases already tried in this search (by generation stamp, so nothing
+    // needs clearing between searches).
+    thread_local std::array<std::uint32_t, 32 * 32 * 32> seen{};
+    thread_local std::uint32_t generation = 0;
+    if (++generation == 0) {
+        seen.fill(0);
+        generation = 1;
+    }
+    auto key = [](const int* v) { return static_cast<std::size_t>(v[0] << 10 | v[1] << 5 | v[2]); };
+    seen[key(cur)] = generation;
     eval_base(sub, cur, bits, punch, best);
     for (int step = 0; step < 16; ++step) {
-        const int before = best.err;
+        const int before = best.err, table = best.table;
         for (int dr = -1; dr <= 1; ++dr)
             for (int dg = -1; dg <= 1; ++dg)
                 for (int db = -1; db <= 1; ++db) {
@@ -326,11 +358,16 @@ Fit search_base(const Sub& sub, int bits, const int lo[3], const int hi[3], cons
                     const int q[3] = {cur[0] + dr, cur[1] + dg, cur[2] + db};
                     bool inside = true;
                     for (int c = 0; c < 3; ++c) inside = inside && q[c] >= lo[c] && q[c] <= hi[c];
-                    if (inside) eval_base(sub, q, bits, punch, best);
+                    if (!inside || seen[key(q)] == generation) continue;
+                    seen[key(q)] = generation;
+                    // Neighbours: the tables next to the best one so far.
+                    eval_base(sub, q, bits, punch, best, std::max(0, table - 1), std::min(7, table + 1));
                 }
         if (best.err >= before || best.err == 0) break;
         std::copy(best.q, best.q + 3, cur);
     }
+    // Every table at the base found.
+    eval_base(sub, best.q, bits, punch, best);
     return best;
 }
 
@@ -502,28 +539,41 @@ void encode_planar(const Texels& px, bool punch, const bool transparent[16], Col
         int start[3];
         for (int k = 0; k < 3; ++k)
             start[k] = clamp_to(static_cast<int>(std::lround(target[k] * maxq / 255.0)), 0, maxq);
-        int best_err = INT_MAX;
-        for (int d0 = -1; d0 <= 1; ++d0)
-            for (int d1 = -1; d1 <= 1; ++d1)
-                for (int d2 = -1; d2 <= 1; ++d2) {
-                    const int qo = start[0] + d0, qh = start[1] + d1, qv = start[2] + d2;
-                    if (qo < 0 || qo > maxq || qh < 0 || qh > maxq || qv < 0 || qv > maxq) continue;
-                    const int eo = bits == 7 ? ext7(qo) : ext6(qo), eh = bits == 7 ? ext7(qh) : ext6(qh),
-                              ev = bits == 7 ? ext7(qv) : ext6(qv);
-                    int err = 0;
-                    for (int t = 0; t < 16; ++t) {
-                        const int x = t % 4, y = t / 4;
-                        const int s = x * (eh - eo) + y * (ev - eo) + 4 * eo + 2;
-                        const int r = s < 0 ? 0 : clamp255(s >> 2);
-                        err += sq(r - px[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)]);
+        auto channel_error = [&](int qo, int qh, int qv) {
+            const int eo = bits == 7 ? ext7(qo) : ext6(qo), eh = bits == 7 ? ext7(qh) : ext6(qh),
+                      ev = bits == 7 ? ext7(qv) : ext6(qv);
+            int err = 0;
+            for (int t = 0; t < 16; ++t) {
+                const int x = t % 4, y = t / 4;
+                const int s = x * (eh - eo) + y * (ev - eo) + 4 * eo + 2;
+                const int r = s < 0 ? 0 : clamp255(s >> 2);
+                err += sq(r - px[static_cast<std::size_t>(t)][static_cast<std::size_t>(c)]);
+            }
+            return err;
+        };
+        // Hill climbing from the rounded fit: where the plane leaves 0..255
+        // (H or V clamped) the other two points have to move to make up.
+        int cur[3] = {start[0], start[1], start[2]};
+        int best_err = channel_error(cur[0], cur[1], cur[2]);
+        for (int step = 0; step < 256 && best_err > 0; ++step) {
+            int next[3] = {cur[0], cur[1], cur[2]};
+            for (int d0 = -1; d0 <= 1; ++d0)
+                for (int d1 = -1; d1 <= 1; ++d1)
+                    for (int d2 = -1; d2 <= 1; ++d2) {
+                        const int qo = cur[0] + d0, qh = cur[1] + d1, qv = cur[2] + d2;
+                        if (qo < 0 || qo > maxq || qh < 0 || qh > maxq || qv < 0 || qv > maxq) continue;
+                        const int err = channel_error(qo, qh, qv);
+                        if (err < best_err) {
+                            best_err = err;
+                            next[0] = qo;
+                            next[1] = qh;
+                            next[2] = qv;
+                        }
                     }
-                    if (err < best_err) {
-                        best_err = err;
-                        q[c][0] = qo;
-                        q[c][1] = qh;
-                        q[c][2] = qv;
-                    }
-                }
+            if (next[0] == cur[0] && next[1] == cur[1] && next[2] == cur[2]) break;
+            std::copy(next, next + 3, cur);
+        }
+        std::copy(cur, cur + 3, q[c]);
     }
     std::uint64_t v = put(q[0][0], 62, 6) | put(q[1][0] >> 6, 56, 1) | put(q[1][0], 54, 6) | put(q[2][0] >> 5, 48, 1) |
                       put(q[2][0] >> 3, 44, 2) | put(q[2][0], 41, 3) | put(q[0][1] >> 1, 38, 5) | put(q[0][1], 32, 1) |
@@ -569,6 +619,8 @@ std::uint64_t encode_eac_block(const std::array<int, 16>& val, bool eleven) {
         vmin = std::min(vmin, v);
         vmax = std::max(vmax, v);
     }
+    std::array<int, 16> sorted = val;
+    std::sort(sorted.begin(), sorted.end());
     const int maxv = eleven ? 2047 : 255;
     const int unit = eleven ? 8 : 1, offset = eleven ? 4 : 0;  // value = base * unit + offset + modifier * step
     auto step_of = [eleven](int mult) { return eleven ? (mult == 0 ? 1 : mult * 8) : mult; };
@@ -579,29 +631,76 @@ std::uint64_t encode_eac_block(const std::array<int, 16>& val, bool eleven) {
             lo = std::min(lo, m);
             hi = std::max(hi, m);
         }
-        for (int mult = eleven ? 0 : 1; mult <= 15 && best_err > 0; ++mult) {
+        // Multipliers from the smallest whose reach spans the block's range
+        // upwards, then the smaller ones (a good fit early makes the early
+        // exits below bite).
+        const int first = eleven ? 0 : 1;
+        const int span = (hi - lo) * (eleven ? 8 : 1);
+        const int m_fit = clamp_to((vmax - vmin + span - 1) / span, first, 15);
+        int mults[16], count = 0;
+        for (int m = m_fit; m <= 15; ++m) mults[count++] = m;
+        for (int m = m_fit - 1; m >= first; --m) mults[count++] = m;
+        for (int mi = 0; mi < count && best_err > 0; ++mi) {
+            const int mult = mults[mi];
             const int step = step_of(mult);
             // The base that centres the table's reach on the block's range,
             // and enough bases around it to move by half a step either way.
             const double centre = ((vmin + vmax) / 2.0 - offset - (lo + hi) * step / 2.0) / unit;
             const int base_c = static_cast<int>(std::lround(centre));
-            const int radius = 2 + mult / 2;
-            for (int base = std::max(0, base_c - radius); base <= std::min(255, base_c + radius); ++base) {
-                int recon[8];
-                for (int k = 0; k < 8; ++k) recon[k] = clamp_to(base * unit + offset + kEacTable[t][k] * step, 0, maxv);
-                int err = 0;
+            // No base can do better than leaving the part of the block's
+            // range that the table's reach does not cover.
+            const int reach = (hi - lo) * step;
+            if (reach < vmax - vmin) {
+                const int gap = vmax - vmin - reach;
+                if (gap * gap / 2 >= best_err) continue;
+            }
+            auto try_base = [&](int base) {
+                // Levels in ascending order (every table's modifiers rise
+                // in index order 3, 2, 1, 0, 4, 5, 6, 7), merged with the
+                // sorted values: each value's nearest level never moves down.
+                constexpr int order[8] = {3, 2, 1, 0, 4, 5, 6, 7};
+                int level[8];
+                for (int k = 0; k < 8; ++k)
+                    level[k] = clamp_to(base * unit + offset + kEacTable[t][order[k]] * step, 0, maxv);
+                int err = 0, k = 0;
+                for (int v : sorted) {
+                    while (k < 7 && std::abs(level[k + 1] - v) <= std::abs(level[k] - v)) ++k;
+                    err += sq(level[k] - v);
+                    if (err >= best_err) return false;
+                }
+                best_err = err;
+                best_base = base;
+                best_mult = mult;
+                best_table = t;
+                return true;
+            };
+            // Bases that keep the block's range inside the table's reach
+            // (at most about half a multiplier step a side), and two more.
+            const int radius = 2 + std::min(mult / 2 + 1, std::max(0, reach - (vmax - vmin)) / (2 * unit));
+            int local = -1;
+            for (int base = std::max(0, base_c - radius); base <= std::min(255, base_c + radius); ++base)
+                if (try_base(base)) local = base;
+            // Refine the best base of this table and multiplier: pick each
+            // value's level, move the base to the least-squares fit of those
+            // levels, and look around it (two rounds).
+            for (int round = 0; round < 2 && local >= 0; ++round) {
+                double sum = 0;
                 for (int v : val) {
-                    int e = INT_MAX;
-                    for (int r : recon) e = std::min(e, sq(r - v));
-                    err += e;
-                    if (err >= best_err) break;
+                    int e = INT_MAX, mod = 0;
+                    for (int k = 0; k < 8; ++k) {
+                        const int r = clamp_to(local * unit + offset + kEacTable[t][k] * step, 0, maxv);
+                        if (sq(r - v) < e) {
+                            e = sq(r - v);
+                            mod = kEacTable[t][k] * step;
+                        }
+                    }
+                    sum += v - offset - mod;
                 }
-                if (err < best_err) {
-                    best_err = err;
-                    best_base = base;
-                    best_mult = mult;
-                    best_table = t;
-                }
+                const int fit = static_cast<int>(std::lround(sum / 16.0 / unit));
+                int next = -1;
+                for (int base = std::max(0, fit - 1); base <= std::min(255, fit + 1); ++base)
+                    if (base != local && try_base(base)) next = base;
+                local = next;
             }
         }
     }
