@@ -517,6 +517,8 @@ TEST(PvrHostile, HeaderFields) {
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 16, 7)), "colour space 7"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 8, 4)), "PVRTC-II"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 8, 200)), "pixel format 200"));
+    // The format table's "no PVR code" marker is no pixel format (a fuzz finding).
+    EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 8, 0xFFFFFFFF)), "pixel format 4294967295"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 12, 0x10101010)), "uncompressed pixel format"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 24, 0)), "height 0"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 24, 0xFFFFFFFF)), "height 4294967295"));

@@ -74,6 +74,10 @@ Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size, std::
                           "file with a linear colour space)");
     if (colour_space != 0)
         return make_error(c + "colour space " + num(colour_space) + " is not 0 (linear) or 1 (sRGB)");
+    // 0xFFFFFFFF is the format table's "no PVR code" marker (bc1_rgba has
+    // it), not a pixel format: format_from_pvr would match it.
+    if (pixel_format == 0xFFFFFFFFu)
+        return make_error(c + "pixel format 4294967295 is not a supported texture format");
     const Result<TextureFormat> fmt = format_from_pvr(pixel_format, channel_type);
     if (!fmt) return make_error(c + fmt.error().message);
     const TextureFormat format = *fmt;

@@ -217,6 +217,7 @@ def main(root):
     goodp = seeds["pvr"]["etc2_rgb_9x5_mips.pvr"]
     seeds["pvr"]["bad_srgb.pvr"] = pvr3("etc2_rgb", 9, 5, 4, colour_space=1)
     seeds["pvr"]["bad_metadata_size.pvr"] = goodp[:48] + struct.pack("<I", 4096) + goodp[52:]
+    seeds["pvr"]["bad_no_pvr_code.pvr"] = goodp[:8] + struct.pack("<Q", 0xFFFFFFFF) + goodp[16:]  # a fuzz finding
     seeds["pvr"]["bad_swapped_version.pvr"] = struct.pack(">I", 0x03525650) + goodp[4:]
     for folder, files in seeds.items():
         d = root / folder
