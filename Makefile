@@ -46,7 +46,7 @@ test: build
 SANITIZE_DIR ?= build-sanitize
 FUZZ_SECONDS ?= 60
 SANITIZE_PACKAGES := clang-14 libclang-rt-14-dev libfuzzer-14-dev llvm-14
-SANITIZE_TARGETS := px_unit_tests px_report_tests px_gpu_tests parallax_cli px_fuzz_scene px_fuzz_image
+SANITIZE_TARGETS := px_unit_tests px_report_tests px_gpu_tests parallax_cli px_fuzz_scene px_fuzz_image px_fuzz_ktx1 px_fuzz_ktx2 px_fuzz_pvr
 # Mesa's own allocations look like leaks to LeakSanitizer: leaks are checked
 # where no GL runs (the unit tests, the fuzz targets), not in the GPU tests.
 ASAN_BASE := abort_on_error=0:detect_stack_use_after_return=1:strict_string_checks=1:check_initialization_order=1

@@ -1,0 +1,79 @@
+// Texture files by their identifier (texture/containers.h).
+#include <cctype>
+#include <cstring>
+#include <string>
+
+#include "core/files.h"
+#include "core/limits.h"
+#include "core/text.h"
+#include "texture/containers.h"
+
+namespace px {
+
+namespace {
+
+constexpr std::uint8_t kKtx1[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr std::uint8_t kKtx2[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr std::uint8_t kPvr[4] = {0x50, 0x56, 0x52, 0x03};         // 0x03525650 little-endian
+constexpr std::uint8_t kPvrSwapped[4] = {0x03, 0x52, 0x56, 0x50};  // the other byte order
+
+bool starts_with(const std::uint8_t* bytes, std::size_t size, const std::uint8_t* id, std::size_t n) {
+    return size >= n && std::memcmp(bytes, id, n) == 0;
+}
+
+// The first bytes as hex and as text: "AB 4B 54 58 ... (\"?KTX 12?..\")".
+std::string describe_start(const std::uint8_t* bytes, std::size_t size) {
+    if (size == 0) return "the data is empty";
+    static const char* digits = "0123456789ABCDEF";
+    const std::size_t n = size < 12 ? size : 12;
+    std::string hex, text;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i) hex += ' ';
+        hex += digits[bytes[i] >> 4];
+        hex += digits[bytes[i] & 15];
+        text += std::isprint(bytes[i]) ? static_cast<char>(bytes[i]) : '.';
+    }
+    std::string s = "the " + std::to_string(size) + "-byte data starts with " + hex + " (\"" + text + "\")";
+    if (size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0) s += ", a PNG image";
+    else if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) s += ", a JPEG image";
+    else if (size >= 4 && std::memcmp(bytes, "DDS ", 4) == 0) s += ", a DDS file";
+    else if (size >= 6 && std::memcmp(bytes, "\xABKTX ", 5) == 0) s += ", a KTX identifier of an unknown version";
+    return s;
+}
+
+}  // namespace
+
+ContainerKind sniff_container(const std::uint8_t* bytes, std::size_t size) {
+    if (!bytes) return ContainerKind::image;
+    if (starts_with(bytes, size, kKtx1, sizeof kKtx1)) return ContainerKind::ktx1;
+    if (starts_with(bytes, size, kKtx2, sizeof kKtx2)) return ContainerKind::ktx2;
+    // Either byte order: the reader refuses the other one by name.
+    if (starts_with(bytes, size, kPvr, sizeof kPvr) || starts_with(bytes, size, kPvrSwapped, sizeof kPvrSwapped))
+        return ContainerKind::pvr3;
+    return ContainerKind::image;
+}
+
+Result<TextureData> read_texture(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+    if (!bytes) size = 0;
+    switch (sniff_container(bytes, size)) {
+    case ContainerKind::ktx1: return read_ktx1(bytes, size, max_bytes);
+    case ContainerKind::ktx2: return read_ktx2(bytes, size, max_bytes);
+    case ContainerKind::pvr3: return read_pvr3(bytes, size, max_bytes);
+    case ContainerKind::image: break;
+    }
+    return make_error("not a texture container: " + describe_start(bytes, size) +
+                      "; the containers read are KTX 1.1 (\\xABKTX 11\\xBB), KTX 2.0 (\\xABKTX 20\\xBB) and PVR v3 "
+                      "(PVR\\x03)");
+}
+
+Result<TextureData> read_texture_file(const std::string& path, std::uint64_t max_bytes) {
+    // read_file_bounded checks for a regular file and the size before reading,
+    // and names the path in its errors.
+    Result<std::vector<std::uint8_t>> file = read_file_bounded(path, kMaxImageFileBytes, "texture file");
+    if (!file) return file.error();
+    Result<TextureData> t = read_texture(file->data(), file->size(), max_bytes);
+    if (!t) return with_context(echo_path(path), t.error());
+    return t;
+}
+
+}  // namespace px
