@@ -150,7 +150,7 @@ Result<TextureFormat> format_from_pvr(std::uint64_t pixel_format, std::uint32_t 
     if (high == 0) {
         const std::uint32_t code = static_cast<std::uint32_t>(pixel_format);
         for (const FormatInfo& f : all_formats())
-            if (f.compressed() && f.pvr_format == code) return f.format;
+            if (f.compressed() && f.pvr_format != kNoPvr && f.pvr_format == code) return f.format;
         static const char* const names[] = {"PVRTC 2bpp RGB", "PVRTC 2bpp RGBA", "PVRTC 4bpp RGB",
                                             "PVRTC 4bpp RGBA", "PVRTC-II 2bpp", "PVRTC-II 4bpp",
                                             "ETC1", "DXT1", "DXT2 (premultiplied)", "DXT3",
