@@ -88,12 +88,9 @@ void check_source(Checker& c, const TextureSource& s, const std::string& path) {
                       "components must be within [0, 1], got " + num(s.color));
             return;
         case TextureSource::Kind::procedural: {
-            // ES 2.0 leaves a non-power-of-two texture incomplete under
-            // GL_REPEAT or mipmapping, and relief textures need both.
-            if (!c.require(is_power_of_two(s.field.size), path + ".size",
-                           "must be a power of two (OpenGL ES 2.0 repeats only those), got " +
-                               std::to_string(s.field.size)))
-                return;
+            // Any size: where a context or technique needs a power of two
+            // (ES 2.0 without GL_OES_texture_npot, maxmip's pyramid), the
+            // load resamples and says so (scene/material_images.h).
             // The field's own rules live with the generator, which checks
             // them without generating the field.
             const Status field = validate_field_spec(s.field);
