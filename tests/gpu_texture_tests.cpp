@@ -81,7 +81,13 @@ Image gpu_texels(GLuint texture, int w, int h) {
     if (!target) return out;
     glBindFramebuffer(GL_FRAMEBUFFER, target->target().framebuffer);
     glViewport(0, 0, w, h);
-    glDisable(GL_DEPTH_TEST);
+    // Whatever earlier tests left set (host-state tests leave plenty).
+    for (GLenum cap : {GL_DEPTH_TEST, GL_BLEND, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_CULL_FACE, GL_RASTERIZER_DISCARD,
+                       GL_SAMPLE_ALPHA_TO_COVERAGE, GL_SAMPLE_COVERAGE, GL_POLYGON_OFFSET_FILL})
+        glDisable(cap);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glBindSampler(0, 0);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glUseProgram(program);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, texture);
