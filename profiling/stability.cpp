@@ -548,6 +548,37 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
             filtered_bounds(*ref, traced, searches.back());
             refs.push_back(std::move(*ref));
         }
+        // A technique whose load resamples the height (maxmip on a map that
+        // is not a power of two) traces another surface: its own reference,
+        // of that surface, made once per frame when first needed.
+        std::vector<std::optional<reference::ReferenceImage>> resampled_refs(w.frames.size());
+        std::vector<std::vector<SearchBound>> resampled_searches(w.frames.size());
+        std::string resampled_note;
+        auto reference_for = [&](const TechniqueInfo& t, size_t fi,
+                                 const reference::ReferenceImage*& ref, const std::vector<SearchBound>*& search) -> Status {
+            ref = &refs[fi];
+            search = &searches[fi];
+            if (t.id != Technique::maxmip || !c.image_width) return {};
+            if (!resampled_refs[fi]) {
+                const Frame& f = w.frames[fi];
+                Result<SceneDesc> scene = stability_scene(c, t.name, f.angle, f.distance, height_image);
+                if (!scene) return scene.error();
+                Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
+                if (!images) return images.error();
+                if (images->notes.empty()) return {};
+                resampled_note = images->notes.front();
+                reference::ReferenceOptions ro;
+                ro.shadow = c.shadow;
+                Result<reference::ReferenceImage> r = reference::render_reference(*scene, size, size, ro);
+                if (!r) return with_context("case '" + c.name + "' reference of the resampled height", r.error());
+                resampled_searches[fi] = search_bounds(*r, images->traced, c.samples);
+                filtered_bounds(*r, images->traced, resampled_searches[fi]);
+                resampled_refs[fi] = std::move(*r);
+            }
+            ref = &*resampled_refs[fi];
+            search = &resampled_searches[fi];
+            return {};
+        };
         for (const Run& run : runs) {
             Result<Renderer*> renderer = renderer_for(run);
             if (!renderer) return renderer.error();
@@ -592,14 +623,20 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                         if (!reports.front().notes.empty()) drawn_note += " (" + reports.front().notes.front() + ")";
                         drawn_name = drawn;
                     }
+                    const reference::ReferenceImage* ref = nullptr;
+                    const std::vector<SearchBound>* search = nullptr;
+                    Status own = reference_for(*t, fi, ref, search);
+                    if (!own) return own.error();
+                    if (ref != &refs[fi] && drawn_note.empty())
+                        drawn_note = "against the reference of its own resampled height: " + resampled_note;
                     frame_bounds.emplace_back(gpu->samples.size(), 0.0);
-                    measure_frame(*gpu, &entries[fi], refs[fi], searches[fi], catalogue.bounds.techniques.at(drawn_name),
+                    measure_frame(*gpu, &entries[fi], *ref, *search, catalogue.bounds.techniques.at(drawn_name),
                                   c, catalogue.bounds, acc, c.lod, &frame_bounds.back(), run.precision);
                     if (!options.image_dir.empty()) {
                         Status written = write_error_image(options.image_dir + "/" + w.label + "_" + t->name + "_" +
                                                                row.context + "_" + run.precision + "_" +
                                                                std::to_string(fi) + ".png",
-                                                           *gpu, refs[fi], frame_bounds.back());
+                                                           *gpu, *ref, frame_bounds.back());
                         if (!written) return written.error();
                     }
                     gpu_frames.push_back(std::move(*gpu));
@@ -625,8 +662,9 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                     long compared = 0, violations = 0, flips = 0;
                     double jump_max = 0.0;
                     for (auto [a, b] : w.pairs) {
-                        const reference::ReferenceImage& ra = refs[a];
-                        const reference::ReferenceImage& rb = refs[b];
+                        const bool own = t->id == Technique::maxmip && resampled_refs[a] && resampled_refs[b];
+                        const reference::ReferenceImage& ra = own ? *resampled_refs[a] : refs[a];
+                        const reference::ReferenceImage& rb = own ? *resampled_refs[b] : refs[b];
                         const int tw = ra.texture_width, th = ra.texture_height;
                         const double blend_step =
                             c.lod ? std::fabs(std::log2(w.frames[b].distance / w.frames[a].distance)) / c.lod_band : 0.0;

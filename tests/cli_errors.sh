@@ -55,6 +55,28 @@ expect_error "unknown bench scene" "unknown bench scene 'nope'" bench --scenes n
 expect_error "bench samples past the loop bound" "300 is outside 1..256 for pom" bench --techniques pom --samples 300 --out "$work/bench"
 expect_error "unknown bench technique" "unknown technique 'bump'" bench --techniques bump --out "$work/bench"
 
+# Texture files: texinfo, convert, render --textures, and scenes naming them.
+fuzz_corpus=$(dirname "$0")/fuzz/corpus
+printf 'KTX junk' >"$work/junk.ktx"
+expect_error "texinfo: not a container" "not a texture container" texinfo "$work/junk.ktx"
+expect_error "texinfo: missing file" "$work/none.ktx" texinfo "$work/none.ktx"
+expect_error "texinfo: PVR sRGB" "sRGB" texinfo "$fuzz_corpus/pvr/bad_srgb.pvr"
+expect_error "texinfo: PVR metadata past the end" "bad_metadata_size.pvr" texinfo "$fuzz_corpus/pvr/bad_metadata_size.pvr"
+"$parallax" convert --scene default --format etc2 --out "$work/etc2" >/dev/null 2>&1 || { echo "FAIL: convert --scene default"; failures=$((failures + 1)); }
+head -c 100 "$work/etc2/0_height.ktx" >"$work/truncated.ktx"
+expect_error "texinfo: truncated KTX" "passes the end of the 100-byte file" texinfo "$work/truncated.ktx"
+if "$parallax" texinfo "$work/etc2/0_height.ktx" | grep -q 'eac_r11'; then echo "ok: texinfo names the format"; else
+    echo "FAIL: texinfo on a converted file"; failures=$((failures + 1)); fi
+printf '{"objects": [{"mesh": {"type": "plane"}, "material": "m"}], "materials": [{"name": "m", "height": "truncated.ktx"}]}\n' >"$work/truncated_scene.json"
+expect_error "scene naming a truncated KTX" "truncated.ktx" render "$work/truncated_scene.json" -o "$work/out.png"
+printf '{"objects": [{"mesh": {"type": "plane"}, "material": "m"}], "materials": [{"name": "m", "height": {"file": "etc2/0_height.ktx", "convention": "depth"}}]}\n' >"$work/depth_ktx.json"
+expect_error "depth convention on a texture file" "must hold height" render "$work/depth_ktx.json" -o "$work/out.png"
+expect_error "convert: unknown variant" "unknown texture variant 'etc3'" convert --scene default --format etc3 --out "$work/x"
+expect_error "convert: normal map in one channel" "a normal map needs two or more channels" convert --scene default --normal-format eac_r11 --out "$work/x"
+expect_error "convert: zstd without ktx2" "--zstd needs --container ktx2" convert --scene default --zstd 3 --out "$work/x"
+expect_error "convert: no input" "give a HEIGHT image or --scene" convert --out "$work/x"
+expect_error "render: unknown --textures" "unknown texture variant 'etc3'" render default --textures etc3 -o "$work/out.png"
+
 # Hostile scenes and outputs (tests/unit_hostile.cpp has one test per class).
 lights='{"direction": [0, 0, -1]}'
 printf '{"lights": [%s, %s, %s, %s, %s], "objects": [{}]}\n' "$lights" "$lights" "$lights" "$lights" "$lights" >"$work/lights.json"

@@ -22,6 +22,9 @@
 
 namespace px::tools {
 
+int run_texture_bench(const std::string& scene_name, int width, int height, int frames, const std::string& out,
+                      const std::string& command);
+
 namespace {
 
 struct BenchArgs {
@@ -40,6 +43,8 @@ struct BenchArgs {
     bool shadows_only = false;  // --planner-table: measure only the shadow rows, keep the file's others
     std::string calibration_cache = "off";  // --showcase: plan with these calibrations
     std::string command;
+    bool textures = false;      // the texture-format table instead of the sweep
+    std::string textures_scene; // --textures-scene: its scene (default: the default scene)
 };
 
 
@@ -148,6 +153,7 @@ int run(BenchArgs a) {
 
     if (!a.planner_table.empty()) return run_planner_table(a, o);
     if (!a.showcase.empty()) return run_showcase_bench(a, width, height);
+    if (a.textures) return run_texture_bench(a.textures_scene, width, height, a.frames > 0 ? a.frames : 7, a.out, a.command);
     std::error_code ec;
     std::filesystem::create_directories(a.out, ec);
     if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
@@ -205,6 +211,10 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
                     "(the library's is src/planner/cost_table.json)");
     cmd->add_option("--calibration-cache", args->calibration_cache,
                     "With --showcase: plan with the calibrations in this folder (default off: the generic table)");
+    cmd->add_flag("--textures", args->textures,
+                  "Texture formats: bytes, frame time and the hit error of each height-map format, per asset variant, "
+                  "on the default scene (or --textures-scene); writes OUT/textures.md");
+    cmd->add_option("--textures-scene", args->textures_scene, "With --textures: the scene (file or built-in name)");
     cmd->add_flag("--shadows-only", args->shadows_only,
                   "With --planner-table: measure only the shadow rows, keeping the file's other rows");
     cmd->callback([args]() { set_exit_status(run(*args)); });

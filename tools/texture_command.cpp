@@ -101,6 +101,9 @@ int run_convert(const ConvertArgs& a) {
         if (!f) return fail(f.error().message);
         *slot = *f;
     }
+    if (format_info(formats->normal).channels < 2)
+        return fail(std::string("--normal-format: a normal map needs two or more channels; ") +
+                    format_name(formats->normal) + " has one");
     ConvertOptions options;
     options.formats = *formats;
     options.mipmaps = !a.no_mipmaps;
