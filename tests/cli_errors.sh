@@ -75,6 +75,15 @@ expect_error "convert: unknown variant" "unknown texture variant 'etc3'" convert
 expect_error "convert: normal map in one channel" "a normal map needs two or more channels" convert --scene default --normal-format eac_r11 --out "$work/x"
 expect_error "convert: zstd without ktx2" "--zstd needs --container ktx2" convert --scene default --zstd 3 --out "$work/x"
 expect_error "convert: no input" "give a HEIGHT image or --scene" convert --out "$work/x"
+examples=$(dirname "$0")/../examples/scenes
+if "$parallax" render "$examples/bricks_pvrtc.json" --size 64x64 --frames 1 -o "$work/pvrtc.png" 2>&1 |
+    grep -q 'pvrtc1_rgb_4bpp 256x256, 9 level(s), .*CPU decode to RGBA8 (this context does not sample'; then
+    echo "ok: a PVRTC scene renders through the CPU decode and says so"
+else echo "FAIL: the PVRTC example scene"; failures=$((failures + 1)); fi
+if "$parallax" render "$examples/bricks_etc2.json" --size 64x64 --frames 1 -o "$work/etc2.png" 2>&1 |
+    grep -q 'eac_r11 256x256, 9 level(s), .*direct (glCompressedTexImage2D)'; then
+    echo "ok: an ETC2/EAC scene uploads directly and says so"
+else echo "FAIL: the ETC2 example scene"; failures=$((failures + 1)); fi
 expect_error "render: unknown --textures" "unknown texture variant 'etc3'" render default --textures etc3 -o "$work/out.png"
 
 # Hostile scenes and outputs (tests/unit_hostile.cpp has one test per class).

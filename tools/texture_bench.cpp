@@ -55,6 +55,7 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
 
     const std::vector<std::string> variants = {"raw", "etc1", "etc2", "astc", "astc_8x8", "bc", "pvrtc"};
     std::vector<VariantRow> rows;
+    std::vector<std::unique_ptr<Renderer>> timed;  // per variant, loaded
     std::optional<reference::ReferenceImage> truth;
     int step = 0;
     const int steps = static_cast<int>(variants.size());
@@ -73,7 +74,8 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
             row.bytes += f.bytes;
             row.rgba8_bytes += f.rgba8_bytes;
         }
-        // Frame time with the scene's own techniques.
+        // Frame time with the scene's own techniques: loaded now, timed
+        // below in interleaved rounds.
         RendererOptions ro;
         ro.get_proc_address = platform::HeadlessContext::proc_loader();
         auto renderer = Renderer::create(ro);
@@ -84,16 +86,7 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
             if (u.container != "image") row.paths.push_back(std::string(format_name(u.format)) + ": " + u.path);
         if (!(s = (*renderer)->draw(target->target()))) return fail(s.error().message);
         glFinish();
-        std::vector<double> times;
-        for (int i = 0; i < frames; ++i) {
-            const auto start = std::chrono::steady_clock::now();
-            s = (*renderer)->draw(target->target());
-            glFinish();
-            times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-            if (!s) return fail(s.error().message);
-        }
-        std::sort(times.begin(), times.end());
-        row.frame_ms = times[times.size() / 2];
+        timed.push_back(std::move(*renderer));
         // Hit error from the height format: maxmip on the variant's texels
         // against the reference of the uncompressed (8-bit) assets.
         SceneDesc exact = scene;
@@ -120,12 +113,28 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
         }
         rows.push_back(std::move(row));
     }
+    // Rounds: each draws every variant once, so that the machine's drift
+    // falls on all of them alike; per variant the median over rounds.
+    std::vector<std::vector<double>> times(rows.size());
+    for (int round = 0; round < frames; ++round) {
+        for (size_t i = 0; i < rows.size(); ++i) {
+            const auto start = std::chrono::steady_clock::now();
+            Status s = timed[i]->draw(target->target());
+            glFinish();
+            times[i].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+            if (!s) return fail(s.error().message);
+        }
+    }
+    for (size_t i = 0; i < rows.size(); ++i) {
+        std::sort(times[i].begin(), times[i].end());
+        rows[i].frame_ms = times[i][times[i].size() / 2];
+    }
     show_progress("bench", steps, steps, "done");
 
     std::string md = "# Texture formats on the " + loaded->name + " scene\n\n";
     md += "Measured by `" + command + "` on " + std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) +
           ", " + std::to_string(width) + "x" + std::to_string(height) + ", median of " + std::to_string(frames) +
-          " frames per variant (wall clock around glFinish; ratios within this run).\n\n";
+          " rounds that draw every variant once each (wall clock around glFinish; compare ratios within one run).\n\n";
     md += "Bytes: every texture file's texel data (full mip chains) against the same textures as RGBA8 with mips. ";
     md += "Hit error: maxmip (exact on the texels it is given) on the variant's height maps against the exact reference of "
           "the uncompressed 8-bit assets, per object, in texels of its height map: what the height format alone moves the "

@@ -293,10 +293,10 @@ std::string source_label(const TextureSource& source) {
     return "unknown";
 }
 
-std::string normal_label(const MaterialDesc& m) {
+std::string normal_label(const MaterialDesc& m, bool packed) {
     std::string label = m.normal.kind == TextureSource::Kind::none ? "derived from the height, " + source_label(m.height)
                                                                    : source_label(m.normal);
-    if (m.pack_height_in_normal_alpha && m.normal.kind != TextureSource::Kind::none)
+    if (packed && m.normal.kind != TextureSource::Kind::none)
         label += ", with the height (" + source_label(m.height) + ") in alpha";
     return label;
 }
@@ -444,13 +444,13 @@ Status Renderer::load_checked(const SceneDesc& scene) {
         if (!albedo) return albedo.error();
         g.albedo = std::move(*albedo);
         Result<Texture> normal = upload(images->normal_texture, images->normal,
-                                        what + " normal map (" + normal_label(m) + ")", true);
+                                        what + " normal map (" + normal_label(m, images->layout.packed_height) + ")", true);
         if (!normal) return normal.error();
         g.normal = std::move(*normal);
         const bool base_level_trace = traced && caps_.es_major < 3;
         const bool separate = images->height.has_value() || images->height_texture.has_value();
         if (separate || base_level_trace) {
-            const std::string label = what + " height (" + (separate ? source_label(m.height) : normal_label(m)) + ")" +
+            const std::string label = what + " height (" + (separate ? source_label(m.height) : normal_label(m, images->layout.packed_height)) + ")" +
                                       (base_level_trace ? ", base level for the trace" : "");
             Result<Texture> height = separate ? upload(images->height_texture, images->height ? *images->height : images->normal,
                                                        label, !base_level_trace)

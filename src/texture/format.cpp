@@ -228,8 +228,10 @@ const char* format_requirement(TextureFormat format) {
 }
 
 std::uint32_t upload_internal_format(const Caps& caps, TextureFormat format) {
-    if (format == F::etc1_rgb8 && !caps.has("GL_OES_compressed_ETC1_RGB8_texture") && caps.context_es3())
-        return glenum::kRgb8Etc2;
+    // ETC1 goes up as ETC2 RGB wherever ES 3.0 has it: ETC2 decodes valid
+    // ETC1 blocks identically, and llvmpipe samples its ETC1 format 4.8x
+    // slower than ETC2 (docs/textures.md, `bench --textures`).
+    if (format == F::etc1_rgb8 && caps.context_es3()) return glenum::kRgb8Etc2;
     return format_info(format).gl_internal_format;
 }
 
