@@ -5,6 +5,8 @@
 #include <memory>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_common.h"
 #include "commands.h"
 #include "gl/caps.h"
@@ -156,16 +158,14 @@ int run_convert(const ConvertArgs& a) {
                 files->size(), rgba ? 100.0 * static_cast<double>(total) / static_cast<double>(rgba) : 0.0,
                 bytes_text(rgba).c_str());
     // A material snippet per material, to paste into a scene (paths relative to DIR).
-    std::string snippet = "{\n  \"materials\": [\n";
-    for (size_t i = 0; i < scene.materials.size(); ++i) {
-        const MaterialDesc& m = scene.materials[i];
-        snippet += "    {\"name\": \"" + m.name + "\", \"height_scale\": " + std::to_string(m.height_scale);
+    nlohmann::json materials = nlohmann::json::array();
+    for (const MaterialDesc& m : scene.materials) {
+        nlohmann::json j = {{"name", m.name}, {"height_scale", m.height_scale}};
         for (const ConvertedFile& f : *files)
-            if (f.material == m.name)
-                snippet += ", \"" + f.slot + "\": \"" + std::filesystem::path(f.path).filename().string() + "\"";
-        snippet += i + 1 < scene.materials.size() ? "},\n" : "}\n";
+            if (f.material == m.name) j[f.slot] = std::filesystem::path(f.path).filename().string();
+        materials.push_back(j);
     }
-    snippet += "  ]\n}\n";
+    const std::string snippet = nlohmann::json{{"materials", materials}}.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     const std::string snippet_path = a.out + "/materials.json";
     Status written = write_file_atomically(snippet_path, snippet);
     if (!written) return fail(written.error().message);

@@ -1,5 +1,7 @@
 #include "texture/format.h"
 
+#include "texture/texture_data.h"
+
 #include <algorithm>
 #include <cctype>
 
@@ -59,15 +61,7 @@ std::string lower(std::string s) {
     return s;
 }
 
-std::string hex(std::uint64_t v) {
-    static const char* digits = "0123456789ABCDEF";
-    std::string s;
-    do {
-        s.insert(s.begin(), digits[v & 15]);
-        v >>= 4;
-    } while (v);
-    return "0x" + s;
-}
+std::string hex(std::uint64_t v) { return hex_code(v); }
 
 }  // namespace
 

@@ -37,7 +37,7 @@ constexpr std::uint8_t kKtx2Identifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32
                                               0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr std::size_t kKtx1HeaderBytes = 64;
 constexpr std::size_t kKtx2HeaderBytes = 80;  // header and index, before the level index
-constexpr std::uint32_t kMaxLayers = 2048;     // as allocate_texture
+constexpr std::uint32_t kMaxLayers = kMaxTextureLayers;
 
 std::uint32_t rd32(const std::uint8_t* p) {
     return static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
@@ -67,15 +67,7 @@ bool fits(std::uint64_t offset, std::uint64_t length, std::uint64_t size) {
 std::uint64_t align4(std::uint64_t v) { return (v + 3) & ~std::uint64_t{3}; }
 
 std::string num(std::uint64_t v) { return std::to_string(v); }
-std::string hex(std::uint64_t v) {
-    static const char* digits = "0123456789ABCDEF";
-    std::string s;
-    do {
-        s.insert(s.begin(), digits[v & 15]);
-        v >>= 4;
-    } while (v);
-    return "0x" + s;
-}
+std::string hex(std::uint64_t v) { return hex_code(v); }
 
 std::string shape(TextureFormat format, std::uint32_t w, std::uint32_t h, std::uint32_t layers,
                   std::uint32_t faces) {
@@ -123,29 +115,8 @@ Status check_shape(const std::string& c, const ShapeFields& n, std::uint32_t w, 
 
 // A writer's input: the layout texture_data.h describes, exactly.
 Status check_writable(const TextureData& t, const std::string& c) {
-    if (t.levels.empty()) return make_error(c + "writer: the texture has no levels");
-    const std::uint32_t max = static_cast<std::uint32_t>(kMaxTextureSize);
-    if (t.width == 0 || t.height == 0 || t.width > max || t.height > max)
-        return make_error(c + "writer: size " + num(t.width) + "x" + num(t.height) + " is outside 1.." + num(max));
-    if (t.levels.size() > static_cast<std::size_t>(full_mip_count(t.width, t.height)))
-        return make_error(c + "writer: " + num(t.levels.size()) + " levels is more than the full chain");
-    if (t.layers == 0 || t.layers > kMaxLayers) return make_error(c + "writer: " + num(t.layers) + " layers");
-    if (t.faces != 1 && t.faces != 6) return make_error(c + "writer: " + num(t.faces) + " faces (1 or 6)");
-    std::uint64_t offset = 0;
-    for (std::size_t i = 0; i < t.levels.size(); ++i) {
-        const TextureLevel& l = t.levels[i];
-        const int li = static_cast<int>(i);
-        const auto one = image_bytes(t.format, l.width, l.height);
-        if (l.width != mip_extent(t.width, li) || l.height != mip_extent(t.height, li) || !one ||
-            *one != l.image_bytes || l.offset != offset)
-            return make_error(c + "writer: level " + num(i) + " (" + num(l.width) + "x" + num(l.height) + ", " +
-                              num(l.image_bytes) + " bytes at " + num(l.offset) +
-                              ") does not match the layout of the format and base size");
-        offset += *one * t.layers * t.faces;
-    }
-    if (offset != t.bytes.size())
-        return make_error(c + "writer: the texture holds " + num(t.bytes.size()) + " bytes; its levels need " +
-                          num(offset));
+    Status layout = check_texture_layout(t);
+    if (!layout) return make_error(c + "writer: " + layout.error().message);
     return {};
 }
 

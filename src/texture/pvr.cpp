@@ -19,7 +19,7 @@ namespace {
 constexpr std::size_t kHeaderBytes = 52;
 constexpr std::uint32_t kVersion = 0x03525650u;         // "PVR\x03"
 constexpr std::uint32_t kVersionSwapped = 0x50565203u;  // the same, other endianness
-constexpr std::uint32_t kMaxLayers = 2048;
+constexpr std::uint32_t kMaxLayers = kMaxTextureLayers;
 
 std::uint32_t rd32(const std::uint8_t* p) {
     return static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
@@ -29,15 +29,7 @@ void put32(std::vector<std::uint8_t>& out, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
 std::string num(std::uint64_t v) { return std::to_string(v); }
-std::string hex(std::uint64_t v) {
-    static const char* digits = "0123456789ABCDEF";
-    std::string s;
-    do {
-        s.insert(s.begin(), digits[v & 15]);
-        v >>= 4;
-    } while (v);
-    return "0x" + s;
-}
+std::string hex(std::uint64_t v) { return hex_code(v); }
 
 // The PVR v3 pixel format of an uncompressed format: channel letters in the
 // low four bytes, bits per channel in the high four.
@@ -134,27 +126,8 @@ Result<std::vector<std::uint8_t>> write_pvr3(const TextureData& t) {
     const FormatInfo& info = format_info(t.format);
     if (info.compressed() && info.pvr_format == 0xFFFFFFFFu)
         return make_error(c + "writer: " + info.name + " has no PVR v3 pixel format");
-    if (t.levels.empty()) return make_error(c + "writer: the texture has no levels");
-    const std::uint32_t max = static_cast<std::uint32_t>(kMaxTextureSize);
-    if (t.width == 0 || t.height == 0 || t.width > max || t.height > max)
-        return make_error(c + "writer: size " + num(t.width) + "x" + num(t.height) + " is outside 1.." + num(max));
-    if (t.levels.size() > static_cast<std::size_t>(full_mip_count(t.width, t.height)))
-        return make_error(c + "writer: " + num(t.levels.size()) + " levels is more than the full chain");
-    if (t.layers == 0 || t.layers > kMaxLayers) return make_error(c + "writer: " + num(t.layers) + " layers");
-    if (t.faces != 1 && t.faces != 6) return make_error(c + "writer: " + num(t.faces) + " faces (1 or 6)");
-    std::uint64_t offset = 0;
-    for (std::size_t i = 0; i < t.levels.size(); ++i) {
-        const TextureLevel& l = t.levels[i];
-        const int li = static_cast<int>(i);
-        const auto one = image_bytes(t.format, l.width, l.height);
-        if (l.width != mip_extent(t.width, li) || l.height != mip_extent(t.height, li) || !one ||
-            *one != l.image_bytes || l.offset != offset)
-            return make_error(c + "writer: level " + num(i) + " does not match the layout of the format and base size");
-        offset += *one * t.layers * t.faces;
-    }
-    if (offset != t.bytes.size())
-        return make_error(c + "writer: the texture holds " + num(t.bytes.size()) + " bytes; its levels need " +
-                          num(offset));
+    Status layout = check_texture_layout(t);
+    if (!layout) return make_error(c + "writer: " + layout.error().message);
     return out_of_memory_is_an_error(c + "writer", [&]() -> Result<std::vector<std::uint8_t>> {
         std::vector<std::uint8_t> out;
         out.reserve(kHeaderBytes + t.bytes.size());

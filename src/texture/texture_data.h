@@ -14,6 +14,9 @@
 
 namespace px {
 
+// Array layers a texture may have (allocate_texture, the readers, the writers).
+inline constexpr std::uint32_t kMaxTextureLayers = 2048;
+
 enum class ContainerKind : std::uint8_t { ktx1, ktx2, pvr3, image };
 
 const char* container_name(ContainerKind kind);  // "KTX 1.1", "KTX 2.0", "PVR v3", "image"
@@ -49,6 +52,14 @@ struct TextureData {
 // levels of the chain (1..full_mip_count), each image sized by the block
 // arithmetic. Errors: zero or oversized extents, more levels than the chain,
 // or a total past max_bytes (all checked before the allocation).
+// Whether `t` is laid out exactly as above (what the writers take): levels
+// of the chain with the block arithmetic's sizes, contiguous, and bytes
+// their sum. Errors say what differs.
+Status check_texture_layout(const TextureData& t);
+
+// "0x1A2B": format codes in messages.
+std::string hex_code(std::uint64_t v);
+
 Result<TextureData> allocate_texture(TextureFormat format, std::uint32_t width, std::uint32_t height,
                                      int level_count, std::uint32_t layers, std::uint32_t faces,
                                      std::uint64_t max_bytes);
