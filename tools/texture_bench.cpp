@@ -35,6 +35,7 @@ struct VariantRow {
     std::uint64_t bytes = 0, rgba8_bytes = 0;
     std::vector<std::string> paths;  // per texture: direct or CPU decode
     double frame_ms = 0.0;
+    double encode_s = 0.0;  // the asset step, all of the variant's textures
     std::vector<double> error_mean, error_p95;  // per height-reading object, texels of its height map
 };
 
@@ -73,6 +74,7 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
         for (const ConvertedFile& f : *files) {
             row.bytes += f.bytes;
             row.rgba8_bytes += f.rgba8_bytes;
+            row.encode_s += f.seconds;
         }
         // Frame time with the scene's own techniques: loaded now, timed
         // below in interleaved rounds.
@@ -135,22 +137,23 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
     md += "Measured by `" + command + "` on " + std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) +
           ", " + std::to_string(width) + "x" + std::to_string(height) + ", median of " + std::to_string(frames) +
           " rounds that draw every variant once each (wall clock around glFinish; compare ratios within one run).\n\n";
-    md += "Bytes: every texture file's texel data (full mip chains) against the same textures as RGBA8 with mips. ";
+    md += "Bytes: every texture file's texel data (full mip chains) against the same textures as RGBA8 with mips. "
+          "Encode: the asset step's encoding time for the variant's textures, all levels, one thread. ";
     md += "Hit error: maxmip (exact on the texels it is given) on the variant's height maps against the exact reference of "
           "the uncompressed 8-bit assets, per object, in texels of its height map: what the height format alone moves the "
           "hit.\n\n";
-    md += "| variant | height / normal / albedo | bytes | of RGBA8 | frame ms | time vs raw |";
+    md += "| variant | height / normal / albedo | bytes | of RGBA8 | encode s | frame ms | time vs raw |";
     for (const ObjectDesc& o : loaded->objects) md += " " + o.name + " hit error mean / p95 |";
-    md += "\n|---|---|---|---|---|---|";
+    md += "\n|---|---|---|---|---|---|---|";
     for (size_t i = 0; i < loaded->objects.size(); ++i) md += "---|";
     md += "\n";
     const double raw_ms = rows.front().frame_ms;
     char b[256];
     for (const VariantRow& r : rows) {
-        std::snprintf(b, sizeof b, "| %s | %s | %llu | %.1f%% | %.2f | %.2f |", r.variant.c_str(), r.formats.c_str(),
+        std::snprintf(b, sizeof b, "| %s | %s | %llu | %.1f%% | %.2f | %.2f | %.2f |", r.variant.c_str(), r.formats.c_str(),
                       static_cast<unsigned long long>(r.bytes),
                       r.rgba8_bytes ? 100.0 * static_cast<double>(r.bytes) / static_cast<double>(r.rgba8_bytes) : 0.0,
-                      r.frame_ms, r.frame_ms / std::max(1e-9, raw_ms));
+                      r.encode_s, r.frame_ms, r.frame_ms / std::max(1e-9, raw_ms));
         md += b;
         for (size_t i = 0; i < r.error_mean.size(); ++i) {
             std::snprintf(b, sizeof b, " %.3f / %.3f |", r.error_mean[i], r.error_p95[i]);
