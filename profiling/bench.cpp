@@ -72,8 +72,8 @@ std::string now_iso8601() {
     return buffer;
 }
 
-Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene) {
-    Result<std::unique_ptr<Renderer>> r = Renderer::create();
+Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene, const RendererOptions& options = {}) {
+    Result<std::unique_ptr<Renderer>> r = Renderer::create(options);
     if (!r) return r.error();
     Status loaded = (*r)->load(scene);
     if (!loaded) return loaded.error();
@@ -259,7 +259,9 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
 
             SceneDesc normal_scene = *base;
             normal_scene.materials[0].technique.technique = Technique::normal;
-            Result<std::unique_ptr<Renderer>> normal = load_renderer(normal_scene);
+            RendererOptions baseline_options = options.renderer;
+            baseline_options.variant_transform = nullptr;
+            Result<std::unique_ptr<Renderer>> normal = load_renderer(normal_scene, baseline_options);
             if (!normal) return normal.error();
 
             std::vector<Setting> scene_settings;
@@ -276,7 +278,7 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
             }
             for (const Setting& setting : scene_settings) {
                 const SceneDesc scene = with_setting(*base, setting, shadow, options.exact_view);
-                Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene);
+                Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene, options.renderer);
                 if (!renderer) return with_context(setting.technique, renderer.error());
 
                 // What the shader computed, against the reference.
@@ -318,6 +320,8 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 row.angle_deg = angle;
                 row.technique = setting.technique;
                 row.samples = setting.samples;
+                if (!(*renderer)->reports().empty() && setting.technique != kDisplacedMesh)
+                    row.variant = (*renderer)->reports()[0].variant.describe();
                 row.shadow = shadow;
                 row.light_elevation_deg = options.light_elevation_deg;
                 row.shadow_samples = shadow == ShadowMode::none ? 0 : scene.materials[0].technique.shadow_samples;

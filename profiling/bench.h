@@ -10,6 +10,7 @@
 #include "assets/image.h"
 #include "profiling/bench_results.h"
 #include "core/result.h"
+#include "render/renderer.h"
 #include "render/target.h"
 #include "scene/scene.h"
 
@@ -60,6 +61,10 @@ struct BenchOptions {
     std::vector<int> shadow_samples{16};
     double light_elevation_deg = 35.0;  // the bench's sun, above the plane (azimuth 30 degrees)
     std::vector<BenchMaterial> materials;  // benched after `scenes`
+    // Every setting's renderer is created with these (the normal-mapping
+    // baseline's too, less the variant transform): e.g. a variant transform
+    // to time another shader form of the same technique.
+    RendererOptions renderer;
 };
 
 // Called after each setting: done, total, and what was just measured.

@@ -18,6 +18,7 @@ struct BenchRow {
     double angle_deg = 0.0;   // view angle from the normal
     std::string technique;    // catalogue name, or "displaced_mesh" for the real-geometry baseline
     int samples = 0;          // max_samples (0 where the technique has none)
+    std::string variant;      // the drawn shader variant (VariantKey::describe); empty for the mesh baseline
     ShadowMode shadow = ShadowMode::none;
     int shadow_samples = 0;   // shadowed scenes: samples along the shadow ray
     double light_elevation_deg = 35.0;  // the light, above the plane

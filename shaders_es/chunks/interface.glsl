@@ -9,7 +9,8 @@ PX_VARYING PX_HIGHP vec2 v_uv;             // material uv; PX_HIGHP for large ti
 // "exact_view": false): normalised per vertex and mediump (PowerVR
 // whitepaper: saves a normalise per fragment), which costs POM about 1 texel
 // of hit error on a two-triangle plane at 30 degrees (docs/accuracy.md).
-#ifdef PX_EXACT_VIEW
+// The optimisation ladder (ladder/) keeps it highp until its precision step.
+#if defined(PX_EXACT_VIEW) || (defined(PX_LADDER_STEP) && PX_LADDER_STEP < 6)
 #define PX_VIEW_PRECISION PX_HIGHP
 #else
 #define PX_VIEW_PRECISION mediump

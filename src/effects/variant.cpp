@@ -29,6 +29,14 @@ VariantKey VariantKey::canonical() const {
     if (!has_option(k.technique, kOptDepth)) k.depth_write = false;
     if (!has_option(k.technique, kOptLod)) k.lod = false;
     if (k.es_major >= 3) k.no_fragment_highp = false;  // ES 3.0 guarantees fragment highp
+    if (k.technique != Technique::offset_limited || k.ladder_step > kLadderSteps) k.ladder_step = 0;
+    // The ladder's shaders have their own view vector (each step decides
+    // where it is normalised) and the whitepaper's layouts only.
+    if (k.ladder_step) {
+        k.exact_view = false;
+        k.normal_rg = false;
+        k.lod = false;
+    }
     return k;
 }
 
@@ -50,6 +58,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.no_fragment_highp) << 48;
     b |= static_cast<std::uint64_t>(k.normal_rg) << 49;
     b |= static_cast<std::uint64_t>(k.height_11bit) << 50;
+    b |= static_cast<std::uint64_t>(k.ladder_step & 0x7) << 51;  // 3 bits
     return b;
 }
 
@@ -76,6 +85,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.lod) d.push_back({"PX_LOD", ""});
     if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
     if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
+    if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
     return d;
 }
 
@@ -103,7 +113,36 @@ std::string VariantKey::describe() const {
     if (k.height_11bit) s << " height-11bit";
     if (k.debug_output) s << " debug" << int(k.debug_output);
     if (k.no_fragment_highp) s << " no-fragment-highp";
+    if (k.ladder_step) s << " ladder" << int(k.ladder_step);
     return s.str();
+}
+
+std::string VariantKey::vertex_entry() const {
+    return canonical().ladder_step ? "ladder/offset_ladder.vert" : "surface.vert";
+}
+
+std::string VariantKey::fragment_entry() const {
+    const VariantKey k = canonical();
+    if (k.ladder_step) return "ladder/offset_ladder.frag";
+    return std::string("techniques/") + technique_info(k.technique).source;
+}
+
+const LadderStep& ladder_step_info(int step) {
+    // PowerVR "Parallax Bumpmapping" whitepaper (2016), sections 3.1 to 3.2.2.
+    static const LadderStep steps[kLadderSteps] = {
+        {1, "baseline", "everything highp; the eye-to-tangent matrix built per vertex from the world-view product; "
+                        "the view vector normalised and the parallax scale applied in the fragment shader; "
+                        "texture reads interleaved with the math that uses them"},
+        {2, "eye-to-tangent matrix", "the frame from the inverse-transpose matrix the CPU computes (a uniform) "
+                                     "instead of per-vertex matrix products (3.1)"},
+        {3, "view normalised per vertex", "the view vector normalised in the vertex shader, not per fragment (3.1)"},
+        {4, "scale in the vertex shader", "the parallax scale folded into the view vector per vertex (3.2)"},
+        {5, "reads back to back", "the two dependent reads (normal, albedo) issued together before any math on "
+                                  "them: one wait instead of two (3.2.1)"},
+        {6, "lowp and mediump", "fragment math in mediump, colours and normals in lowp, where they hold (3.2.2)"},
+    };
+    static const LadderStep none{0, "shipped", "the shipped offset_limited shader"};
+    return step >= 1 && step <= kLadderSteps ? steps[step - 1] : none;
 }
 
 VariantKey VariantKey::with_layout(const TextureLayout& layout) const {

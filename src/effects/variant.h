@@ -46,6 +46,10 @@ struct VariantKey {
     // 0: colour. 1: hit uv, height and visibility to a float target. 2, 3, 4:
     // the same packed into RGBA8 over three passes (shaders_es/chunks/debug_output.glsl).
     std::uint8_t debug_output = 0;
+    // The PowerVR whitepaper's optimisation ladder (offset_limited only,
+    // shaders_es/ladder/): 0 is the shipped shader; 1 the whitepaper's
+    // baseline, and 2..6 each step it took, in its order (kLadderSteps).
+    std::uint8_t ladder_step = 0;
 
     // The same variant with every field the technique does not use zeroed,
     // so that equal programs have equal keys.
@@ -58,9 +62,23 @@ struct VariantKey {
     std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
     std::string describe() const;  // "pom es3 samples=32 shadow=soft depth packed"
 
+    // The shader entries (relative to shaders_es/) the variant is built from.
+    std::string vertex_entry() const;
+    std::string fragment_entry() const;
+
     // The key with a material's texture layout applied.
     VariantKey with_layout(const TextureLayout& layout) const;
 };
+
+// The optimisation ladder's steps (VariantKey::ladder_step 1..kLadderSteps):
+// what each one changes, for reports.
+constexpr int kLadderSteps = 6;
+struct LadderStep {
+    int step;
+    const char* name;    // short, for tables: "baseline", "eye-to-tangent matrix", ...
+    const char* change;  // what it does, in the whitepaper's words
+};
+const LadderStep& ladder_step_info(int step);  // 1..kLadderSteps
 
 // Every variant the program can build for an ES version on a context that
 // has every optional extension: each technique with each of its options on

@@ -322,6 +322,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     if (options.emulate_no_fragment_highp && r->caps_.es_major < 3) r->caps_.fragment_highp = false;
     if (options.emulate_no_texture_npot && r->caps_.es_major < 3) r->caps_.extensions.erase("GL_OES_texture_npot");
     r->shader_transform_ = options.shader_transform;
+    r->variant_transform_ = options.variant_transform;
     r->force_texture_decode_ = options.force_texture_decode;
     r->planner_options_ = options.planner;
     install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
@@ -528,6 +529,7 @@ Result<int> Renderer::apply_plans(const CameraDesc& camera, int width, int heigh
     for (size_t i = 0; i < scene_->objects.size(); ++i) {
         GpuObject& object = scene_->objects[i];
         ObjectPlan& plan = (*plans)[i];
+        if (variant_transform_) plan.key = variant_transform_(plan.key).canonical();
         if (!(plan.key == object.plan.key)) ++changed;
         Result<const Program*> program = scene_->programs.get(plan.key);
         if (!program) return with_context("material '" + echo(scene_->materials[object.material].desc->name) + "'", program.error());

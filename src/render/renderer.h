@@ -3,6 +3,7 @@
 // makes one current, then loads a scene and draws it into any framebuffer.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,6 +47,12 @@ struct RendererOptions {
     // here (`load`) before compiling and stored (`store`) after a fresh
     // link. Empty: every program is compiled from source.
     ProgramBinaryStore program_binaries;
+    // Applied to every object's planned variant before its program is built
+    // and drawn (the debug passes keep their own output); empty: none. For
+    // studies of shader forms that draw with the same inputs, such as the
+    // optimisation ladder (VariantKey::ladder_step): the renderer binds
+    // what the planned variant binds.
+    std::function<VariantKey(const VariantKey&)> variant_transform;
     // Decode every texture file on the CPU and upload RGBA8, even where the
     // context samples its format (tests of the fallback path).
     bool force_texture_decode = false;
@@ -131,6 +138,7 @@ private:
     Renderer() = default;
     Caps caps_;
     ShaderTransform shader_transform_;
+    std::function<VariantKey(const VariantKey&)> variant_transform_;
     PlannerOptions planner_options_;
     ProgramBinaryStore program_binaries_;
     ProgramBinarySupport binary_support_;

@@ -1,5 +1,6 @@
 #include "shaders/conditional.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <map>
@@ -361,7 +362,8 @@ struct Frame {
 }  // namespace
 
 Result<std::string> resolve_conditionals(const std::string& text, const std::string& name,
-                                         const std::vector<LineOrigin>& origins) {
+                                         const std::vector<LineOrigin>& origins,
+                                         std::vector<LineOrigin>* kept_origins) {
     auto where = [&](size_t physical) {
         if (physical < origins.size()) return origins[physical].file + ":" + std::to_string(origins[physical].line);
         return name + ":" + std::to_string(physical + 1);
@@ -370,9 +372,18 @@ Result<std::string> resolve_conditionals(const std::string& text, const std::str
     std::vector<Frame> frames;
     std::string out;
     out.reserve(text.size());
-    auto keep = [&out](const std::string& s) {
+    size_t current = 0;  // physical line of the logical line being read
+    auto origin_of = [&](size_t physical) {
+        if (physical < origins.size()) return origins[physical];
+        return LineOrigin{name, static_cast<int>(physical + 1)};
+    };
+    auto keep = [&](const std::string& s) {
         out += s;
         out += '\n';
+        if (!kept_origins) return;
+        // One entry per physical line written (a spliced line keeps its splices).
+        const size_t lines = 1 + static_cast<size_t>(std::count(s.begin(), s.end(), '\n'));
+        for (size_t i = 0; i < lines; ++i) kept_origins->push_back(origin_of(current + i));
     };
     // Block comments are followed across lines: a '#' inside one starts no
     // directive. Dropping lines never splits a comment: a directive starts
@@ -381,6 +392,7 @@ Result<std::string> resolve_conditionals(const std::string& text, const std::str
     bool in_block = false;
 
     for (const LogicalLine& line : logical_lines(text)) {
+        current = line.first;
         const bool starts_in_comment = in_block;
         const std::string code = strip_comments(line.joined, in_block);
         const bool emit = frames.empty() || frames.back().emit;

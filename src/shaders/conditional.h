@@ -39,10 +39,13 @@ struct LineOrigin {
 };
 
 // `origins[i]` names line i of `text` (0-based) in errors; lines past its end
-// are named "<name>:<line>". A malformed structure (an #endif or #else
+// are named "<name>:<line>". `kept_origins`, when given, gets the origin of
+// each line of the result (a replaced directive line keeps its own), so a
+// compiler's line numbers in the result map back to shaders_es/ files. A malformed structure (an #endif or #else
 // without #if, #else after #else, #elif after #else, an #if never closed)
 // is an error naming the line.
 Result<std::string> resolve_conditionals(const std::string& text, const std::string& name,
-                                         const std::vector<LineOrigin>& origins = {});
+                                         const std::vector<LineOrigin>& origins = {},
+                                         std::vector<LineOrigin>* kept_origins = nullptr);
 
 }  // namespace px

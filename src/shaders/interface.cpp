@@ -1,5 +1,6 @@
 #include "shaders/interface.h"
 
+#include <optional>
 #include <sstream>
 
 namespace px::shader {
@@ -99,11 +100,29 @@ Uses uses(const VariantKey& k) {
     return u;
 }
 
+// The optimisation ladder's shaders (shaders_es/ladder/) differ from the
+// shipped ones in where they build the frame and apply the scale; every
+// other uniform is needed as for the shipped offset_limited.
+std::optional<bool> ladder_needs(Uniform uniform, const VariantKey& k, const Uses& u) {
+    if (!k.ladder_step) return std::nullopt;
+    const bool world_view_frame = k.ladder_step == 1;  // the frame from u_view * u_model, per vertex
+    const bool scale_in_fragment = k.ladder_step < 4;  // u_height_scale per fragment, not u_parallax_scale
+    switch (uniform) {
+        case Uniform::normal_matrix:
+        case Uniform::camera_position: return u.frame && !world_view_frame;
+        case Uniform::parallax_scale: return u.traced && !scale_in_fragment && (u.shading || u.view_in_trace);
+        case Uniform::height_scale: return u.traced && scale_in_fragment && u.view_in_trace;
+        case Uniform::inv_height_scale: return u.traced && !scale_in_fragment && u.shading;
+        default: return std::nullopt;
+    }
+}
+
 }  // namespace
 
 bool needed(Uniform uniform, const VariantKey& key) {
     const VariantKey k = key.canonical();
     const Uses u = uses(k);
+    if (const std::optional<bool> ladder = ladder_needs(uniform, k, u)) return *ladder;
     switch (uniform) {
         // surface.vert: gl_Position.
         case Uniform::model:

@@ -13,7 +13,11 @@ namespace px {
 
 namespace {
 
-const char* find_embedded(const std::string& path) {
+const char* find_file(const std::string& path, const ShaderFiles* files) {
+    if (files) {
+        const auto found = files->find(path);
+        return found == files->end() ? nullptr : found->second.c_str();
+    }
     for (const EmbeddedShader& s : embedded_shaders())
         if (path == s.path) return s.text;
     return nullptr;
@@ -31,9 +35,9 @@ bool parse_include(const std::string& line, std::string& path) {
 
 // `origins`, when given, gets one entry per line written to `out`.
 Status expand(const std::string& path, const std::string& includer, std::set<std::string>& seen,
-              std::string& out, std::vector<LineOrigin>* origins) {
+              std::string& out, std::vector<LineOrigin>* origins, const ShaderFiles* files) {
     if (seen.count(path)) return {};  // each chunk once per source
-    const char* text = find_embedded(path);
+    const char* text = find_file(path, files);
     if (!text) return make_error(includer + ": shader file '" + path + "' not found in shaders_es/");
     seen.insert(path);
     std::istringstream in(text);
@@ -45,7 +49,7 @@ Status expand(const std::string& path, const std::string& includer, std::set<std
         if (parse_include(line, included)) {
             const std::string where = "shaders_es/" + path + ":" + std::to_string(line_number);
             if (included.empty()) return make_error(where + ": malformed #include (expected #include \"path\")");
-            Status s = expand(included, where, seen, out, origins);
+            Status s = expand(included, where, seen, out, origins, files);
             if (!s) return s;
             continue;
         }
@@ -92,20 +96,20 @@ std::string preamble(ShaderStage stage, int es_major) {
 Result<std::string> expand_includes(const std::string& entry_path) {
     std::set<std::string> seen;
     std::string out;
-    Status s = expand(entry_path, "shader entry", seen, out, nullptr);
+    Status s = expand(entry_path, "shader entry", seen, out, nullptr, nullptr);
     if (!s) return s.error();
     return out;
 }
 
 Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderStage stage, int es_major,
                                         const std::vector<std::string>& extensions,
-                                        const std::vector<ShaderDefine>& defines) {
+                                        const std::vector<ShaderDefine>& defines, const ShaderFiles* files) {
     if (es_major != 2 && es_major != 3)
         return make_error("OpenGL ES " + std::to_string(es_major) + " is not supported (2 or 3)");
     std::set<std::string> seen;
     std::string body;
     std::vector<LineOrigin> body_origins;
-    Status expanded = expand(entry_path, "shader entry", seen, body, &body_origins);
+    Status expanded = expand(entry_path, "shader entry", seen, body, &body_origins, files);
     if (!expanded) return expanded.error();
 
     AssembledSource a;
@@ -132,20 +136,19 @@ Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderSta
     // What the variant's defines decide is decided here, so the driver (and
     // any ShaderTransform) gets no code of an effect the variant does not
     // use; what only the driver knows (GL_FRAGMENT_PRECISION_HIGH) stays.
-    Result<std::string> resolved = resolve_conditionals(text, entry_path, origins);
+    Result<std::string> resolved = resolve_conditionals(text, entry_path, origins, &a.origins);
     if (!resolved) return resolved.error();
     a.text = std::move(*resolved);
     return a;
 }
 
-Result<VariantSources> assemble_variant(const VariantKey& key) {
+Result<VariantSources> assemble_variant(const VariantKey& key, const ShaderFiles* files) {
     const std::vector<ShaderDefine> defines = key.defines();
-    Result<AssembledSource> vs =
-        assemble_shader("surface.vert", ShaderStage::vertex, key.es_major, key.extensions(ShaderStage::vertex), defines);
+    Result<AssembledSource> vs = assemble_shader(key.vertex_entry(), ShaderStage::vertex, key.es_major,
+                                                 key.extensions(ShaderStage::vertex), defines, files);
     if (!vs) return vs.error();
-    const std::string entry = std::string("techniques/") + technique_info(key.technique).source;
-    Result<AssembledSource> fs =
-        assemble_shader(entry, ShaderStage::fragment, key.es_major, key.extensions(ShaderStage::fragment), defines);
+    Result<AssembledSource> fs = assemble_shader(key.fragment_entry(), ShaderStage::fragment, key.es_major,
+                                                 key.extensions(ShaderStage::fragment), defines, files);
     if (!fs) return fs.error();
     // The declarations against the interface table that gl/program binds and
     // the renderer sets: a name it does not list fails here, without a context.

@@ -4,12 +4,14 @@
 // the validation tests and the cost profiles read it without a context.
 #pragma once
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/result.h"
 #include "effects/variant.h"
+#include "shaders/conditional.h"
 
 namespace px {
 
@@ -18,6 +20,11 @@ struct EmbeddedShader {
     const char* text;
 };
 const std::vector<EmbeddedShader>& embedded_shaders();
+
+// Another set of shader files to assemble from (path relative to shaders_es/
+// -> text): the shaders of another commit, for `parallax profile --against`.
+// nullptr below: the embedded ones.
+using ShaderFiles = std::map<std::string, std::string>;
 
 // Expands `#include "path"` lines (each file at most once per source; a
 // missing file is an error naming the includer and its line).
@@ -34,16 +41,21 @@ struct AssembledSource {
     std::string text;
     // For messages: the variant's defines in one line.
     std::string defines_summary;
+    // Where each line of `text` came from (0-based index = line - 1): a
+    // shaders_es/ file and line, or the entry's version/defines/preamble.
+    std::vector<LineOrigin> origins;
 };
 Result<AssembledSource> assemble_shader(const std::string& entry_path, ShaderStage stage, int es_major,
                                         const std::vector<std::string>& extensions,
-                                        const std::vector<ShaderDefine>& defines);
+                                        const std::vector<ShaderDefine>& defines,
+                                        const ShaderFiles* files = nullptr);
 
-// The shader sources of a variant: surface.vert and the technique's entry.
+// The shader sources of a variant: its vertex and fragment entries
+// (VariantKey::vertex_entry, fragment_entry).
 struct VariantSources {
     AssembledSource vertex;
     AssembledSource fragment;
 };
-Result<VariantSources> assemble_variant(const VariantKey& key);
+Result<VariantSources> assemble_variant(const VariantKey& key, const ShaderFiles* files = nullptr);
 
 }  // namespace px

@@ -1,0 +1,126 @@
+#include "profiling/cost_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+namespace px::profiling {
+
+namespace px_generated {
+extern const char* const kEmbeddedCostModel;
+}
+
+namespace {
+
+using nlohmann::json;
+
+// A positive finite number at `path` of `object`.
+Status read_number(const json& object, const char* key, const std::string& path, double& out, bool allow_zero = false) {
+    const auto found = object.find(key);
+    if (found == object.end()) return make_error(path + "." + key + ": missing");
+    if (!found->is_number()) return make_error(path + "." + key + ": must be a number");
+    const double v = found->get<double>();
+    if (!std::isfinite(v) || v < 0.0 || (!allow_zero && v == 0.0) || v > 1e6)
+        return make_error(path + "." + key + ": " + found->dump() + " is outside " + (allow_zero ? "[0" : "(0") + ", 1e6]");
+    out = v;
+    return {};
+}
+
+Result<const json*> member(const json& object, const char* key, const std::string& path) {
+    const auto found = object.find(key);
+    if (found == object.end() || !found->is_object()) return make_error(path + "." + key + ": missing or not an object");
+    return &*found;
+}
+
+}  // namespace
+
+std::map<std::string, int> CostModel::trip_overrides() const {
+    std::map<std::string, int> m;
+    for (const LoopTrips& l : loop_trips) m[l.file] = l.trips;
+    return m;
+}
+
+Result<CostModel> parse_cost_model(const std::string& text, const std::string& where) {
+    json root;
+    try {
+        root = json::parse(text);
+    } catch (const json::parse_error& e) {
+        return make_error(where + ": not JSON: " + e.what());
+    }
+    auto fail = [&](const Error& e) { return make_error(where + ": " + e.message); };
+    if (!root.is_object()) return make_error(where + ": the cost model must be a JSON object");
+    CostModel m;
+    if (root.contains("name") && root["name"].is_string()) m.name = root["name"].get<std::string>();
+    if (root.contains("about") && root["about"].is_string()) m.about = root["about"].get<std::string>();
+    Result<const json*> arithmetic = member(root, "arithmetic", "$");
+    if (!arithmetic) return fail(arithmetic.error());
+    Result<const json*> texture = member(root, "texture", "$");
+    if (!texture) return fail(texture.error());
+    Result<const json*> varying = member(root, "varying", "$");
+    if (!varying) return fail(varying.error());
+    for (Status s : {read_number(**arithmetic, "fp32_ops_per_cycle", "$.arithmetic", m.fp32_ops_per_cycle),
+                     read_number(**arithmetic, "fp16_ops_per_cycle", "$.arithmetic", m.fp16_ops_per_cycle),
+                     read_number(**arithmetic, "transcendental_cycles", "$.arithmetic", m.transcendental_cycles, true),
+                     read_number(**arithmetic, "branch_cycles", "$.arithmetic", m.branch_cycles, true),
+                     read_number(**texture, "samples_per_cycle", "$.texture", m.samples_per_cycle),
+                     read_number(**texture, "latency_cycles", "$.texture", m.texture_latency_cycles, true),
+                     read_number(**texture, "latency_hidden_share", "$.texture", m.latency_hidden_share, true),
+                     read_number(**varying, "components_per_cycle", "$.varying", m.varying_components_per_cycle)})
+        if (!s) return fail(s.error());
+    if (m.latency_hidden_share > 1.0) return make_error(where + ": $.texture.latency_hidden_share: must be within [0, 1]");
+    if (root.contains("loop_trips")) {
+        const json& trips = root["loop_trips"];
+        if (!trips.is_array() || trips.size() > 256) return make_error(where + ": $.loop_trips: must be an array (at most 256)");
+        for (std::size_t i = 0; i < trips.size(); ++i) {
+            const std::string path = "$.loop_trips[" + std::to_string(i) + "]";
+            const json& t = trips[i];
+            if (!t.is_object() || !t.contains("file") || !t["file"].is_string())
+                return make_error(where + ": " + path + ".file: missing or not a string");
+            if (!t.contains("trips") || !t["trips"].is_number_integer() || t["trips"].get<long long>() < 0 ||
+                t["trips"].get<long long>() > 65535)
+                return make_error(where + ": " + path + ".trips: must be an integer within 0..65535");
+            CostModel::LoopTrips l;
+            l.file = t["file"].get<std::string>();
+            l.trips = static_cast<int>(t["trips"].get<long long>());
+            if (t.contains("why") && t["why"].is_string()) l.why = t["why"].get<std::string>();
+            m.loop_trips.push_back(l);
+        }
+    }
+    if (root.contains("assumptions")) {
+        const json& a = root["assumptions"];
+        if (!a.is_array()) return make_error(where + ": $.assumptions: must be an array of strings");
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            if (!a[i].is_string()) return make_error(where + ": $.assumptions[" + std::to_string(i) + "]: must be a string");
+            m.assumptions.push_back(a[i].get<std::string>());
+        }
+    }
+    return m;
+}
+
+const CostModel& default_cost_model() {
+    static const CostModel model = [] {
+        Result<CostModel> m = parse_cost_model(px_generated::kEmbeddedCostModel, "profiling/cost_model.json");
+        // The file is checked by the unit tests; a broken one is a build defect.
+        return m ? *m : CostModel{};
+    }();
+    return model;
+}
+
+PipeCycles estimate(const StageCost& stage, const OpCounts& path, double round_trips, const CostModel& model) {
+    PipeCycles c;
+    const double fp16 = std::min(path.fp16, path.arithmetic);
+    c.arithmetic = (path.arithmetic - fp16) / model.fp32_ops_per_cycle + fp16 / model.fp16_ops_per_cycle +
+                   path.transcendental * model.transcendental_cycles + path.branches * model.branch_cycles;
+    c.texture = path.samples / model.samples_per_cycle;
+    c.varying = stage.stage == ShaderStage::fragment ? stage.varying_components / model.varying_components_per_cycle : 0.0;
+    c.latency = round_trips * model.texture_latency_cycles * (1.0 - model.latency_hidden_share);
+    const double busiest = std::max({c.arithmetic, c.texture, c.varying});
+    c.total = busiest + c.latency;
+    const std::pair<const char*, double> pipes[] = {{"A", c.arithmetic}, {"T", c.texture}, {"V", c.varying}};
+    for (const auto& [name, cycles] : pipes)
+        if (busiest > 0.0 && cycles >= busiest * 0.999) c.bound += (c.bound.empty() ? "" : ", ") + std::string(name);
+    return c;
+}
+
+}  // namespace px::profiling

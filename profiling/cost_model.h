@@ -1,0 +1,55 @@
+// A documented cost model for a mobile-class GPU: the static counts of
+// profiling/shader_costs.h turned into estimated cycles per pipe. Its
+// parameters live in one data file (profiling/cost_model.json, carried
+// inside the program; `parallax profile --model FILE` reads another), with
+// the assumptions beside them, printed with every report.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "profiling/shader_costs.h"
+
+namespace px::profiling {
+
+struct CostModel {
+    std::string name;
+    std::string about;
+    double fp32_ops_per_cycle = 1.0;
+    double fp16_ops_per_cycle = 2.0;
+    double transcendental_cycles = 4.0;
+    double branch_cycles = 1.0;
+    double samples_per_cycle = 1.0;
+    double texture_latency_cycles = 100.0;
+    double latency_hidden_share = 0.75;
+    double varying_components_per_cycle = 2.0;
+    struct LoopTrips {
+        std::string file;  // a loop whose header is in this shaders_es/ file
+        int trips = 1;
+        std::string why;
+    };
+    std::vector<LoopTrips> loop_trips;
+    std::vector<std::string> assumptions;
+    // For analyse_spirv: file -> trips.
+    std::map<std::string, int> trip_overrides() const;
+};
+
+// `where` names the file in errors, with the JSON path of a bad field.
+Result<CostModel> parse_cost_model(const std::string& json, const std::string& where);
+// The model the program carries (profiling/cost_model.json).
+const CostModel& default_cost_model();
+
+// Estimated cycles of one path through a stage.
+struct PipeCycles {
+    double arithmetic = 0.0;  // A: arithmetic, transcendental and branch cycles
+    double texture = 0.0;     // T
+    double varying = 0.0;     // V (fragment stage)
+    double latency = 0.0;     // exposed texture latency (longest path only)
+    double total = 0.0;       // the busiest pipe plus the exposed latency
+    std::string bound;        // "A", "T", "V", or "A, T" when tied
+};
+PipeCycles estimate(const StageCost& stage, const OpCounts& path, double round_trips, const CostModel& model);
+
+}  // namespace px::profiling
