@@ -12,6 +12,7 @@ void add_bench_command(CLI::App& app, int argc, char** argv);
 void add_stability_command(CLI::App& app, int argc, char** argv);
 void add_plan_command(CLI::App& app, int argc, char** argv);
 void add_texture_commands(CLI::App& app);  // texinfo, convert
+void add_profile_command(CLI::App& app, int argc, char** argv);
 
 void set_exit_status(int status);
 int exit_status();

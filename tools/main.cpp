@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     px::tools::add_bench_command(app, argc, argv);
     px::tools::add_stability_command(app, argc, argv);
     px::tools::add_plan_command(app, argc, argv);
+    px::tools::add_profile_command(app, argc, argv);
     px::tools::add_texture_commands(app);
     try {
         app.parse(argc, argv);

@@ -62,6 +62,31 @@ std::uint64_t VariantKey::bits() const {
     return b;
 }
 
+std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
+    VariantKey k;
+    const std::uint64_t technique = b & 0x7;
+    if (technique >= static_cast<std::uint64_t>(kTechniqueCount)) return std::nullopt;
+    k.technique = static_cast<Technique>(technique);
+    const std::uint64_t shadow = (b >> 3) & 0x3;
+    if (shadow > 2) return std::nullopt;
+    k.shadow = static_cast<ShadowMode>(shadow);
+    k.depth_write = (b >> 5) & 1;
+    k.lod = (b >> 6) & 1;
+    k.packed_height = (b >> 7) & 1;
+    k.es_major = static_cast<std::uint8_t>((b >> 8) & 0xF);
+    k.max_samples = static_cast<std::uint16_t>((b >> 12) & 0xFFFF);
+    k.refine_steps = static_cast<std::uint8_t>((b >> 28) & 0xFF);
+    k.shadow_samples = static_cast<std::uint8_t>((b >> 36) & 0xFF);
+    k.debug_output = static_cast<std::uint8_t>((b >> 44) & 0x7);
+    k.exact_view = (b >> 47) & 1;
+    k.no_fragment_highp = (b >> 48) & 1;
+    k.normal_rg = (b >> 49) & 1;
+    k.height_11bit = (b >> 50) & 1;
+    k.ladder_step = static_cast<std::uint8_t>((b >> 51) & 0x7);
+    if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
+    return k;
+}
+
 std::vector<ShaderDefine> VariantKey::defines() const {
     const VariantKey k = canonical();
     const TechniqueInfo& info = technique_info(k.technique);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct VariantKey {
     VariantKey canonical() const;
     // A unique 64-bit value per variant: the program cache's key.
     std::uint64_t bits() const;
+    // The key whose bits() these are; nullopt for bits no key has (another
+    // process's `parallax profile` passes variants this way).
+    static std::optional<VariantKey> from_bits(std::uint64_t bits);
     bool operator==(const VariantKey& o) const { return bits() == o.bits(); }
 
     std::vector<ShaderDefine> defines() const;

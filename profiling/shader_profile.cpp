@@ -1,0 +1,372 @@
+#include "profiling/shader_profile.h"
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace px::profiling {
+
+Result<VariantProfile> profile_variant(const VariantKey& key, const CostModel& model, const ShaderFiles* files) {
+    Result<VariantSources> sources = assemble_variant(key, files);
+    if (!sources) return sources.error();
+    VariantProfile p;
+    p.key = key.canonical();
+    p.name = p.key.describe();
+    const TripOverrides trips = model.trip_overrides();
+    Result<StageCost> vertex = stage_cost(sources->vertex, ShaderStage::vertex, trips);
+    if (!vertex) return with_context(p.name + " vertex stage", vertex.error());
+    Result<StageCost> fragment = stage_cost(sources->fragment, ShaderStage::fragment, trips);
+    if (!fragment) return with_context(p.name + " fragment stage", fragment.error());
+    p.vertex = std::move(*vertex);
+    p.fragment = std::move(*fragment);
+    // The shortest path waits for at most one read after another where it reads at all.
+    const double shortest_trips = std::min(p.fragment.shortest.samples, p.fragment.texture_round_trips);
+    p.fragment_shortest = estimate(p.fragment, p.fragment.shortest, shortest_trips, model);
+    p.fragment_longest = estimate(p.fragment, p.fragment.longest, p.fragment.texture_round_trips, model);
+    p.vertex_longest = estimate(p.vertex, p.vertex.longest, p.vertex.texture_round_trips, model);
+    return p;
+}
+
+Result<ReportFormat> parse_report_format(const std::string& name) {
+    if (name == "table") return ReportFormat::table;
+    if (name == "md" || name == "markdown") return ReportFormat::markdown;
+    if (name == "json") return ReportFormat::json;
+    return make_error("unknown format '" + name + "' (table, md or json)");
+}
+
+namespace {
+
+std::string fixed(double v, int digits = 1) {
+    if (!std::isfinite(v)) return "n/a";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", digits, v);
+    return b;
+}
+
+std::string percent(double share) { return fixed(100.0 * share, 0) + "%"; }
+
+double fp16_share(const OpCounts& c) { return c.arithmetic > 0 ? c.fp16 / c.arithmetic : 0.0; }
+
+std::string short_file(const std::string& where) {
+    const std::size_t slash = where.rfind('/');
+    return slash == std::string::npos ? where : where.substr(slash + 1);
+}
+
+std::string loops_text(const StageCost& s) {
+    std::string out;
+    for (const LoopCost& l : s.loops) {
+        if (!out.empty()) out += ", ";
+        out += short_file(l.where) + " x" + (l.trip_count >= 0 ? std::to_string(l.trip_count) : "?");
+        if (l.counted_trips != l.trip_count) out += " (counted " + std::to_string(l.counted_trips) + ")";
+    }
+    return out.empty() ? "-" : out;
+}
+
+std::string vendor_text(const VariantProfile& p) {
+    std::string out;
+    for (const VendorFigures& v : p.vendor_fragment) {
+        if (!out.empty()) out += "; ";
+        out += v.tool + ":";
+        if (v.cycles >= 0) out += " " + fixed(v.cycles, 2) + " cycles";
+        for (std::size_t i = 0; i < v.pipes.size() && i < v.longest.size(); ++i)
+            out += " " + v.pipes[i] + "=" + fixed(v.longest[i], 2);
+        if (!v.bound.empty()) out += " (" + v.bound + ")";
+        if (v.work_registers >= 0) out += " regs=" + std::to_string(v.work_registers);
+    }
+    return out.empty() ? "-" : out;
+}
+
+// A table as text (aligned columns) or Markdown.
+std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                         ReportFormat format) {
+    std::ostringstream s;
+    if (format == ReportFormat::markdown) {
+        s << "|";
+        for (const std::string& h : header) s << " " << h << " |";
+        s << "\n|";
+        for (std::size_t i = 0; i < header.size(); ++i) s << (i == 0 ? " --- |" : " ---: |");
+        s << "\n";
+        for (const auto& r : rows) {
+            s << "|";
+            for (const std::string& c : r) s << " " << c << " |";
+            s << "\n";
+        }
+        return s.str();
+    }
+    std::vector<std::size_t> width(header.size(), 0);
+    for (std::size_t i = 0; i < header.size(); ++i) width[i] = header[i].size();
+    for (const auto& r : rows)
+        for (std::size_t i = 0; i < r.size() && i < width.size(); ++i) width[i] = std::max(width[i], r[i].size());
+    auto line = [&](const std::vector<std::string>& r) {
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const std::string pad(width[i] - std::min(width[i], r[i].size()), ' ');
+            s << (i == 0 ? r[i] + pad : pad + r[i]) << (i + 1 < r.size() ? "  " : "");
+        }
+        s << "\n";
+    };
+    line(header);
+    for (const auto& r : rows) line(r);
+    return s.str();
+}
+
+// The metrics compared between variants, in report order.
+struct Metric {
+    const char* name;
+    std::function<std::optional<double>(const VariantProfile&)> value;
+    int digits;
+};
+
+const std::vector<Metric>& metrics() {
+    using P = VariantProfile;
+    static const std::vector<Metric> m = {
+        {"fragment: estimated cycles, longest path", [](const P& p) { return std::optional<double>(p.fragment_longest.total); }, 1},
+        {"fragment: estimated cycles, shortest path", [](const P& p) { return std::optional<double>(p.fragment_shortest.total); }, 1},
+        {"fragment: A cycles (longest)", [](const P& p) { return std::optional<double>(p.fragment_longest.arithmetic); }, 1},
+        {"fragment: T cycles (longest)", [](const P& p) { return std::optional<double>(p.fragment_longest.texture); }, 1},
+        {"fragment: V cycles", [](const P& p) { return std::optional<double>(p.fragment_longest.varying); }, 1},
+        {"fragment: exposed latency cycles", [](const P& p) { return std::optional<double>(p.fragment_longest.latency); }, 1},
+        {"fragment: arithmetic ops (longest)", [](const P& p) { return std::optional<double>(p.fragment.longest.arithmetic); }, 0},
+        {"fragment: 16-bit share of arithmetic", [](const P& p) { return std::optional<double>(100.0 * fp16_share(p.fragment.longest)); }, 0},
+        {"fragment: transcendental ops (longest)", [](const P& p) { return std::optional<double>(p.fragment.longest.transcendental); }, 0},
+        {"fragment: texture samples (longest)", [](const P& p) { return std::optional<double>(p.fragment.longest.samples); }, 0},
+        {"fragment: texture reads in the code", [](const P& p) { return std::optional<double>(double(p.fragment.samples.size())); }, 0},
+        {"fragment: dependent reads", [](const P& p) { return std::optional<double>(p.fragment.dependent_samples); }, 0},
+        {"fragment: texture round trips", [](const P& p) { return std::optional<double>(p.fragment.texture_round_trips); }, 0},
+        {"fragment: RelaxedPrecision results %", [](const P& p) { return std::optional<double>(100.0 * p.fragment.relaxed_share()); }, 0},
+        {"fragment: varying components", [](const P& p) { return std::optional<double>(p.fragment.varying_components); }, 0},
+        {"vertex: arithmetic ops", [](const P& p) { return std::optional<double>(p.vertex.longest.arithmetic); }, 0},
+        {"vertex: transcendental ops", [](const P& p) { return std::optional<double>(p.vertex.longest.transcendental); }, 0},
+        {"vertex: estimated cycles", [](const P& p) { return std::optional<double>(p.vertex_longest.total); }, 1},
+        {"NIR fragment: ALU instructions", [](const P& p) { return p.nir_fragment ? std::optional<double>(p.nir_fragment->alu) : std::nullopt; }, 0},
+        {"NIR fragment: texture instructions", [](const P& p) { return p.nir_fragment ? std::optional<double>(p.nir_fragment->texture) : std::nullopt; }, 0},
+        {"NIR fragment: 16-bit ALU %", [](const P& p) { return p.nir_fragment ? std::optional<double>(100.0 * p.nir_fragment->alu_16bit_share()) : std::nullopt; }, 0},
+        {"NIR fragment: loops left", [](const P& p) { return p.nir_fragment ? std::optional<double>(p.nir_fragment->loops) : std::nullopt; }, 0},
+        {"NIR vertex: ALU instructions", [](const P& p) { return p.nir_vertex ? std::optional<double>(p.nir_vertex->alu) : std::nullopt; }, 0},
+        {"llvmpipe ns per pixel", [](const P& p) { return p.measured ? std::optional<double>(p.measured->ns_per_pixel) : std::nullopt; }, 2},
+        {"llvmpipe time / normal mapping", [](const P& p) { return p.measured ? std::optional<double>(p.measured->ratio_to_normal) : std::nullopt; }, 2},
+        {"hit uv error, mean (texels)", [](const P& p) { return p.measured ? std::optional<double>(p.measured->uv_error_mean) : std::nullopt; }, 3},
+        {"colour PSNR (dB)", [](const P& p) { return p.measured ? std::optional<double>(p.measured->color_psnr_db) : std::nullopt; }, 1},
+    };
+    return m;
+}
+
+nlohmann::json counts_json(const OpCounts& c) {
+    return {{"arithmetic", c.arithmetic}, {"fp16", c.fp16}, {"transcendental", c.transcendental},
+            {"samples", c.samples}, {"branches", c.branches}};
+}
+
+nlohmann::json cycles_json(const PipeCycles& c) {
+    return {{"A", c.arithmetic}, {"T", c.texture}, {"V", c.varying}, {"latency", c.latency}, {"total", c.total}, {"bound", c.bound}};
+}
+
+nlohmann::json stage_json(const StageCost& s) {
+    nlohmann::json loops = nlohmann::json::array(), samples = nlohmann::json::array();
+    for (const LoopCost& l : s.loops)
+        loops.push_back({{"where", l.where}, {"trip_count", l.trip_count}, {"counted_trips", l.counted_trips},
+                         {"depth", l.depth}, {"has_samples", l.has_samples}});
+    for (const SampleCost& r : s.samples)
+        samples.push_back({{"where", r.where}, {"dependent", r.dependent}, {"waits_on", r.waits_on}, {"repeats", r.repeats}});
+    return {{"spirv_words", s.spirv_words},
+            {"instructions", {{"arithmetic", s.arithmetic_instructions}, {"transcendental", s.transcendental_instructions},
+                              {"texture", s.texture_instructions}, {"control_flow", s.control_instructions}}},
+            {"relaxed_precision_share", s.relaxed_share()},
+            {"varying_components", s.varying_components},
+            {"total", counts_json(s.total)},
+            {"shortest", counts_json(s.shortest)},
+            {"longest", counts_json(s.longest)},
+            {"unknown_trips", s.unknown_trips},
+            {"dependent_samples", s.dependent_samples},
+            {"texture_round_trips", s.texture_round_trips},
+            {"loops", loops},
+            {"samples", samples}};
+}
+
+nlohmann::json nir_json(const NirCost& n) {
+    return {{"alu", n.alu}, {"alu_16bit", n.alu_16bit}, {"texture", n.texture}, {"intrinsics", n.intrinsics},
+            {"loops", n.loops}, {"branches", n.branches}, {"ssa_values", n.ssa_values}};
+}
+
+nlohmann::json profile_json(const VariantProfile& p) {
+    nlohmann::json j = {{"variant", p.name},
+                        {"key_bits", p.key.bits()},
+                        {"fragment", stage_json(p.fragment)},
+                        {"vertex", stage_json(p.vertex)},
+                        {"estimate", {{"fragment_shortest", cycles_json(p.fragment_shortest)},
+                                      {"fragment_longest", cycles_json(p.fragment_longest)},
+                                      {"vertex_longest", cycles_json(p.vertex_longest)}}}};
+    if (p.nir_fragment) j["nir"]["fragment"] = nir_json(*p.nir_fragment);
+    if (p.nir_vertex) j["nir"]["vertex"] = nir_json(*p.nir_vertex);
+    if (!p.nir_note.empty()) j["nir_note"] = p.nir_note;
+    for (const VendorFigures& v : p.vendor_fragment)
+        j["vendor"].push_back({{"tool", v.tool}, {"target", v.target}, {"work_registers", v.work_registers},
+                               {"fp16_percent", v.fp16_percent}, {"pipes", v.pipes}, {"shortest", v.shortest},
+                               {"longest", v.longest}, {"bound", v.bound}, {"cycles", v.cycles}});
+    if (p.measured)
+        j["measured"] = {{"scene", p.measured->scene}, {"angle_deg", p.measured->angle_deg},
+                         {"ns_per_pixel", p.measured->ns_per_pixel}, {"ratio_to_normal", p.measured->ratio_to_normal},
+                         {"uv_error_mean", p.measured->uv_error_mean}, {"uv_error_p95", p.measured->uv_error_p95},
+                         {"color_psnr_db", p.measured->color_psnr_db}};
+    return j;
+}
+
+nlohmann::json context_json(const ReportContext& c) {
+    nlohmann::json j = {{"command", c.command}, {"renderer", c.renderer}, {"vendor", c.vendor_line}};
+    if (c.model) j["model"] = c.model->name;
+    return j;
+}
+
+std::string header_lines(const ReportContext& c, ReportFormat format) {
+    std::ostringstream s;
+    const std::string bullet = format == ReportFormat::markdown ? "- " : "";
+    if (!c.command.empty()) s << bullet << "Command: " << (format == ReportFormat::markdown ? "`" + c.command + "`" : c.command) << "\n";
+    if (!c.renderer.empty()) s << bullet << "NIR and timing: " << c.renderer << "\n";
+    if (c.model) s << bullet << "Cost model: " << c.model->name << "\n";
+    if (!c.vendor_line.empty()) s << bullet << "Vendor compilers: " << c.vendor_line << "\n";
+    return s.str();
+}
+
+}  // namespace
+
+std::string model_section(const CostModel& m, ReportFormat format) {
+    std::ostringstream s;
+    const bool md = format == ReportFormat::markdown;
+    s << (md ? "### " : "") << "Cost model: " << m.name << "\n\n";
+    if (!m.about.empty()) s << m.about << "\n\n";
+    s << (md ? "| parameter | value |\n| --- | ---: |\n" : "");
+    const std::pair<const char*, double> rows[] = {
+        {"fp32 scalar ops per cycle", m.fp32_ops_per_cycle},
+        {"fp16 (RelaxedPrecision) scalar ops per cycle", m.fp16_ops_per_cycle},
+        {"cycles per transcendental", m.transcendental_cycles},
+        {"cycles per branch", m.branch_cycles},
+        {"texture samples per cycle", m.samples_per_cycle},
+        {"texture latency, cycles", m.texture_latency_cycles},
+        {"share of latency other threads hide", m.latency_hidden_share},
+        {"varying components per cycle", m.varying_components_per_cycle},
+    };
+    for (const auto& [name, value] : rows) s << (md ? "| " : "  ") << name << (md ? " | " : ": ") << fixed(value, 2) << (md ? " |" : "") << "\n";
+    s << "\n";
+    for (const CostModel::LoopTrips& l : m.loop_trips)
+        s << (md ? "- " : "  ") << "Loops in " << l.file << " counted " << l.trips << " times: " << l.why << "\n";
+    for (const std::string& a : m.assumptions) s << (md ? "- " : "  ") << a << "\n";
+    return s.str();
+}
+
+std::string profile_report(const std::vector<VariantProfile>& profiles, ReportFormat format, const ReportContext& context) {
+    if (format == ReportFormat::json) {
+        nlohmann::json j = {{"context", context_json(context)}, {"variants", nlohmann::json::array()}};
+        for (const VariantProfile& p : profiles) j["variants"].push_back(profile_json(p));
+        return j.dump(2) + "\n";
+    }
+    const std::vector<std::string> header = {"variant", "16-bit", "A", "T", "V", "bound", "shortest", "longest",
+                                             "reads (dep)", "round trips", "loops", "VS cycles", "NIR alu/tex/16-bit",
+                                             "vendor", "ns/px", "x normal"};
+    std::vector<std::vector<std::string>> rows;
+    for (const VariantProfile& p : profiles) {
+        const PipeCycles& l = p.fragment_longest;
+        std::string nir = "-";
+        if (p.nir_fragment)
+            nir = std::to_string(p.nir_fragment->alu) + "/" + std::to_string(p.nir_fragment->texture) + "/" +
+                  percent(p.nir_fragment->alu_16bit_share());
+        rows.push_back({p.name, percent(fp16_share(p.fragment.longest)), fixed(l.arithmetic), fixed(l.texture),
+                        fixed(l.varying), l.bound, fixed(p.fragment_shortest.total), fixed(l.total),
+                        std::to_string(p.fragment.samples.size()) + " (" + std::to_string(p.fragment.dependent_samples) + ")",
+                        fixed(p.fragment.texture_round_trips, 0), loops_text(p.fragment), fixed(p.vertex_longest.total),
+                        nir, vendor_text(p), p.measured ? fixed(p.measured->ns_per_pixel, 2) : "-",
+                        p.measured ? fixed(p.measured->ratio_to_normal, 2) : "-"});
+    }
+    std::ostringstream s;
+    s << header_lines(context, format);
+    if (format == ReportFormat::markdown) s << "\n";
+    s << render_table(header, rows, format);
+    s << (format == ReportFormat::markdown ? "\n" : "")
+      << "Fragment stage, estimated cycles per fragment: A arithmetic, T texture, V varying pipes on the longest path; "
+         "shortest and longest include the exposed texture latency. 16-bit: RelaxedPrecision share of the longest "
+         "path's arithmetic. reads (dep): texture reads in the code, and how many wait on another read's result.\n";
+    return s.str();
+}
+
+std::string compare_report(const VariantProfile& a, const VariantProfile& b, ReportFormat format,
+                           const ReportContext& context) {
+    if (format == ReportFormat::json) {
+        nlohmann::json deltas = nlohmann::json::array();
+        for (const Metric& m : metrics()) {
+            const std::optional<double> va = m.value(a), vb = m.value(b);
+            if (!va || !vb) continue;
+            deltas.push_back({{"metric", m.name}, {"a", *va}, {"b", *vb}, {"delta", *vb - *va},
+                              {"ratio", *va != 0.0 ? nlohmann::json(*vb / *va) : nlohmann::json()}});
+        }
+        return nlohmann::json{{"context", context_json(context)}, {"a", profile_json(a)}, {"b", profile_json(b)},
+                              {"deltas", deltas}}
+                   .dump(2) +
+               "\n";
+    }
+    std::vector<std::vector<std::string>> rows;
+    for (const Metric& m : metrics()) {
+        const std::optional<double> va = m.value(a), vb = m.value(b);
+        if (!va || !vb) continue;
+        const double d = *vb - *va;
+        rows.push_back({m.name, fixed(*va, m.digits), fixed(*vb, m.digits), (d > 0 ? "+" : "") + fixed(d, m.digits),
+                        *va != 0.0 ? fixed(*vb / *va, 2) : "-"});
+    }
+    std::ostringstream s;
+    s << header_lines(context, format);
+    s << (format == ReportFormat::markdown ? "- " : "") << "A: " << a.name << "\n"
+      << (format == ReportFormat::markdown ? "- " : "") << "B: " << b.name << "\n";
+    if (format == ReportFormat::markdown) s << "\n";
+    s << render_table({"metric", "A", "B", "B - A", "B / A"}, rows, format);
+    return s.str();
+}
+
+std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat format, const ReportContext& context) {
+    if (format == ReportFormat::json) {
+        nlohmann::json j = {{"context", context_json(context)}, {"steps", nlohmann::json::array()}};
+        for (const VariantProfile& p : steps) {
+            nlohmann::json row = profile_json(p);
+            const LadderStep& info = ladder_step_info(p.key.ladder_step);
+            row["step"] = info.step;
+            row["step_name"] = info.name;
+            row["change"] = info.change;
+            j["steps"].push_back(row);
+        }
+        return j.dump(2) + "\n";
+    }
+    const std::vector<std::string> header = {"step", "change", "FS ops", "FS fp16", "FS transc.", "reads (dep)",
+                                             "VS ops", "FS cycles", "d cycles", "VS cycles", "NIR FS alu",
+                                             "ns/px", "x normal", "uv err (texels)", "PSNR dB"};
+    std::vector<std::vector<std::string>> rows;
+    const VariantProfile* previous = nullptr;
+    for (const VariantProfile& p : steps) {
+        const LadderStep& info = ladder_step_info(p.key.ladder_step);
+        std::string delta = "-";
+        if (previous) {
+            const double d = p.fragment_longest.total - previous->fragment_longest.total;
+            delta = (d > 0 ? "+" : "") + fixed(d);
+        }
+        rows.push_back({info.step ? std::to_string(info.step) : "shipped", info.name, fixed(p.fragment.longest.arithmetic, 0),
+                        percent(fp16_share(p.fragment.longest)), fixed(p.fragment.longest.transcendental, 0),
+                        std::to_string(p.fragment.samples.size()) + " (" + std::to_string(p.fragment.dependent_samples) + ")",
+                        fixed(p.vertex.longest.arithmetic, 0), fixed(p.fragment_longest.total), delta,
+                        fixed(p.vertex_longest.total), p.nir_fragment ? std::to_string(p.nir_fragment->alu) : "-",
+                        p.measured ? fixed(p.measured->ns_per_pixel, 2) : "-",
+                        p.measured ? fixed(p.measured->ratio_to_normal, 2) : "-",
+                        p.measured ? fixed(p.measured->uv_error_mean, 3) : "-",
+                        p.measured ? fixed(p.measured->color_psnr_db, 1) : "-"});
+        if (info.step) previous = &p;
+    }
+    std::ostringstream s;
+    s << header_lines(context, format);
+    if (format == ReportFormat::markdown) s << "\n";
+    s << render_table(header, rows, format);
+    if (format == ReportFormat::markdown) s << "\n";
+    for (const VariantProfile& p : steps) {
+        const LadderStep& info = ladder_step_info(p.key.ladder_step);
+        s << (format == ReportFormat::markdown ? "- " : "  ") << (info.step ? std::to_string(info.step) : "shipped") << ", "
+          << info.name << ": " << info.change << ".\n";
+    }
+    return s.str();
+}
+
+}  // namespace px::profiling

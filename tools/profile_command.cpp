@@ -1,0 +1,564 @@
+// parallax profile [--variants PATTERN] [--es 2|3] [--format table|md|json] [--out DIR]
+//                  [--compare A B] [--against REV] [--ladder] [--no-nir] [--no-time]
+// Static shader costs from glslang's SPIR-V and Mesa's NIR, the mobile cost
+// model's estimate, vendor compilers' figures where one is on PATH, and the
+// measured llvmpipe time on a bench scene (docs/profiling.md).
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "core/files.h"
+#include "gl/gl.h"
+#include "gl/program.h"
+#include "platform/headless_context.h"
+#include "profiling/bench.h"
+#include "profiling/cost_model.h"
+#include "profiling/process.h"
+#include "profiling/shader_profile.h"
+#include "profiling/stability_catalogue.h"
+#include "profiling/vendor_compilers.h"
+#include "render/offscreen_target.h"
+
+namespace px::tools {
+
+namespace {
+
+struct ProfileArgs {
+    std::string variants;  // glob or substring on variant names; empty: each technique's default variant
+    int es = 3;
+    std::string format = "table";
+    std::string out;
+    std::vector<std::string> compare;  // two patterns
+    std::string against;               // a git revision
+    bool ladder = false;
+    bool no_nir = false;
+    bool no_time = false;
+    std::string model_file;
+    std::string scene = "bricks";
+    double angle = 60.0;
+    std::string size = "256x256";
+    int frames = 5;
+    std::string nir_child;  // internal: the child that prints NIR for these variants (hex bits, comma-separated)
+    std::string command;
+};
+
+constexpr const char* kNirMarker = "@@parallax-nir-variant ";
+
+// Each technique's variant as a bench material draws it by default.
+std::vector<VariantKey> default_variants(int es) {
+    const TechniqueOptions defaults;
+    std::vector<VariantKey> out;
+    for (const TechniqueInfo& info : technique_table()) {
+        if (info.min_es_major > es) continue;
+        VariantKey k;
+        k.technique = info.id;
+        k.es_major = static_cast<std::uint8_t>(es);
+        k.max_samples = static_cast<std::uint16_t>((info.options & kOptSteps) ? defaults.max_steps : defaults.max_samples);
+        k.refine_steps = static_cast<std::uint8_t>(defaults.refine_steps);
+        k.shadow_samples = static_cast<std::uint8_t>(defaults.shadow_samples);
+        k.packed_height = true;
+        k.exact_view = defaults.exact_view;
+        out.push_back(k.canonical());
+    }
+    return out;
+}
+
+// Every variant a name may select: the catalogue's and the ladder's.
+std::vector<VariantKey> all_variants(int es) {
+    std::vector<VariantKey> all = enumerate_variants(es);
+    for (const VariantKey& k : default_variants(es)) {
+        bool known = false;
+        for (const VariantKey& e : all) known |= e == k;
+        if (!known) all.push_back(k);
+    }
+    for (const VariantKey& k : std::vector<VariantKey>(all)) {
+        if (k.technique != Technique::offset_limited || k.debug_output || k.lod || k.depth_write) continue;
+        for (int step = 1; step <= kLadderSteps; ++step) {
+            VariantKey l = k;
+            l.ladder_step = static_cast<std::uint8_t>(step);
+            l = l.canonical();
+            bool known = false;
+            for (const VariantKey& e : all) known |= e == l;
+            if (!known) all.push_back(l);
+        }
+    }
+    return all;
+}
+
+bool matches(const std::string& pattern, const std::string& name) {
+    if (pattern.find_first_of("*?") != std::string::npos) return profiling::glob_match(pattern, name);
+    return name.find(pattern) != std::string::npos;
+}
+
+Result<std::vector<VariantKey>> select_variants(const std::string& pattern, int es) {
+    if (pattern.empty()) return default_variants(es);
+    std::vector<VariantKey> out;
+    for (const VariantKey& k : all_variants(es))
+        if (matches(pattern, k.describe())) out.push_back(k);
+    if (out.empty())
+        return make_error("--variants '" + pattern + "' matches no OpenGL ES " + std::to_string(es) +
+                          ".0 variant (names as `parallax profile --variants '*'` lists them, e.g. 'pom es3 samples<=32')");
+    return out;
+}
+
+// Exactly one variant: an exact name, else a pattern that matches one.
+Result<VariantKey> select_one(const std::string& pattern, int es) {
+    const std::vector<VariantKey> all = all_variants(es);
+    for (const VariantKey& k : all)
+        if (k.describe() == pattern) return k;
+    std::vector<VariantKey> found;
+    for (const VariantKey& k : all)
+        if (matches(pattern, k.describe())) found.push_back(k);
+    if (found.size() == 1) return found[0];
+    if (found.empty()) return make_error("--compare: '" + pattern + "' matches no variant");
+    std::string names;
+    for (std::size_t i = 0; i < found.size() && i < 6; ++i) names += "\n  " + found[i].describe();
+    return make_error("--compare: '" + pattern + "' matches " + std::to_string(found.size()) +
+                      " variants; give one exact name, e.g.:" + names);
+}
+
+// --- NIR: a child `parallax` prints it -------------------------------------
+
+int run_nir_child(const ProfileArgs& a) {
+    platform::ContextOptions options;
+    options.es_major = a.es;
+    auto context = platform::HeadlessContext::create(options);
+    if (!context) return fail(context.error().message);
+    std::stringstream list(a.nir_child);
+    std::string item;
+    while (std::getline(list, item, ',')) {
+        std::uint64_t bits = 0;
+        try {
+            bits = std::stoull(item, nullptr, 16);
+        } catch (...) {
+            return fail("--nir-child: '" + item + "' is not a variant");
+        }
+        const std::optional<VariantKey> key = VariantKey::from_bits(bits);
+        if (!key) return fail("--nir-child: '" + item + "' is not a variant");
+        Result<VariantSources> sources = assemble_variant(*key);
+        if (!sources) return fail(sources.error().message);
+        std::fprintf(stderr, "%s%s\n", kNirMarker, item.c_str());
+        std::fflush(stderr);
+        Result<std::unique_ptr<Program>> program = build_program(*sources, *key);
+        if (!program) return fail(program.error().message);
+    }
+    return 0;
+}
+
+// NIR of each variant, from a child process with Mesa's debug output on.
+Status capture_nir(std::vector<profiling::VariantProfile>& profiles, int es) {
+    if (profiles.empty()) return {};
+    std::string list;
+    for (const profiling::VariantProfile& p : profiles) {
+        char hex[32];
+        std::snprintf(hex, sizeof hex, "%llx", static_cast<unsigned long long>(p.key.bits()));
+        list += (list.empty() ? "" : ",") + std::string(hex);
+    }
+    std::error_code ec;
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+    if (ec) return make_error("cannot find this program's path for the NIR capture: " + ec.message());
+    profiling::ProcessOptions options;
+    options.timeout_s = 600.0;
+    options.max_output = 256u << 20;
+    options.capture_stdout = false;
+    // ST_DEBUG=nir prints the NIR Mesa hands its backend as each program
+    // links; the cache off, or a cached program would print nothing.
+    options.extra_env = {"ST_DEBUG=nir", "MESA_SHADER_CACHE_DISABLE=true"};
+    Result<profiling::ProcessResult> run =
+        profiling::run_process({self, "profile", "--es", std::to_string(es), "--nir-child", list}, options);
+    if (!run) return run.error();
+    if (run->timed_out) return make_error("the NIR capture did not finish within 600 s");
+    if (run->truncated) return make_error("the NIR capture printed more than 256 MiB");
+    if (run->exit_status != 0) {
+        const std::size_t at = run->output.rfind("parallax: error:");
+        return make_error("the NIR capture failed: " + (at == std::string::npos ? run->output.substr(0, 400) : run->output.substr(at)));
+    }
+    // Split at the markers; each section holds the variant's stages.
+    std::map<std::string, std::string> sections;
+    std::size_t at = run->output.find(kNirMarker);
+    while (at != std::string::npos) {
+        const std::size_t name_start = at + std::string(kNirMarker).size();
+        const std::size_t name_end = run->output.find('\n', name_start);
+        if (name_end == std::string::npos) break;
+        const std::size_t next = run->output.find(kNirMarker, name_end);
+        sections[run->output.substr(name_start, name_end - name_start)] =
+            run->output.substr(name_end, next == std::string::npos ? std::string::npos : next - name_end);
+        at = next;
+    }
+    for (profiling::VariantProfile& p : profiles) {
+        char hex[32];
+        std::snprintf(hex, sizeof hex, "%llx", static_cast<unsigned long long>(p.key.bits()));
+        const auto found = sections.find(hex);
+        if (found == sections.end()) {
+            p.nir_note = "Mesa printed no NIR for this variant";
+            continue;
+        }
+        Result<std::vector<profiling::NirShader>> shaders = profiling::parse_nir_dump(found->second);
+        if (!shaders) {
+            p.nir_note = shaders.error().message;
+            continue;
+        }
+        for (const profiling::NirShader& s : *shaders) {
+            if (s.stage == ShaderStage::vertex && !p.nir_vertex) p.nir_vertex = s.cost;
+            if (s.stage == ShaderStage::fragment && !p.nir_fragment) p.nir_fragment = s.cost;
+        }
+    }
+    return {};
+}
+
+// --- Vendor compilers ------------------------------------------------------
+
+std::string run_vendor_tools(std::vector<profiling::VariantProfile>& profiles) {
+    const std::vector<profiling::VendorTool> tools = profiling::find_vendor_tools();
+    if (tools.empty()) return profiling::vendor_tools_absent_line();
+    std::string line;
+    for (const profiling::VendorTool& t : tools) line += (line.empty() ? "" : ", ") + t.name + " (" + t.path + ")";
+    for (profiling::VariantProfile& p : profiles) {
+        Result<VariantSources> sources = assemble_variant(p.key);
+        if (!sources) continue;
+        for (const profiling::VendorTool& t : tools) {
+            Result<profiling::VendorCycles> c =
+                profiling::run_vendor_tool(t, sources->fragment.text, ShaderStage::fragment, p.key.es_major);
+            profiling::VendorFigures f;
+            f.tool = t.name;
+            if (!c) {
+                f.target = "failed: " + c.error().message.substr(0, 200);
+                std::fprintf(stderr, "parallax: warning: %s on %s: %s\n", t.name.c_str(), p.name.c_str(), c.error().message.c_str());
+            } else {
+                f.target = c->target;
+                f.work_registers = c->work_registers;
+                f.fp16_percent = c->fp16_percent;
+                f.pipes = c->pipes;
+                f.shortest = c->shortest;
+                f.longest = c->longest;
+                f.bound = c->bound;
+                f.cycles = c->cycles;
+            }
+            p.vendor_fragment.push_back(f);
+        }
+    }
+    return line;
+}
+
+// --- Time and error on a bench scene ----------------------------------------
+
+// Draws each variant the bench can draw (its technique and options on a
+// bench material; the ladder's through the renderer's variant transform)
+// and fills in its time and error. Returns the GL renderer string.
+Result<std::string> measure(std::vector<profiling::VariantProfile>& profiles, const ProfileArgs& a, int width, int height) {
+    platform::ContextOptions context_options;
+    context_options.es_major = a.es;
+    auto context = platform::HeadlessContext::create(context_options);
+    if (!context) return context.error();
+    auto target = OffscreenTarget::create(width, height);
+    if (!target) return target.error();
+    const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    int done = 0;
+    for (profiling::VariantProfile& p : profiles) {
+        ++done;
+        const VariantKey& k = p.key;
+        const TechniqueInfo& info = technique_info(k.technique);
+        // What a bench material can ask for: the rest of the key must come out as planned.
+        if (k.debug_output || k.lod || k.depth_write || k.normal_rg || k.height_11bit || k.no_fragment_highp ||
+            (((info.options & kOptHeight) != 0) && !k.packed_height) || !info.benched)
+            continue;
+        profiling::BenchOptions o;
+        std::string scene = a.scene;
+        if (k.shadow == ShadowMode::hard) scene = "bricks_shadowed";
+        if (k.shadow == ShadowMode::soft) scene = "bricks_soft";
+        o.scenes = {scene};
+        o.techniques = {info.name};
+        if (info.options & (kOptSamples | kOptSteps)) o.samples = {k.max_samples};
+        o.angles = {a.angle};
+        o.width = width;
+        o.height = height;
+        o.frames = a.frames;
+        o.exact_view = k.ladder_step ? false : k.exact_view;
+        if (k.shadow != ShadowMode::none) o.shadow_samples = {k.shadow_samples};
+        const std::uint8_t step = k.ladder_step;
+        if (step) o.renderer.variant_transform = [step](const VariantKey& planned) {
+            VariantKey l = planned;
+            l.ladder_step = step;
+            return l;
+        };
+        Result<profiling::BenchRun> run =
+            profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); }, nullptr);
+        if (!run) return with_context(p.name, run.error());
+        show_progress("profile", done, static_cast<int>(profiles.size()), p.name);
+        for (const profiling::BenchRow& row : run->rows) {
+            if (row.variant != p.name) continue;  // drawn as another variant: not this one's time
+            profiling::Measured m;
+            m.scene = row.scene;
+            m.angle_deg = row.angle_deg;
+            m.ns_per_pixel = row.ns_per_pixel;
+            m.ratio_to_normal = row.ratio_to_normal;
+            m.uv_error_mean = row.uv_error_mean;
+            m.uv_error_p95 = row.uv_error_p95;
+            m.color_psnr_db = row.color_psnr_db;
+            p.measured = m;
+        }
+    }
+    return renderer;
+}
+
+// --- --against: the shaders of another commit ------------------------------
+
+Result<std::string> git(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {"git"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    profiling::ProcessOptions o;
+    o.capture_stderr = true;
+    o.timeout_s = 60.0;
+    o.max_output = 64u << 20;
+    Result<profiling::ProcessResult> r = profiling::run_process(argv, o);
+    if (!r) return r.error();
+    if (r->exit_status != 0 || r->timed_out) {
+        std::string command;
+        for (const std::string& s : argv) command += (command.empty() ? "" : " ") + s;
+        return make_error("'" + command + "' failed: " + r->output.substr(0, 400));
+    }
+    return r->output;
+}
+
+// Lines of shaders_es/ files that differ between REV and the working tree:
+// file -> changed line numbers, on each side.
+struct ChangedLines {
+    std::map<std::string, std::set<int>> old_lines, new_lines;
+};
+
+Result<ChangedLines> changed_lines(const std::string& rev) {
+    Result<std::string> diff = git({"diff", "--no-color", "-U0", rev, "--", "shaders_es"});
+    if (!diff) return diff.error();
+    ChangedLines c;
+    std::istringstream in(*diff);
+    std::string line, old_file, new_file;
+    while (std::getline(in, line)) {
+        if (line.rfind("--- ", 0) == 0) old_file = line.size() > 6 ? line.substr(6) : "";
+        else if (line.rfind("+++ ", 0) == 0) new_file = line.size() > 6 ? line.substr(6) : "";
+        else if (line.rfind("@@ ", 0) == 0) {
+            int a = 0, b = 1, cc = 0, d = 1;
+            const std::size_t minus = line.find('-'), plus = line.find('+');
+            if (minus == std::string::npos || plus == std::string::npos) continue;
+            if (std::sscanf(line.c_str() + minus + 1, "%d,%d", &a, &b) < 1) continue;
+            if (line.find(',', minus) > line.find(' ', minus)) b = 1;
+            if (std::sscanf(line.c_str() + plus + 1, "%d,%d", &cc, &d) < 1) continue;
+            if (line.find(',', plus) > line.find(' ', plus)) d = 1;
+            for (int i = 0; i < b && i < 100000; ++i) c.old_lines[old_file].insert(a + i);
+            for (int i = 0; i < d && i < 100000; ++i) c.new_lines[new_file].insert(cc + i);
+        }
+    }
+    return c;
+}
+
+Result<ShaderFiles> shader_files_at(const std::string& rev) {
+    Result<std::string> names = git({"ls-tree", "-r", "--name-only", rev, "--", "shaders_es"});
+    if (!names) return names.error();
+    ShaderFiles files;
+    std::istringstream in(*names);
+    std::string path;
+    while (std::getline(in, path)) {
+        if (path.rfind("shaders_es/", 0) != 0) continue;
+        Result<std::string> text = git({"show", rev + ":" + path});
+        if (!text) return text.error();
+        files[path.substr(11)] = *text;
+    }
+    if (files.empty()) return make_error("--against " + rev + ": that commit has no shaders_es/ folder");
+    return files;
+}
+
+profiling::OpCounts lines_cost(const profiling::StageCost& s, const std::map<std::string, std::set<int>>& lines) {
+    profiling::OpCounts sum;
+    for (const auto& [where, cost] : s.by_line) {
+        const std::size_t colon = where.rfind(':');
+        if (colon == std::string::npos) continue;
+        const auto file = lines.find(where.substr(0, colon));
+        if (file == lines.end()) continue;
+        if (file->second.count(std::atoi(where.c_str() + colon + 1))) sum += cost;
+    }
+    return sum;
+}
+
+std::string ops_text(const profiling::OpCounts& c) {
+    char b[160];
+    std::snprintf(b, sizeof b, "%.0f ops, %.0f transc., %.0f reads", c.arithmetic, c.transcendental, c.samples);
+    return b;
+}
+
+int run_against(const ProfileArgs& a, const std::vector<VariantKey>& keys, const profiling::CostModel& model,
+                profiling::ReportFormat format, const profiling::ReportContext& context) {
+    Result<ShaderFiles> old_files = shader_files_at(a.against);
+    if (!old_files) return fail(old_files.error().message);
+    Result<ChangedLines> changed = changed_lines(a.against);
+    if (!changed) return fail(changed.error().message);
+    // The working tree's files against what this program carries.
+    for (const EmbeddedShader& s : embedded_shaders()) {
+        std::ifstream file(std::string("shaders_es/") + s.path, std::ios::binary);
+        std::stringstream text;
+        text << file.rdbuf();
+        if (file && text.str() != s.text)
+            std::fprintf(stderr, "parallax: warning: shaders_es/%s differs from the shaders this program was built "
+                                 "with: rebuild for the changed lines to match\n", s.path);
+    }
+    std::ostringstream out;
+    for (const VariantKey& key : keys) {
+        Result<profiling::VariantProfile> now = profiling::profile_variant(key, model);
+        if (!now) return fail(now.error().message);
+        Result<profiling::VariantProfile> then = profiling::profile_variant(key, model, &*old_files);
+        if (!then) {
+            out << key.describe() << ": not built at " << a.against << ": " << then.error().message << "\n\n";
+            continue;
+        }
+        then->name = key.describe() + " @ " + a.against;
+        out << profiling::compare_report(*then, *now, format, context);
+        if (format != profiling::ReportFormat::json) {
+            const profiling::OpCounts added = lines_cost(now->fragment, changed->new_lines);
+            const profiling::OpCounts removed = lines_cost(then->fragment, changed->old_lines);
+            const profiling::OpCounts added_v = lines_cost(now->vertex, changed->new_lines);
+            const profiling::OpCounts removed_v = lines_cost(then->vertex, changed->old_lines);
+            out << (format == profiling::ReportFormat::markdown ? "\n- " : "")
+                << "Changed lines, fragment stage: " << ops_text(removed) << " before, " << ops_text(added) << " now\n"
+                << (format == profiling::ReportFormat::markdown ? "- " : "")
+                << "Changed lines, vertex stage: " << ops_text(removed_v) << " before, " << ops_text(added_v) << " now\n\n";
+        }
+    }
+    std::fputs(out.str().c_str(), stdout);
+    return 0;
+}
+
+Status write_file(const std::string& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    if (!f) return make_error("cannot write '" + path + "'");
+    return {};
+}
+
+int run_profile(ProfileArgs a) {
+    if (!a.nir_child.empty()) return run_nir_child(a);
+    Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
+    if (!format) return fail("--format: " + format.error().message);
+    int width = 0, height = 0;
+    if (!parse_size(a.size, width, height, 2048)) return fail("--size: '" + a.size + "' is not WIDTHxHEIGHT within 1..2048");
+    if (a.frames < 1 || a.frames > 1000) return fail("--frames: must be within 1..1000");
+    if (!(a.angle >= 0.0 && a.angle < 90.0)) return fail("--angle: must be within [0, 90) degrees");
+    profiling::CostModel model = profiling::default_cost_model();
+    if (!a.model_file.empty()) {
+        Result<std::vector<std::uint8_t>> bytes = read_file_bounded(a.model_file, 1u << 20, "cost model");
+        if (!bytes) return fail(bytes.error().message);
+        Result<profiling::CostModel> parsed =
+            profiling::parse_cost_model(std::string(bytes->begin(), bytes->end()), a.model_file);
+        if (!parsed) return fail(parsed.error().message);
+        model = *parsed;
+    }
+    profiling::ReportContext context;
+    context.command = a.command;
+    context.model = &model;
+
+    std::vector<VariantKey> keys;
+    if (a.ladder) {
+        VariantKey base;
+        base.technique = Technique::offset_limited;
+        base.es_major = static_cast<std::uint8_t>(a.es);
+        base.packed_height = true;  // the bench's procedural materials
+        for (int step = 1; step <= kLadderSteps; ++step) {
+            VariantKey k = base;
+            k.ladder_step = static_cast<std::uint8_t>(step);
+            keys.push_back(k.canonical());
+        }
+        VariantKey shipped = base;
+        shipped.exact_view = TechniqueOptions{}.exact_view;
+        keys.push_back(shipped.canonical());
+    } else if (!a.compare.empty()) {
+        if (a.compare.size() != 2) return fail("--compare takes two variants: --compare A B");
+        for (const std::string& pattern : a.compare) {
+            Result<VariantKey> k = select_one(pattern, a.es);
+            if (!k) return fail(k.error().message);
+            keys.push_back(*k);
+        }
+    } else {
+        Result<std::vector<VariantKey>> selected = select_variants(a.variants, a.es);
+        if (!selected) return fail(selected.error().message);
+        keys = *selected;
+    }
+    if (!a.against.empty()) return run_against(a, keys, model, *format, context);
+
+    std::vector<profiling::VariantProfile> profiles;
+    for (const VariantKey& k : keys) {
+        Result<profiling::VariantProfile> p = profiling::profile_variant(k, model);
+        if (!p) return fail(p.error().message);
+        profiles.push_back(std::move(*p));
+    }
+    context.vendor_line = run_vendor_tools(profiles);
+    if (!a.no_nir) {
+        Status nir = capture_nir(profiles, a.es);
+        if (!nir) return fail(nir.error().message);
+    }
+    if (!a.no_time) {
+        Result<std::string> renderer = measure(profiles, a, width, height);
+        if (!renderer) return fail(renderer.error().message);
+        context.renderer = *renderer + ", " + a.scene + " at " + std::to_string(static_cast<int>(a.angle)) + " degrees, " +
+                           a.size + ", median of " + std::to_string(a.frames) + " frames";
+    }
+
+    std::string report;
+    if (a.ladder) report = profiling::ladder_report(profiles, *format, context);
+    else if (!a.compare.empty()) report = profiling::compare_report(profiles[0], profiles[1], *format, context);
+    else report = profiling::profile_report(profiles, *format, context);
+    if (*format != profiling::ReportFormat::json) report += "\n" + profiling::model_section(model, *format);
+    std::fputs(report.c_str(), stdout);
+    if (!a.out.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(a.out, ec);
+        if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
+        const std::string stem = a.out + "/" + (a.ladder ? "ladder" : !a.compare.empty() ? "compare" : "profile");
+        for (profiling::ReportFormat f : {profiling::ReportFormat::markdown, profiling::ReportFormat::json}) {
+            std::string text = a.ladder ? profiling::ladder_report(profiles, f, context)
+                               : !a.compare.empty() ? profiling::compare_report(profiles[0], profiles[1], f, context)
+                                                    : profiling::profile_report(profiles, f, context);
+            if (f == profiling::ReportFormat::markdown) text += "\n" + profiling::model_section(model, f);
+            Status w = write_file(stem + (f == profiling::ReportFormat::json ? ".json" : ".md"), text);
+            if (!w) return fail(w.error().message);
+        }
+        std::fprintf(stderr, "wrote %s.md and %s.json\n", stem.c_str(), stem.c_str());
+    }
+    return 0;
+}
+
+}  // namespace
+
+void add_profile_command(CLI::App& app, int argc, char** argv) {
+    auto args = std::make_shared<ProfileArgs>();
+    for (int i = 0; i < argc; ++i) args->command += (i ? " " : "") + std::string(i == 0 ? "parallax" : argv[i]);
+    CLI::App* cmd = app.add_subcommand("profile", "Static shader costs (glslang SPIR-V, Mesa NIR, a mobile cost model) "
+                                                  "beside measured time");
+    cmd->add_option("--variants", args->variants,
+                    "Variants whose names match (substring, or glob with * ?); default: each technique's default variant");
+    cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
+    cmd->add_option("--format", args->format, "table, md or json")->capture_default_str();
+    cmd->add_option("--out", args->out, "Also write the report as Markdown and JSON into this folder");
+    cmd->add_option("--compare", args->compare, "Two variants (exact names or patterns matching one each): per-metric deltas")
+        ->expected(2);
+    cmd->add_option("--against", args->against,
+                    "A git revision: the selected variants built from its shaders_es/ against this program's");
+    cmd->add_flag("--ladder", args->ladder, "The PowerVR whitepaper's optimisation ladder, step by step");
+    cmd->add_flag("--no-nir", args->no_nir, "Skip Mesa's NIR (a child process with ST_DEBUG=nir)");
+    cmd->add_flag("--no-time", args->no_time, "Skip the llvmpipe timing and error measurement");
+    cmd->add_option("--model", args->model_file, "A cost model file (the shape of profiling/cost_model.json)");
+    cmd->add_option("--scene", args->scene, "Bench scene the variants are timed on")->capture_default_str();
+    cmd->add_option("--angle", args->angle, "View angle of the timing, degrees off the normal")->capture_default_str();
+    cmd->add_option("--size", args->size, "Timing target size")->capture_default_str();
+    cmd->add_option("--frames", args->frames, "Timed frames per variant (median)")->capture_default_str();
+    cmd->add_option("--nir-child", args->nir_child, "internal")->group("");
+    cmd->callback([args]() { set_exit_status(run_profile(*args)); });
+}
+
+}  // namespace px::tools
