@@ -1,0 +1,935 @@
+#include "profiling/vendor_compilers.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+extern char** environ;
+
+// The reports these parsers read, and where their layout comes from (neither
+// tool is installed here; the samples under tests/data/vendor/ follow these):
+//
+// malioc text: Arm's "Get started with Mali Offline Compiler" guide
+// (developer.arm.com, .../get-started-with-mali-offline-compiler, the
+// performance report and its "Target-aware profiling" page) and reports of
+// malioc 7.x/8.x runs quoted in public write-ups. A "Configuration" section
+// (Hardware, Architecture, Driver, Shader type), then one section per variant
+// ("Main shader"; "Position variant" and "Varying variant" for vertex shaders
+// on GPUs with index-driven vertex shading), each title underlined with '='.
+// A variant section has "Work registers: 32 (...)", "Uniform registers: 16
+// (...)", "Stack spilling: false" (7.x) or "Stack use: N bytes" and
+// " - Spill region: N bytes" (8.x), "16-bit arithmetic: 0%" (not on
+// Midgard), and a cycles table: a header of pipe names ending in "Bound"
+// (Valhall "A FMA CVT SFU LS V T Bound", Bifrost "A LS V T Bound", Midgard
+// "A LS T Bound"), then the rows "Total instruction cycles:", "Shortest path
+// cycles:", "Longest path cycles:" (older versions capitalise each word),
+// one number or N/A per pipe, then the bounding pipe(s), "A" or "V, T" or
+// N/A. "Shader properties" lists "Has uniform computation: true" and the like.
+//
+// malioc JSON (`--format json`): no public schema page was found; the layout
+// is the one public tools reading malioc 7.x/8.x JSON agree on: {"schema":
+// {"name": "performance"|"error", "version"}, "producer": {"name",
+// "version": [7, 4, 0], "build"}, "shaders": [{"hardware": {"architecture",
+// "core", "revision", "pipelines": [{"name", "display_name"}]}, "driver",
+// "shader": {"api", "type"}, "properties": [{"name", "display_name",
+// "value"}], "variants": [{"name": "Main", "performance": {"pipelines":
+// ["arith_total", "arith_fma", "arith_cvt", "arith_sfu", "load_store",
+// "varying", "texture"], "total_cycles": {"cycle_count": [...],
+// "bound_pipelines": [...]}, "shortest_path_cycles": ..., "longest_path_cycles":
+// ...}, "properties": [{"name": "work_registers_used", "value"}, ...]}],
+// "errors": [...] (error reports)}]}. A cycle count may be null (the text's
+// N/A), and a whole path may be null where the tool cannot bound it. The
+// variant properties read are work_registers_used, uniform_registers_used,
+// fp16_arithmetic (percent), has_stack_spilling and stack_spill_bytes.
+//
+// PowerVR: the PVRShaderEditor manual ("Compiler Output Window", docs.imgtec.com)
+// names the profile's figures: "Global USC Instructions", "Per-line Cycle
+// Estimate Total", "Performance estimate (Best)" and "(Worst)" (cycles
+// emulated with the best and worst branch outcomes), "Ratio between cycles
+// and instructions". Tools that script the compilers run
+// `GLSLESCompiler_Rogue <in> <out> -f|-v -profile` and read the profile from
+// `<out>.prof`. No page shows that file's exact layout, so the parser assumes
+// only "label: number" (or "label = number") lines and matches labels by
+// their documented words (see parse_powervr_output).
+
+namespace px::profiling {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kOutputCap = 4u << 20;  // 4 MiB: a report is a few KiB; more is a runaway tool
+constexpr int kMaxRegisters = 1 << 16;        // far above any GPU's register file: a bigger count is garbage
+
+// The malioc pipe names of the JSON report, given the short names the text
+// report's table and legend use ("A = Arithmetic, FMA = Arith FMA, ...").
+struct PipeName {
+    const char* json;
+    const char* text;
+};
+constexpr PipeName kPipeNames[] = {
+    {"arith_total", "A"}, {"arithmetic", "A"}, {"arith_fma", "FMA"}, {"arith_cvt", "CVT"},
+    {"arith_sfu", "SFU"}, {"load_store", "LS"}, {"varying", "V"},    {"texture", "T"},
+};
+
+// The compilers looked for, in the order reports list them.
+constexpr const char* kCandidateTools[] = {"malioc", "GLSLESCompiler_Rogue", "GLSLESCompiler_Series6XT",
+                                           "GLSLESCompiler_Series6"};
+constexpr const char* kPowerVrPrefix = "GLSLESCompiler_";
+
+// --- Text helpers -----------------------------------------------------------
+
+std::string trim(const std::string& s) {
+    std::size_t begin = 0, end = s.size();
+    while (begin < end && std::isspace(static_cast<unsigned char>(s[begin]))) ++begin;
+    while (end > begin && std::isspace(static_cast<unsigned char>(s[end - 1]))) --end;
+    return s.substr(begin, end - begin);
+}
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+    return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+std::vector<std::string> split_lines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::string line;
+    std::istringstream in(text);
+    while (std::getline(in, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        lines.push_back(line);
+    }
+    return lines;
+}
+
+std::vector<std::string> split_words(const std::string& text) {
+    std::vector<std::string> words;
+    std::istringstream in(text);
+    std::string word;
+    while (in >> word) words.push_back(word);
+    return words;
+}
+
+std::string join(const std::vector<std::string>& parts, const std::string& separator) {
+    std::string out;
+    for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? separator : "") + parts[i];
+    return out;
+}
+
+// A figure for notes and messages: "12", "2.5".
+std::string figure(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%g", value);
+    return buffer;
+}
+
+// The first lines of a tool's output for an error message, each cut short:
+// enough to show the tool's own complaint without pasting a whole report.
+std::string first_lines(const std::string& output, std::size_t count = 6) {
+    std::vector<std::string> kept;
+    for (const std::string& line : split_lines(output)) {
+        std::string t = trim(line);
+        if (t.empty()) continue;
+        if (t.size() > 160) t = t.substr(0, 160) + "...";
+        kept.push_back("  " + t);
+        if (kept.size() == count) break;
+    }
+    return kept.empty() ? "  (no output)" : join(kept, "\n");
+}
+
+// "label: value" split at the first colon; false when the line has none.
+bool split_field(const std::string& line, std::string& label, std::string& value) {
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos) return false;
+    label = trim(line.substr(0, colon));
+    value = trim(line.substr(colon + 1));
+    return true;
+}
+
+// --- Checked numbers ----------------------------------------------------------
+
+// A cycle figure or percentage: a whole token that reads as a finite number >= 0.
+Result<double> parse_figure(const std::string& token, const std::string& what) {
+    if (token.empty()) return make_error(what + ": missing number");
+    errno = 0;
+    char* end = nullptr;
+    const double value = std::strtod(token.c_str(), &end);
+    if (end != token.c_str() + token.size() || errno == ERANGE)
+        return make_error(what + ": '" + token + "' is not a number");
+    if (!std::isfinite(value) || value < 0.0)
+        return make_error(what + ": " + token + " is not a finite figure >= 0");
+    return value;
+}
+
+// A register or byte count: a whole token of decimal digits, within `limit`.
+Result<int> parse_count(const std::string& token, const std::string& what, long limit = kMaxRegisters) {
+    if (token.empty()) return make_error(what + ": missing count");
+    if (!std::all_of(token.begin(), token.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        return make_error(what + ": '" + token + "' is not a whole number >= 0");
+    if (token.size() > 9 || std::stol(token) > limit)
+        return make_error(what + ": " + token + " is past any plausible count (" + std::to_string(limit) + ")");
+    return static_cast<int>(std::stol(token));
+}
+
+Result<double> parse_percent(std::string token, const std::string& what) {
+    if (!token.empty() && token.back() == '%') token.pop_back();
+    auto value = parse_figure(token, what);
+    if (!value) return value;
+    if (*value > 100.0) return make_error(what + ": " + token + "% is over 100%");
+    return value;
+}
+
+// A shader property's display name as a note: "Has uniform computation" ->
+// "uniform computation", "Uses late ZS test" -> "uses late ZS test".
+std::string property_note(std::string name) {
+    name = trim(name);
+    if (starts_with(lower(name), "has ")) name = name.substr(4);
+    if (!name.empty()) name[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(name[0])));
+    return name;
+}
+
+std::string target_name(const std::string& hardware, const std::string& architecture) {
+    return architecture.empty() ? hardware : hardware + " (" + architecture + ")";
+}
+
+// The figure `bound` reports: the longest path's bounding pipe, the path
+// Arm's guide reads first; the total's where the longest path is N/A (loops
+// whose count the compiler cannot see).
+std::string pick_bound(const std::string& longest_bound, const std::string& total_bound) {
+    return longest_bound.empty() ? total_bound : longest_bound;
+}
+
+// --- malioc text ----------------------------------------------------------------
+
+struct TextSection {
+    std::string title;               // "" for the lines before the first title
+    std::vector<std::string> lines;  // trimmed, title and underline left out
+};
+
+bool is_underline(const std::string& line) {
+    const std::string t = trim(line);
+    return t.size() >= 3 && std::all_of(t.begin(), t.end(), [](char c) { return c == '='; });
+}
+
+std::vector<TextSection> split_sections(const std::string& output) {
+    const std::vector<std::string> lines = split_lines(output);
+    std::vector<TextSection> sections(1);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        if (i + 1 < lines.size() && !trim(lines[i]).empty() && is_underline(lines[i + 1])) {
+            sections.push_back(TextSection{trim(lines[i]), {}});
+            ++i;  // the underline
+            continue;
+        }
+        sections.back().lines.push_back(trim(lines[i]));
+    }
+    return sections;
+}
+
+bool is_variant_title(const std::string& title) {
+    const std::string t = lower(title);
+    return ends_with(t, " shader") || ends_with(t, " variant");
+}
+
+// One row of the cycles table: a figure (NaN for N/A) per pipe, then the bound.
+Status parse_cycles_row(const std::string& label, const std::string& values, std::size_t pipe_count,
+                        std::vector<double>& figures, std::string& bound) {
+    const std::vector<std::string> words = split_words(values);
+    if (words.size() < pipe_count + 1)
+        return make_error("'" + label + ":' has " + std::to_string(words.size()) + " values, expected " +
+                          std::to_string(pipe_count) + " pipe figures and the bound");
+    figures.clear();
+    for (std::size_t i = 0; i < pipe_count; ++i) {
+        if (words[i] == "N/A") {
+            figures.push_back(std::numeric_limits<double>::quiet_NaN());
+            continue;
+        }
+        auto value = parse_figure(words[i], "'" + label + ":' value " + std::to_string(i + 1));
+        if (!value) return value.error();
+        figures.push_back(*value);
+    }
+    bound = join(std::vector<std::string>(words.begin() + static_cast<std::ptrdiff_t>(pipe_count), words.end()), " ");
+    if (bound == "N/A") bound.clear();
+    return {};
+}
+
+Result<VendorCycles> parse_malioc_text_inner(const std::string& output) {
+    VendorCycles out;
+    const std::vector<TextSection> sections = split_sections(output);
+
+    // The banner: "Mali Offline Compiler v7.4.0 (Build 330167)", with "Arm " before it in some versions.
+    const std::string banner = "Mali Offline Compiler v";
+    for (const TextSection& section : sections) {
+        for (const std::string& line : section.lines) {
+            const std::size_t at = line.find(banner);
+            if (at == std::string::npos || !out.tool.empty()) continue;
+            const std::vector<std::string> words = split_words(line.substr(at + banner.size()));
+            if (!words.empty()) out.tool = "malioc " + words[0];
+        }
+    }
+    if (out.tool.empty()) return make_error("no 'Mali Offline Compiler vX.Y.Z' banner");
+
+    const TextSection* configuration = nullptr;
+    const TextSection* properties = nullptr;
+    std::vector<const TextSection*> variants;
+    for (const TextSection& section : sections) {
+        const std::string title = lower(section.title);
+        if (title == "configuration") configuration = &section;
+        else if (title == "shader properties") properties = &section;
+        else if (is_variant_title(section.title)) variants.push_back(&section);
+    }
+    if (!configuration) return make_error("no 'Configuration' section");
+    std::string hardware, architecture;
+    for (const std::string& line : configuration->lines) {
+        std::string label, value;
+        if (!split_field(line, label, value)) continue;
+        if (lower(label) == "hardware") hardware = value;
+        if (lower(label) == "architecture") architecture = value;
+    }
+    if (hardware.empty()) return make_error("no 'Hardware:' line in the Configuration section");
+    out.target = target_name(hardware, architecture);
+
+    if (variants.empty()) return make_error("no 'Main shader' (or 'Position variant') section");
+    const TextSection* variant = variants.front();
+    for (const TextSection* v : variants)
+        if (lower(v->title) == "main shader") variant = v;
+    if (variants.size() > 1) {
+        std::vector<std::string> others;
+        for (const TextSection* v : variants)
+            if (v != variant) others.push_back(v->title);
+        out.notes.push_back("figures of the " + variant->title + "; the report also has " + join(others, ", "));
+    }
+
+    bool have_header = false;
+    std::string total_bound, shortest_bound, longest_bound;
+    bool have_total = false, have_shortest = false, have_longest = false;
+    for (const std::string& line : variant->lines) {
+        std::string label, value;
+        if (!split_field(line, label, value)) {
+            const std::vector<std::string> words = split_words(line);
+            if (words.size() >= 2 && lower(words.back()) == "bound") {
+                out.pipes.assign(words.begin(), words.end() - 1);
+                have_header = true;
+            }
+            continue;
+        }
+        const std::string key = lower(label);
+        const std::vector<std::string> words = split_words(value);
+        const std::string first = words.empty() ? "" : words[0];
+        if (key == "work registers") {
+            auto count = parse_count(first, "'Work registers:'");
+            if (!count) return count.error();
+            out.work_registers = *count;
+        } else if (key == "uniform registers") {
+            auto count = parse_count(first, "'Uniform registers:'");
+            if (!count) return count.error();
+            out.uniform_registers = *count;
+        } else if (key == "16-bit arithmetic") {
+            auto percent = parse_percent(first, "'16-bit arithmetic:'");
+            if (!percent) return percent.error();
+            out.fp16_percent = *percent;
+        } else if (key == "stack spilling") {
+            // 7.x prints true/false; a byte count is read as spilling when above 0.
+            if (lower(first) == "true" || lower(first) == "false") {
+                out.stack_spilling = lower(first) == "true";
+            } else {
+                auto bytes = parse_count(first, "'Stack spilling:'", std::numeric_limits<int>::max());
+                if (!bytes) return bytes.error();
+                out.stack_spilling = *bytes > 0;
+                if (*bytes > 0) out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
+            }
+        } else if (key == "- spill region") {
+            auto bytes = parse_count(first, "'Spill region:'", std::numeric_limits<int>::max());
+            if (!bytes) return bytes.error();
+            out.stack_spilling = *bytes > 0;
+            if (*bytes > 0) out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
+        } else if (key == "total instruction cycles" || key == "shortest path cycles" ||
+                   key == "longest path cycles") {
+            if (!have_header) return make_error("'" + label + ":' comes before the cycles table's pipe header");
+            std::vector<double>& row = key[0] == 't' ? out.total : key[0] == 's' ? out.shortest : out.longest;
+            std::string& bound = key[0] == 't' ? total_bound : key[0] == 's' ? shortest_bound : longest_bound;
+            Status parsed = parse_cycles_row(label, value, out.pipes.size(), row, bound);
+            if (!parsed) return parsed.error();
+            (key[0] == 't' ? have_total : key[0] == 's' ? have_shortest : have_longest) = true;
+        }
+    }
+    const std::string where = " in the " + variant->title + " section";
+    if (out.work_registers < 0) return make_error("no 'Work registers:' line" + where);
+    if (out.uniform_registers < 0) return make_error("no 'Uniform registers:' line" + where);
+    if (!have_header) return make_error("no cycles table header (pipe names ending in 'Bound')" + where);
+    if (!have_total) return make_error("no 'Total instruction cycles:' row" + where);
+    if (!have_shortest) return make_error("no 'Shortest path cycles:' row" + where);
+    if (!have_longest) return make_error("no 'Longest path cycles:' row" + where);
+    out.bound = pick_bound(longest_bound, total_bound);
+
+    if (properties) {
+        for (const std::string& line : properties->lines) {
+            std::string label, value;
+            if (split_field(line, label, value) && lower(value) == "true") out.notes.push_back(property_note(label));
+        }
+    }
+    return out;
+}
+
+// --- malioc JSON ------------------------------------------------------------------
+
+const json* member(const json& object, const char* key) {
+    if (!object.is_object()) return nullptr;
+    auto it = object.find(key);
+    return it == object.end() ? nullptr : &*it;
+}
+
+// The value of the property named `name` in a malioc properties array, or null.
+const json* property(const json* properties, const std::string& name) {
+    if (!properties || !properties->is_array()) return nullptr;
+    for (const json& p : *properties) {
+        const json* n = member(p, "name");
+        if (n && n->is_string() && n->get<std::string>() == name) return member(p, "value");
+    }
+    return nullptr;
+}
+
+Result<int> json_count(const json* value, const std::string& what) {
+    if (!value) return make_error("no " + what);
+    if (!value->is_number()) return make_error(what + " is not a number");
+    const double d = value->get<double>();
+    if (!std::isfinite(d) || d < 0.0 || d != std::floor(d) || d > kMaxRegisters)
+        return make_error(what + " is " + value->dump() + ", not a whole count within 0.." +
+                          std::to_string(kMaxRegisters));
+    return static_cast<int>(d);
+}
+
+std::string short_pipe_name(const std::string& name) {
+    for (const PipeName& p : kPipeNames)
+        if (name == p.json) return p.text;
+    return name;  // a pipe this table does not know keeps the tool's name
+}
+
+// One path of `performance`: a cycle count per pipe and the bounding pipes.
+// A null path is one the tool cannot bound (the text report's all-N/A row).
+Status read_json_path(const json& performance, const char* key, std::size_t pipe_count, std::vector<double>& figures,
+                      std::string& bound) {
+    const json* path = member(performance, key);
+    const std::string where = std::string("performance.") + key;
+    if (!path) return make_error("no " + where);
+    figures.clear();
+    bound.clear();
+    if (path->is_null()) {
+        figures.assign(pipe_count, std::numeric_limits<double>::quiet_NaN());
+        return {};
+    }
+    const json* counts = member(*path, "cycle_count");
+    if (!counts || !counts->is_array()) return make_error("no " + where + ".cycle_count array");
+    if (counts->size() != pipe_count)
+        return make_error(where + ".cycle_count has " + std::to_string(counts->size()) + " values for " +
+                          std::to_string(pipe_count) + " pipelines");
+    for (std::size_t i = 0; i < counts->size(); ++i) {
+        const json& c = (*counts)[i];
+        const std::string what = where + ".cycle_count[" + std::to_string(i) + "]";
+        if (c.is_null()) {
+            figures.push_back(std::numeric_limits<double>::quiet_NaN());
+            continue;
+        }
+        if (!c.is_number()) return make_error(what + " is not a number");
+        const double d = c.get<double>();
+        if (!std::isfinite(d) || d < 0.0) return make_error(what + " is " + c.dump() + ", not a finite figure >= 0");
+        figures.push_back(d);
+    }
+    const json* bounds = member(*path, "bound_pipelines");
+    if (!bounds || !bounds->is_array()) return make_error("no " + where + ".bound_pipelines array");
+    std::vector<std::string> names;
+    for (const json& b : *bounds) {
+        if (b.is_null()) continue;  // no bound (the text's N/A)
+        if (!b.is_string()) return make_error(where + ".bound_pipelines holds a non-string");
+        names.push_back(short_pipe_name(b.get<std::string>()));
+    }
+    bound = join(names, ", ");
+    return {};
+}
+
+Result<VendorCycles> parse_malioc_json_inner(const std::string& output) {
+    const json report = json::parse(output, nullptr, false);
+    if (report.is_discarded()) return make_error("not valid JSON");
+    if (!report.is_object()) return make_error("not a JSON object");
+
+    const json* shaders = member(report, "shaders");
+    const json* schema = member(report, "schema");
+    const json* schema_name = schema ? member(*schema, "name") : nullptr;
+    if (schema_name && schema_name->is_string() && schema_name->get<std::string>() != "performance") {
+        // An error report: the compiler's messages say what failed.
+        std::vector<std::string> errors;
+        if (shaders && shaders->is_array())
+            for (const json& s : *shaders)
+                if (const json* e = member(s, "errors"); e && e->is_array())
+                    for (const json& message : *e)
+                        if (message.is_string()) errors.push_back(trim(message.get<std::string>()));
+        return make_error("a '" + schema_name->get<std::string>() + "' report, not a performance report" +
+                          (errors.empty() ? std::string() : ": " + join(errors, "; ")));
+    }
+
+    VendorCycles out;
+    out.tool = "malioc";
+    if (const json* producer = member(report, "producer")) {
+        const json* version = member(*producer, "version");
+        if (version && version->is_array() && !version->empty()) {
+            std::vector<std::string> parts;
+            for (const json& v : *version) {
+                if (!v.is_number_integer() || v.get<long long>() < 0)
+                    return make_error("producer.version holds " + v.dump() + ", not a version number");
+                parts.push_back(std::to_string(v.get<long long>()));
+            }
+            out.tool += " " + join(parts, ".");
+        }
+    }
+
+    if (!shaders || !shaders->is_array() || shaders->empty()) return make_error("no shaders array");
+    const json& shader = (*shaders)[0];
+    const json* hardware = member(shader, "hardware");
+    const json* core = hardware ? member(*hardware, "core") : nullptr;
+    if (!core || !core->is_string() || core->get<std::string>().empty()) return make_error("no shaders[0].hardware.core");
+    std::string hardware_name = core->get<std::string>();
+    if (const json* revision = member(*hardware, "revision"); revision && revision->is_string())
+        hardware_name += " " + revision->get<std::string>();
+    const json* architecture = member(*hardware, "architecture");
+    out.target = target_name(hardware_name, architecture && architecture->is_string() ? architecture->get<std::string>() : "");
+
+    const json* variants = member(shader, "variants");
+    if (!variants || !variants->is_array() || variants->empty()) return make_error("no shaders[0].variants");
+    std::size_t chosen = 0;
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < variants->size(); ++i) {
+        const json* name = member((*variants)[i], "name");
+        names.push_back(name && name->is_string() ? name->get<std::string>() : "variant " + std::to_string(i));
+        if (names.back() == "Main") chosen = i;
+    }
+    if (variants->size() > 1) {
+        std::vector<std::string> others;
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (i != chosen) others.push_back(names[i] + " variant");
+        out.notes.push_back("figures of the " + names[chosen] + " variant; the report also has " + join(others, ", "));
+    }
+    const json& variant = (*variants)[chosen];
+    const std::string where = "variant '" + names[chosen] + "'";
+
+    const json* performance = member(variant, "performance");
+    if (!performance || !performance->is_object()) return make_error("no performance in " + where);
+    const json* pipelines = member(*performance, "pipelines");
+    if (!pipelines || !pipelines->is_array() || pipelines->empty())
+        return make_error("no performance.pipelines in " + where);
+    for (const json& p : *pipelines) {
+        if (!p.is_string()) return make_error("performance.pipelines holds a non-string in " + where);
+        out.pipes.push_back(short_pipe_name(p.get<std::string>()));
+    }
+    std::string total_bound, shortest_bound, longest_bound;
+    for (Status s : {read_json_path(*performance, "total_cycles", out.pipes.size(), out.total, total_bound),
+                     read_json_path(*performance, "shortest_path_cycles", out.pipes.size(), out.shortest, shortest_bound),
+                     read_json_path(*performance, "longest_path_cycles", out.pipes.size(), out.longest, longest_bound)})
+        if (!s) return with_context(where, s.error());
+    out.bound = pick_bound(longest_bound, total_bound);
+
+    const json* variant_properties = member(variant, "properties");
+    if (!variant_properties || !variant_properties->is_array()) return make_error("no properties in " + where);
+    auto work = json_count(property(variant_properties, "work_registers_used"), "work_registers_used");
+    if (!work) return with_context(where, work.error());
+    out.work_registers = *work;
+    auto uniform = json_count(property(variant_properties, "uniform_registers_used"), "uniform_registers_used");
+    if (!uniform) return with_context(where, uniform.error());
+    out.uniform_registers = *uniform;
+    if (const json* fp16 = property(variant_properties, "fp16_arithmetic"); fp16 && !fp16->is_null()) {
+        if (!fp16->is_number()) return make_error(where + ": fp16_arithmetic is not a number");
+        const double d = fp16->get<double>();
+        if (!std::isfinite(d) || d < 0.0 || d > 100.0)
+            return make_error(where + ": fp16_arithmetic is " + fp16->dump() + ", not a percentage");
+        out.fp16_percent = d;
+    }
+    if (const json* spilling = property(variant_properties, "has_stack_spilling"); spilling && spilling->is_boolean())
+        out.stack_spilling = spilling->get<bool>();
+    if (const json* spill = property(variant_properties, "stack_spill_bytes"); spill && !spill->is_null()) {
+        auto bytes = json_count(spill, "stack_spill_bytes");
+        if (!bytes) return with_context(where, bytes.error());
+        if (*bytes > 0) {
+            out.stack_spilling = true;
+            out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
+        }
+    }
+
+    // Shader properties that hold (uniform computation, late ZS test, ...), by their display names.
+    if (const json* shader_properties = member(shader, "properties"); shader_properties && shader_properties->is_array()) {
+        for (const json& p : *shader_properties) {
+            const json* value = member(p, "value");
+            if (!value || !value->is_boolean() || !value->get<bool>()) continue;
+            const json* display = member(p, "display_name");
+            const json* name = member(p, "name");
+            if (display && display->is_string()) out.notes.push_back(property_note(display->get<std::string>()));
+            else if (name && name->is_string()) out.notes.push_back(property_note(name->get<std::string>()));
+        }
+    }
+    return out;
+}
+
+// --- PowerVR ----------------------------------------------------------------------
+
+// The figures the profile may hold, matched on the words of their documented
+// names (lowercase); the first in this order that is present becomes `cycles`.
+enum class PowerVrFigure { worst, emulated, approximate, total, per_line, best, temporaries, usc_instructions, none };
+
+PowerVrFigure classify_powervr_label(const std::string& label) {
+    const std::string l = lower(label);
+    if (contains(l, "performance estimate") && contains(l, "worst")) return PowerVrFigure::worst;
+    if (contains(l, "performance estimate") && contains(l, "best")) return PowerVrFigure::best;
+    if (contains(l, "per-line cycle")) return PowerVrFigure::per_line;
+    if (contains(l, "emulated") && contains(l, "cycle")) return PowerVrFigure::emulated;
+    if (contains(l, "approximate") && contains(l, "cycle")) return PowerVrFigure::approximate;
+    if ((contains(l, "total") && contains(l, "cycle")) || l == "cycles" || l == "cycle count")
+        return PowerVrFigure::total;
+    if (contains(l, "temp") && contains(l, "register")) return PowerVrFigure::temporaries;
+    if (contains(l, "usc instructions")) return PowerVrFigure::usc_instructions;
+    return PowerVrFigure::none;
+}
+
+Result<VendorCycles> parse_powervr_inner(const std::string& output) {
+    VendorCycles out;
+    out.tool = "GLSLESCompiler";
+    out.target = "PowerVR";
+    double worst = -1, emulated = -1, approximate = -1, total = -1, per_line = -1, best = -1;
+    int usc_instructions = -1;
+    for (const std::string& raw : split_lines(output)) {
+        const std::string line = trim(raw);
+        // "label: value" or "label = value"; whichever separator comes first.
+        const std::size_t at = line.find_first_of(":=");
+        if (at == std::string::npos) continue;
+        const std::string label = trim(line.substr(0, at));
+        const PowerVrFigure kind = classify_powervr_label(label);
+        if (kind == PowerVrFigure::none) continue;
+        const std::vector<std::string> words = split_words(line.substr(at + 1));
+        const std::string first = words.empty() ? "" : words[0];
+        const std::string what = "'" + label + "'";
+        if (kind == PowerVrFigure::temporaries || kind == PowerVrFigure::usc_instructions) {
+            auto count = parse_count(first, what);
+            if (!count) return count.error();
+            (kind == PowerVrFigure::temporaries ? out.work_registers : usc_instructions) = *count;
+            continue;
+        }
+        auto value = parse_figure(first, what);
+        if (!value) return value.error();
+        switch (kind) {
+            case PowerVrFigure::worst: worst = *value; break;
+            case PowerVrFigure::best: best = *value; break;
+            case PowerVrFigure::per_line: per_line = *value; break;
+            case PowerVrFigure::emulated: emulated = *value; break;
+            case PowerVrFigure::approximate: approximate = *value; break;
+            case PowerVrFigure::total: total = *value; break;
+            default: break;
+        }
+    }
+    // The worst-case emulated estimate, as malioc's longest path: what a
+    // frame pays when the branches go badly.
+    const std::pair<double, const char*> order[] = {
+        {worst, "worst-case performance estimate"}, {emulated, "emulated cycles"},
+        {approximate, "approximate cycles"},        {total, "total cycles"},
+        {per_line, "per-line cycle estimate total"},
+    };
+    for (const auto& [value, name] : order) {
+        if (value < 0) continue;
+        out.cycles = value;
+        out.notes.push_back(std::string("cycles: ") + name);
+        break;
+    }
+    if (out.cycles < 0)
+        return make_error("no cycle figure (looked for 'Performance estimate (Worst)', 'Emulated cycles', "
+                          "'Approximate cycles', 'Total cycles', 'Per-line Cycle Estimate Total')");
+    if (best >= 0) out.notes.push_back("best-case estimate " + figure(best) + " cycles");
+    if (per_line >= 0 && out.cycles != per_line) out.notes.push_back("per-line estimate total " + figure(per_line) + " cycles");
+    if (usc_instructions >= 0) out.notes.push_back("global USC instructions " + std::to_string(usc_instructions));
+    return out;
+}
+
+// --- Running a tool -------------------------------------------------------------
+
+struct ProcessOutcome {
+    std::string output;   // stdout and stderr as they interleaved
+    int exit_status = -1; // when the tool exited
+    int signal = 0;       // when a signal ended it
+    bool timed_out = false;
+    bool over_cap = false;
+};
+
+std::string describe_end(const ProcessOutcome& outcome) {
+    if (outcome.signal) return "killed by signal " + std::to_string(outcome.signal);
+    return "exited with status " + std::to_string(outcome.exit_status);
+}
+
+// A temporary folder, removed with what is in it when the run ends.
+class TemporaryFolder {
+public:
+    TemporaryFolder() {
+        std::error_code ec;
+        std::filesystem::path base = std::filesystem::temp_directory_path(ec);
+        if (ec) base = "/tmp";
+        std::string pattern = (base / "parallax-vendor-XXXXXX").string();
+        if (mkdtemp(pattern.data())) path_ = pattern;
+    }
+    ~TemporaryFolder() {
+        std::error_code ec;
+        if (!path_.empty()) std::filesystem::remove_all(path_, ec);
+    }
+    TemporaryFolder(const TemporaryFolder&) = delete;
+    TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
+// Runs argv[0] (an absolute path) with stdout and stderr into one pipe. The
+// child leads its own process group so that the time limit and the output cap
+// kill whatever it started too: a wrapper script's child would otherwise
+// hold the pipe open after the script is gone.
+Result<ProcessOutcome> run_captured(const std::vector<std::string>& argv, std::chrono::milliseconds time_limit) {
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) return make_error(std::string("pipe: ") + std::strerror(errno));
+
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);  // never our stdin
+    posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t no_signals, all_signals;
+    sigemptyset(&no_signals);
+    sigfillset(&all_signals);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    posix_spawnattr_setpgroup(&attributes, 0);
+    posix_spawnattr_setsigmask(&attributes, &no_signals);
+    posix_spawnattr_setsigdefault(&attributes, &all_signals);
+
+    std::vector<char*> arguments;
+    for (const std::string& a : argv) arguments.push_back(const_cast<char*>(a.c_str()));
+    arguments.push_back(nullptr);
+    pid_t pid = -1;
+    const int spawned = posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, arguments.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
+    close(fds[1]);
+    if (spawned != 0) {
+        close(fds[0]);
+        return make_error("cannot start " + argv[0] + ": " + std::strerror(spawned));
+    }
+
+    ProcessOutcome outcome;
+    const auto deadline = std::chrono::steady_clock::now() + time_limit;
+    auto remaining_ms = [&] {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        return static_cast<int>(std::max<long long>(0, left.count()));
+    };
+    bool killed = false;
+    auto kill_group = [&] {
+        if (!killed) kill(-pid, SIGKILL);
+        killed = true;
+    };
+    char buffer[65536];
+    for (;;) {
+        pollfd p{fds[0], POLLIN, 0};
+        const int ready = poll(&p, 1, remaining_ms());
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) {
+            outcome.timed_out = true;
+            kill_group();
+            break;
+        }
+        const ssize_t n = read(fds[0], buffer, sizeof buffer);
+        if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+        if (n <= 0) break;  // end of output (or a read error: nothing more to collect)
+        if (outcome.output.size() + static_cast<std::size_t>(n) > kOutputCap) {
+            outcome.over_cap = true;
+            kill_group();
+            break;
+        }
+        outcome.output.append(buffer, static_cast<std::size_t>(n));
+    }
+    close(fds[0]);
+
+    // The output has ended; the tool gets what is left of its time to exit.
+    int status = 0;
+    for (;;) {
+        const pid_t done = waitpid(pid, &status, killed ? 0 : WNOHANG);
+        if (done == pid) break;
+        if (done < 0 && errno == EINTR) continue;
+        if (done < 0) return make_error(std::string("waitpid: ") + std::strerror(errno));
+        if (remaining_ms() == 0) {
+            outcome.timed_out = true;
+            kill_group();
+            continue;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (!killed) kill(-pid, SIGKILL);  // anything the tool left running in its group
+    if (WIFEXITED(status)) outcome.exit_status = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
+    return outcome;
+}
+
+bool write_file(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    return static_cast<bool>(out);
+}
+
+std::string read_file_if_any(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return {};
+    std::string text;
+    text.resize(kOutputCap);
+    in.read(text.data(), static_cast<std::streamsize>(kOutputCap));
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    return text;
+}
+
+bool looks_like_json(const std::string& output) {
+    const std::string t = trim(output);
+    return !t.empty() && t[0] == '{';
+}
+
+}  // namespace
+
+// --- Public entry points ------------------------------------------------------------
+
+Result<VendorCycles> parse_malioc_text(const std::string& output) {
+    auto parsed = out_of_memory_is_an_error("malioc report", [&] { return parse_malioc_text_inner(output); });
+    if (!parsed) return with_context("malioc report", parsed.error());
+    return parsed;
+}
+
+Result<VendorCycles> parse_malioc_json(const std::string& output) {
+    auto parsed = out_of_memory_is_an_error("malioc JSON report", [&] { return parse_malioc_json_inner(output); });
+    if (!parsed) return with_context("malioc JSON report", parsed.error());
+    return parsed;
+}
+
+Result<VendorCycles> parse_powervr_output(const std::string& output) {
+    auto parsed = out_of_memory_is_an_error("PowerVR profile", [&] { return parse_powervr_inner(output); });
+    if (!parsed) return with_context("PowerVR profile", parsed.error());
+    return parsed;
+}
+
+std::vector<VendorTool> find_vendor_tools() {
+    std::vector<VendorTool> found;
+    const char* path_variable = std::getenv("PATH");
+    if (!path_variable) return found;
+    std::vector<std::string> folders;
+    std::string folder;
+    std::istringstream in(path_variable);
+    while (std::getline(in, folder, ':'))
+        if (!folder.empty() && folder[0] == '/') folders.push_back(folder);  // relative entries would depend on the cwd
+    for (const char* name : kCandidateTools) {
+        for (const std::string& f : folders) {
+            const std::string candidate = (std::filesystem::path(f) / name).string();
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0) {
+                found.push_back(VendorTool{name, candidate});
+                break;  // the first on PATH, as a shell would run it
+            }
+        }
+    }
+    return found;
+}
+
+Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& source, ShaderStage stage, int es_major,
+                                     std::chrono::milliseconds time_limit) {
+    const std::string name = tool.name.empty() ? std::string("vendor compiler") : tool.name;
+    const bool malioc = tool.name == "malioc";
+    const bool powervr = starts_with(tool.name, kPowerVrPrefix) && tool.name.size() > std::strlen(kPowerVrPrefix);
+    if (!malioc && !powervr) return make_error(name + ": not a vendor compiler this build knows");
+    if (tool.path.empty() || tool.path[0] != '/') return make_error(name + ": needs an absolute path, got '" + tool.path + "'");
+    // Both tools read the language version from the source's #version line;
+    // es_major is checked so that a caller's mistake is not hidden.
+    if (es_major != 2 && es_major != 3) return make_error(name + ": OpenGL ES " + std::to_string(es_major) + " is not 2 or 3");
+
+    TemporaryFolder folder;
+    if (folder.path().empty()) return make_error(name + ": cannot create a temporary folder");
+    const std::string source_path = folder.path() + (stage == ShaderStage::vertex ? "/shader.vert" : "/shader.frag");
+    if (!write_file(source_path, source)) return make_error(name + ": cannot write " + source_path);
+
+    std::vector<std::string> argv{tool.path};
+    const std::string profile_base = folder.path() + "/profile";
+    if (malioc) {
+        // The stage is given as well as implied by the extension; JSON is
+        // the format with named fields (older versions without it print
+        // text, which the text parser reads).
+        argv.insert(argv.end(), {stage == ShaderStage::vertex ? "--vertex" : "--fragment", "--format", "json", source_path});
+    } else {
+        // `<in> <out> -v|-f -profile`: the profile goes to <out>.prof.
+        argv.insert(argv.end(), {source_path, profile_base, stage == ShaderStage::vertex ? "-v" : "-f", "-profile"});
+    }
+
+    auto ran = run_captured(argv, time_limit);
+    if (!ran) return with_context(name, ran.error());
+    const ProcessOutcome& outcome = *ran;
+    const std::string heading = name + " (" + tool.path + ")";
+    if (outcome.timed_out)
+        return make_error(heading + ": killed after the " + std::to_string(time_limit.count()) +
+                          " ms limit; first lines of its output:\n" + first_lines(outcome.output));
+    if (outcome.over_cap)
+        return make_error(heading + ": killed, its output passed " + std::to_string(kOutputCap >> 20) +
+                          " MiB; first lines:\n" + first_lines(outcome.output));
+    if (outcome.signal != 0 || outcome.exit_status != 0) {
+        std::string reason;
+        if (malioc && looks_like_json(outcome.output)) {
+            auto report = parse_malioc_json(outcome.output);
+            if (!report) reason = " (" + report.error().message + ")";
+        }
+        return make_error(heading + ": " + describe_end(outcome) + reason + "; first lines of its output:\n" +
+                          first_lines(outcome.output));
+    }
+
+    Result<VendorCycles> parsed = make_error("");
+    if (malioc) {
+        parsed = looks_like_json(outcome.output) ? parse_malioc_json(outcome.output) : parse_malioc_text(outcome.output);
+    } else {
+        parsed = parse_powervr_output(outcome.output + "\n" + read_file_if_any(profile_base + ".prof"));
+        if (parsed) {
+            parsed->tool = tool.name;
+            parsed->target = tool.name.substr(std::strlen(kPowerVrPrefix));
+        }
+    }
+    if (!parsed)
+        return make_error(heading + ": " + describe_end(outcome) + " but " + parsed.error().message +
+                          "; first lines of its output:\n" + first_lines(outcome.output));
+    return parsed;
+}
+
+std::string vendor_tools_absent_line() {
+    std::vector<std::string> names(std::begin(kCandidateTools), std::end(kCandidateTools));
+    return "no vendor compiler on PATH (looked for " + join(names, ", ") + ")";
+}
+
+}  // namespace px::profiling

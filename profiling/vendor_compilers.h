@@ -1,0 +1,63 @@
+// Vendor offline shader compilers for `parallax profile`: Arm's Mali Offline
+// Compiler (malioc) and the PowerVR SDK's GLSL ES compilers
+// (GLSLESCompiler_Rogue, ...). Each reports what one shader stage costs on
+// its GPU family: registers, cycles per pipe, the bounding pipe. Neither tool
+// ships with Debian, so they are looked for on PATH and the report says so
+// when none is there. The parsers take the tools' printed reports; they never
+// guess a figure: a report that lacks one the parser needs is an error naming
+// it.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "effects/variant.h"
+
+namespace px::profiling {
+
+struct VendorCycles {              // one shader stage's figures from a vendor compiler
+    std::string tool;              // "malioc 7.4.0" / "GLSLESCompiler_Rogue"
+    std::string target;            // "Mali-G78 r1p1 (Valhall)", "Rogue"
+    int work_registers = -1;       // -1: not reported
+    int uniform_registers = -1;
+    double fp16_percent = -1.0;    // 16-bit arithmetic share, -1: not reported
+    bool stack_spilling = false;
+    std::vector<std::string> pipes;        // column names as the tool names them
+    std::vector<double> total, shortest, longest;  // per pipe (NaN where the tool prints N/A); empty: row absent
+    std::string bound;             // "A", "V, T", ... ; empty if absent
+    double cycles = -1.0;          // a single total cycle figure where the tool gives one (PowerVR), else -1
+    std::vector<std::string> notes; // anything worth showing (e.g. "uniform computation")
+};
+
+// malioc's text report (malioc 7.x/8.x; Midgard, Bifrost and Valhall tables).
+Result<VendorCycles> parse_malioc_text(const std::string& output);
+// malioc's `--format json` report. Pipes are given the text report's short
+// names (arith_fma -> FMA, load_store -> LS, ...) so that both formats of
+// one compile give the same figures.
+Result<VendorCycles> parse_malioc_json(const std::string& output);
+// The PowerVR compilers' profile output (stdout and the .prof file together).
+Result<VendorCycles> parse_powervr_output(const std::string& output);
+
+struct VendorTool {
+    std::string name;   // "malioc", "GLSLESCompiler_Rogue"
+    std::string path;   // absolute path found on PATH
+};
+
+// The vendor compilers found on $PATH (each candidate name checked with access(X_OK)); empty if none.
+std::vector<VendorTool> find_vendor_tools();
+
+// Writes `source` to a temporary file with the stage's extension (.vert/.frag), runs the tool on it
+// (posix_spawn, stdout+stderr captured through a pipe, a wall-clock limit after which the child and
+// anything it started are killed, output capped at 4 MiB), parses the output. Errors name the tool,
+// its exit status and the first lines of its output. `es_major` 2 or 3 (the source's #version says
+// it anyway).
+Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& source, ShaderStage stage,
+                                     int es_major,
+                                     std::chrono::milliseconds time_limit = std::chrono::seconds(60));
+
+// One line for reports when no vendor tool is on PATH.
+std::string vendor_tools_absent_line();  // "no vendor compiler on PATH (looked for malioc, GLSLESCompiler_...)"
+
+}  // namespace px::profiling
