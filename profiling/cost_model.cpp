@@ -68,6 +68,12 @@ Result<CostModel> parse_cost_model(const std::string& text, const std::string& w
                      read_number(**texture, "latency_hidden_share", "$.texture", m.latency_hidden_share, true),
                      read_number(**varying, "components_per_cycle", "$.varying", m.varying_components_per_cycle)})
         if (!s) return fail(s.error());
+    const json& tex = **texture;
+    if (tex.contains("compiler_reorders_reads")) {
+        if (!tex["compiler_reorders_reads"].is_boolean())
+            return make_error(where + ": $.texture.compiler_reorders_reads: must be true or false");
+        m.compiler_reorders_reads = tex["compiler_reorders_reads"].get<bool>();
+    }
     if (m.latency_hidden_share > 1.0) return make_error(where + ": $.texture.latency_hidden_share: must be within [0, 1]");
     if (root.contains("loop_trips")) {
         const json& trips = root["loop_trips"];
@@ -114,7 +120,10 @@ PipeCycles estimate(const StageCost& stage, const OpCounts& path, double round_t
                    path.transcendental * model.transcendental_cycles + path.branches * model.branch_cycles;
     c.texture = path.samples / model.samples_per_cycle;
     c.varying = stage.stage == ShaderStage::fragment ? stage.varying_components / model.varying_components_per_cycle : 0.0;
-    c.latency = round_trips * model.texture_latency_cycles * (1.0 - model.latency_hidden_share);
+    const double waits = model.compiler_reorders_reads || round_trips <= 0.0
+                             ? round_trips
+                             : std::max(round_trips, static_cast<double>(stage.in_order_waits));
+    c.latency = waits * model.texture_latency_cycles * (1.0 - model.latency_hidden_share);
     const double busiest = std::max({c.arithmetic, c.texture, c.varying});
     c.total = busiest + c.latency;
     const std::pair<const char*, double> pipes[] = {{"A", c.arithmetic}, {"T", c.texture}, {"V", c.varying}};

@@ -24,6 +24,10 @@ struct CostModel {
     double samples_per_cycle = 1.0;
     double texture_latency_cycles = 100.0;
     double latency_hidden_share = 0.75;
+    // false: texture waits are the greater of the dependent-read chain and
+    // the waits in program order (reads are issued as written); true: the
+    // chain alone (a scheduler issues every read as early as it can).
+    bool compiler_reorders_reads = false;
     double varying_components_per_cycle = 2.0;
     struct LoopTrips {
         std::string file;  // a loop whose header is in this shaders_es/ file
@@ -50,6 +54,8 @@ struct PipeCycles {
     double total = 0.0;       // the busiest pipe plus the exposed latency
     std::string bound;        // "A", "T", "V", or "A, T" when tied
 };
+// `round_trips`: the path's dependent-read chain (StageCost::texture_round_trips
+// on the longest path); the stage's in-order waits are added per the model.
 PipeCycles estimate(const StageCost& stage, const OpCounts& path, double round_trips, const CostModel& model);
 
 }  // namespace px::profiling

@@ -570,6 +570,9 @@ public:
         loops(out);
         Status reads = dependences(*entry, out);
         if (!reads) return reads;
+        InOrder walk;
+        waits_in_order(*entry, walk, 0);
+        out.in_order_waits = walk.waits;
         return {};
     }
 
@@ -736,6 +739,69 @@ private:
                 if (is_sample(in.op) || (in.op == spv::OpFunctionCall && calls_sample(in, depth + 1))) return true;
         return false;
     }
+
+    // Texture results in flight, in program order.
+    struct InOrder {
+        std::set<Id> pending_values, pending_memory;
+        int waits = 0;
+    };
+
+    void waits_in_order(const Function& f, InOrder& w, int depth) {
+        if (depth > 64) return;
+        auto pending = [&](Id id) { return w.pending_values.count(id) != 0; };
+        auto wait = [&]() {
+            ++w.waits;
+            w.pending_values.clear();
+            w.pending_memory.clear();
+        };
+        for (const Block& b : f.blocks)
+            for (const Instruction& in : b.body) {
+                switch (in.op) {
+                    case spv::OpStore:
+                        // A register move, not a use: the value stays in flight.
+                        if (in.words.size() >= 2) {
+                            if (pending(in.words[1])) w.pending_memory.insert(root_of(in.words[0]));
+                            else w.pending_memory.erase(root_of(in.words[0]));
+                        }
+                        continue;
+                    case spv::OpLoad:
+                        if (!in.words.empty() && w.pending_memory.count(root_of(in.words[0])))
+                            w.pending_values.insert(in.result);
+                        continue;
+                    case spv::OpAccessChain:
+                    case spv::OpInBoundsAccessChain:
+                    case spv::OpCompositeExtract:
+                    case spv::OpVectorShuffle:
+                    case spv::OpCopyObject:
+                        // Moves: a part of a value in flight is in flight.
+                        for (Id operand : in.words)
+                            if (pending(operand)) w.pending_values.insert(in.result);
+                        continue;
+                    case spv::OpFunctionCall:
+                        if (const Function* callee = in.words.empty() ? nullptr : function(in.words[0])) {
+                            for (std::size_t a = 0; a + 1 < in.words.size() && a < callee->parameters.size(); ++a)
+                                if (w.pending_memory.count(root_of(in.words[a + 1])))
+                                    w.pending_memory.insert(callee->parameters[a]);
+                            const int before = w.waits;
+                            waits_in_order(*callee, w, depth + 1);
+                            // What the callee returned is in flight only if it waited on nothing since.
+                            if (w.waits == before && returns_pending_) w.pending_values.insert(in.result);
+                            returns_pending_ = false;
+                        }
+                        continue;
+                    case spv::OpReturnValue:
+                        returns_pending_ = !in.words.empty() && pending(in.words[0]);
+                        continue;
+                    default: break;
+                }
+                bool uses = false;
+                for (Id operand : in.words) uses |= operand < m_.bound_ && pending(operand);
+                if (uses) wait();
+                if (is_sample(in.op)) w.pending_values.insert(in.result);
+            }
+    }
+
+    bool returns_pending_ = false;
 
     Id root_of(Id pointer) const {
         for (int hops = 0; hops < 64; ++hops) {

@@ -75,6 +75,12 @@ struct StageCost {
     // longest chain of reads each needing the previous one's result, a
     // chain inside a loop counted once per iteration.
     double texture_round_trips = 0.0;
+    // Waits in program order (each loop body once): how often an
+    // instruction needs a texture result still in flight, on a GPU that
+    // issues in the order written and waits for every read in flight at
+    // once (the PowerVR whitepaper's "read, wait, math" count, 3.2.1).
+    // Reads issued back to back share one wait.
+    int in_order_waits = 0;
     // Cost of each source line ("shaders_es/chunks/march.glsl:54"), each
     // instruction once: for the changed lines of `profile --against`.
     std::map<std::string, OpCounts> by_line;

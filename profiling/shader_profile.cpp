@@ -135,6 +135,7 @@ const std::vector<Metric>& metrics() {
         {"fragment: texture reads in the code", [](const P& p) { return std::optional<double>(double(p.fragment.samples.size())); }, 0},
         {"fragment: dependent reads", [](const P& p) { return std::optional<double>(p.fragment.dependent_samples); }, 0},
         {"fragment: texture round trips", [](const P& p) { return std::optional<double>(p.fragment.texture_round_trips); }, 0},
+        {"fragment: waits in program order", [](const P& p) { return std::optional<double>(p.fragment.in_order_waits); }, 0},
         {"fragment: RelaxedPrecision results %", [](const P& p) { return std::optional<double>(100.0 * p.fragment.relaxed_share()); }, 0},
         {"fragment: varying components", [](const P& p) { return std::optional<double>(p.fragment.varying_components); }, 0},
         {"vertex: arithmetic ops", [](const P& p) { return std::optional<double>(p.vertex.longest.arithmetic); }, 0},
@@ -180,6 +181,7 @@ nlohmann::json stage_json(const StageCost& s) {
             {"unknown_trips", s.unknown_trips},
             {"dependent_samples", s.dependent_samples},
             {"texture_round_trips", s.texture_round_trips},
+            {"in_order_waits", s.in_order_waits},
             {"loops", loops},
             {"samples", samples}};
 }
@@ -261,7 +263,7 @@ std::string profile_report(const std::vector<VariantProfile>& profiles, ReportFo
         return j.dump(2) + "\n";
     }
     const std::vector<std::string> header = {"variant", "16-bit", "A", "T", "V", "bound", "shortest", "longest",
-                                             "reads (dep)", "round trips", "loops", "VS cycles", "NIR alu/tex/16-bit",
+                                             "reads (dep)", "round trips", "waits", "loops", "VS cycles", "NIR alu/tex/16-bit",
                                              "vendor", "ns/px", "x normal"};
     std::vector<std::vector<std::string>> rows;
     for (const VariantProfile& p : profiles) {
@@ -273,7 +275,8 @@ std::string profile_report(const std::vector<VariantProfile>& profiles, ReportFo
         rows.push_back({p.name, percent(fp16_share(p.fragment.longest)), fixed(l.arithmetic), fixed(l.texture),
                         fixed(l.varying), l.bound, fixed(p.fragment_shortest.total), fixed(l.total),
                         std::to_string(p.fragment.samples.size()) + " (" + std::to_string(p.fragment.dependent_samples) + ")",
-                        fixed(p.fragment.texture_round_trips, 0), loops_text(p.fragment), fixed(p.vertex_longest.total),
+                        fixed(p.fragment.texture_round_trips, 0), std::to_string(p.fragment.in_order_waits),
+                        loops_text(p.fragment), fixed(p.vertex_longest.total),
                         nir, vendor_text(p), p.measured ? fixed(p.measured->ns_per_pixel, 2) : "-",
                         p.measured ? fixed(p.measured->ratio_to_normal, 2) : "-"});
     }
@@ -284,7 +287,9 @@ std::string profile_report(const std::vector<VariantProfile>& profiles, ReportFo
     s << (format == ReportFormat::markdown ? "\n" : "")
       << "Fragment stage, estimated cycles per fragment: A arithmetic, T texture, V varying pipes on the longest path; "
          "shortest and longest include the exposed texture latency. 16-bit: RelaxedPrecision share of the longest "
-         "path's arithmetic. reads (dep): texture reads in the code, and how many wait on another read's result.\n";
+         "path's arithmetic. reads (dep): texture reads in the code, and how many wait on another read's result. "
+         "round trips: reads the longest path waits for one after another. waits: texture waits in program order "
+         "(each loop once), reads issued back to back sharing one.\n";
     return s.str();
 }
 
@@ -333,7 +338,7 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
         }
         return j.dump(2) + "\n";
     }
-    const std::vector<std::string> header = {"step", "change", "FS ops", "FS fp16", "FS transc.", "reads (dep)",
+    const std::vector<std::string> header = {"step", "change", "FS ops", "FS fp16", "FS transc.", "reads (dep)", "waits",
                                              "VS ops", "FS cycles", "d cycles", "VS cycles", "NIR FS alu",
                                              "ns/px", "x normal", "uv err (texels)", "PSNR dB"};
     std::vector<std::vector<std::string>> rows;
@@ -348,6 +353,7 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
         rows.push_back({info.step ? std::to_string(info.step) : "shipped", info.name, fixed(p.fragment.longest.arithmetic, 0),
                         percent(fp16_share(p.fragment.longest)), fixed(p.fragment.longest.transcendental, 0),
                         std::to_string(p.fragment.samples.size()) + " (" + std::to_string(p.fragment.dependent_samples) + ")",
+                        std::to_string(p.fragment.in_order_waits),
                         fixed(p.vertex.longest.arithmetic, 0), fixed(p.fragment_longest.total), delta,
                         fixed(p.vertex_longest.total), p.nir_fragment ? std::to_string(p.nir_fragment->alu) : "-",
                         p.measured ? fixed(p.measured->ns_per_pixel, 2) : "-",

@@ -56,6 +56,26 @@ TEST(ShaderCosts, OneMoreDependentReadShowsAsOneMoreSampleAndOneMoreDependentRea
     EXPECT_DOUBLE_EQ(three.texture_round_trips, 2.0);
     EXPECT_FALSE(three.samples[0].dependent);
     EXPECT_EQ(three.samples[1].waits_on, std::vector<int>{0});
+    // In order: read, wait, two reads back to back, wait.
+    EXPECT_EQ(three.in_order_waits, 2);
+}
+
+TEST(ShaderCosts, InterleavedReadsWaitMoreOftenThanBackToBackOnes) {
+    const StageCost interleaved = fragment(R"(void main() {
+    vec4 a = texture(u_a, v_uv);
+    vec4 x = a * 2.0 - 1.0;
+    vec4 b = texture(u_b, v_uv);
+    o = x + b;
+})");
+    const StageCost together = fragment(R"(void main() {
+    vec4 a = texture(u_a, v_uv);
+    vec4 b = texture(u_b, v_uv);
+    vec4 x = a * 2.0 - 1.0;
+    o = x + b;
+})");
+    EXPECT_EQ(interleaved.in_order_waits, 2);
+    EXPECT_EQ(together.in_order_waits, 1);
+    EXPECT_DOUBLE_EQ(interleaved.total.arithmetic, together.total.arithmetic);
 }
 
 TEST(ShaderCosts, IndependentReadsAreNotDependent) {
@@ -255,6 +275,8 @@ TEST(ShaderCosts, TheLadderStepsChangeWhatTheyClaim) {
     EXPECT_GT(step(3, ShaderStage::vertex).total.transcendental, step(2, ShaderStage::vertex).total.transcendental);
     // Step 4: the scale moves to the vertex stage.
     EXPECT_GT(step(4, ShaderStage::vertex).total.arithmetic, step(3, ShaderStage::vertex).total.arithmetic);
+    // Step 5: the dependent reads back to back, one wait fewer.
+    EXPECT_EQ(step(5, ShaderStage::fragment).in_order_waits, step(4, ShaderStage::fragment).in_order_waits - 1);
     // Step 6: relaxed precision.
     EXPECT_GT(step(6, ShaderStage::fragment).relaxed_share(), step(5, ShaderStage::fragment).relaxed_share());
     for (int s = 1; s <= kLadderSteps; ++s) EXPECT_EQ(step(s, ShaderStage::fragment).samples.size(), 3u) << s;

@@ -73,24 +73,14 @@ std::vector<VariantKey> default_variants(int es) {
     return out;
 }
 
-// Every variant a name may select: the catalogue's and the ladder's.
+// Every variant a name may select: the catalogue's (the ladder's included)
+// and each technique's default.
 std::vector<VariantKey> all_variants(int es) {
     std::vector<VariantKey> all = enumerate_variants(es);
     for (const VariantKey& k : default_variants(es)) {
         bool known = false;
         for (const VariantKey& e : all) known |= e == k;
         if (!known) all.push_back(k);
-    }
-    for (const VariantKey& k : std::vector<VariantKey>(all)) {
-        if (k.technique != Technique::offset_limited || k.debug_output || k.lod || k.depth_write) continue;
-        for (int step = 1; step <= kLadderSteps; ++step) {
-            VariantKey l = k;
-            l.ladder_step = static_cast<std::uint8_t>(step);
-            l = l.canonical();
-            bool known = false;
-            for (const VariantKey& e : all) known |= e == l;
-            if (!known) all.push_back(l);
-        }
     }
     return all;
 }

@@ -240,6 +240,19 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                 add(k);
             }
         }
+        // The PowerVR whitepaper's optimisation ladder (shaders_es/ladder/).
+        if (info.id == Technique::offset_limited)
+            for (int packed = 0; packed < 2; ++packed)
+                for (int step = 1; step <= kLadderSteps; ++step) {
+                    VariantKey k = base;
+                    k.packed_height = packed != 0;
+                    k.ladder_step = static_cast<std::uint8_t>(step);
+                    add(k);
+                    for (int debug = 1; debug <= 4; ++debug) {
+                        k.debug_output = static_cast<std::uint8_t>(debug);
+                        if (es_major >= 3 || debug >= 2) add(k);
+                    }
+                }
         if (info.options & kOptRefine) {
             for (int steps : {0, 16}) {
                 VariantKey k = base;

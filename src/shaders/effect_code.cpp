@@ -21,6 +21,9 @@ bool refinement(const VariantKey& k) { return has(k, kOptRefine); }
 bool max_pyramid(const VariantKey& k) { return has(k, kOptSteps); }
 bool exact_view(const VariantKey& k) { return k.exact_view; }
 bool per_vertex_view(const VariantKey& k) { return !k.exact_view; }
+// The optimisation ladder keeps a highp view varying until its precision step.
+bool highp_view_varying(const VariantKey& k) { return k.exact_view || (k.ladder_step && k.ladder_step < kLadderSteps); }
+bool mediump_view_varying(const VariantKey& k) { return !highp_view_varying(k); }
 bool debug_output(const VariantKey& k) { return k.debug_output != 0; }
 // GLSL ES 1.00 debug outputs: the 11-bit packing stays for the driver to pick
 // (GL_FRAGMENT_PRECISION_HIGH) unless the key rules highp out.
@@ -102,13 +105,13 @@ const std::vector<EffectMarker> kMarkers = {
     // surface_main.glsl, PX_EXACT_VIEW: normalised per fragment.
     {"exact view", "view_ts /= length(view_unscaled)", exact_view},
     // interface.glsl, PX_EXACT_VIEW: the view varying's precision.
-    {"exact view", "#define PX_VIEW_PRECISION PX_HIGHP", exact_view},
+    {"exact view", "#define PX_VIEW_PRECISION PX_HIGHP", highp_view_varying},
     // The switch: no #ifdef PX_EXACT_VIEW is left.
     {"exact view", "PX_EXACT_VIEW", exact_view},
     // surface.vert without PX_EXACT_VIEW: normalised per vertex in mediump.
     {"per-vertex view", "mediump vec3 view_ts = normalize(", per_vertex_view},
     // interface.glsl without PX_EXACT_VIEW.
-    {"per-vertex view", "#define PX_VIEW_PRECISION mediump", per_vertex_view},
+    {"per-vertex view", "#define PX_VIEW_PRECISION mediump", mediump_view_varying},
     // debug_output.glsl: the output and its packing helpers.
     {"debug output", "px_debug_output", debug_output},
     {"debug output", "px_pack24", debug_output},
