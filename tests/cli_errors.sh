@@ -173,4 +173,16 @@ else
     echo "FAIL: --camera-path: $out"; failures=$((failures + 1))
 fi
 
+# parallax profile: bad options and files.
+printf '{"arithmetic": {"fp32_ops_per_cycle": 1, "fp16_ops_per_cycle": 2, "transcendental_cycles": 4, "branch_cycles": 1}, "texture": {"samples_per_cycle": 0, "latency_cycles": 100, "latency_hidden_share": 0.5}, "varying": {"components_per_cycle": 2}}\n' >"$work/model.json"
+expect_error "profile: unknown format" "unknown format 'xml'" profile --no-time --no-nir --format xml
+expect_error "profile: no variant matches" "matches no OpenGL ES 3.0 variant" profile --no-time --no-nir --variants nosuch
+expect_error "profile: ambiguous --compare" "matches" profile --no-time --no-nir --compare pom steep
+expect_error "profile: --compare needs two" "compare" profile --no-time --no-nir --compare pom
+expect_error "profile: unknown revision" "git" profile --no-time --no-nir --against no-such-revision-here
+expect_error "profile: missing model file" "$work/none.json" profile --no-time --no-nir --model "$work/none.json"
+expect_error "profile: bad model field" "$work/model.json: \$.texture.samples_per_cycle" profile --no-time --no-nir --model "$work/model.json"
+expect_error "profile: bad size" "--size" profile --no-nir --size 0x0
+expect_error "profile: bad angle" "--angle" profile --no-nir --angle 95
+
 [ "$failures" = 0 ] && echo "all CLI error cases behave" || { echo "$failures CLI error case(s) failed"; exit 1; }

@@ -300,3 +300,39 @@ TEST(ShaderInterface, EveryVariantsDeclarationsAreInTheTable) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// Every variant's name and bits name it again (parallax profile takes names;
+// its NIR child process takes bits).
+TEST(VariantNames, ParseAndFromBitsRoundTrip) {
+    int checked = 0;
+    for (int es : {2, 3})
+        for (const VariantKey& k : enumerate_variants(es)) {
+            Result<VariantKey> parsed = VariantKey::parse(k.describe());
+            ASSERT_TRUE(parsed) << k.describe() << ": " << parsed.error().message;
+            EXPECT_EQ(parsed->bits(), k.bits()) << k.describe();
+            const std::optional<VariantKey> back = VariantKey::from_bits(k.bits());
+            ASSERT_TRUE(back) << k.describe();
+            EXPECT_EQ(back->describe(), k.describe());
+            ++checked;
+        }
+    EXPECT_GT(checked, 400);
+    // A name for a variant the enumeration does not hold.
+    Result<VariantKey> pom64 = VariantKey::parse("pom es3 samples<=64 exact-view packed");
+    ASSERT_TRUE(pom64);
+    EXPECT_EQ(pom64->max_samples, 64);
+    EXPECT_FALSE(VariantKey::parse("pom es3 samples<=64 sparkly"));
+    EXPECT_FALSE(VariantKey::parse("nope es3"));
+    EXPECT_FALSE(VariantKey::parse(""));
+    // An option the technique lacks is not silently dropped.
+    EXPECT_FALSE(VariantKey::parse("normal es3 samples<=32"));
+    EXPECT_FALSE(VariantKey::parse("pom es3 samples<=9999999"));
+    // Bits no key has.
+    EXPECT_FALSE(VariantKey::from_bits(~std::uint64_t{0}));
+    EXPECT_FALSE(VariantKey::from_bits(std::uint64_t{1} << 60));
+}
+
+}  // namespace
+}  // namespace px

@@ -92,6 +92,10 @@ bool matches(const std::string& pattern, const std::string& name) {
 
 Result<std::vector<VariantKey>> select_variants(const std::string& pattern, int es) {
     if (pattern.empty()) return default_variants(es);
+    if (Result<VariantKey> named = VariantKey::parse(pattern)) {
+        if (named->es_major != es) return make_error("'" + pattern + "' is an OpenGL ES " + std::to_string(named->es_major) + ".0 variant: add --es " + std::to_string(named->es_major));
+        return std::vector<VariantKey>{*named};
+    }
     std::vector<VariantKey> out;
     for (const VariantKey& k : all_variants(es))
         if (matches(pattern, k.describe())) out.push_back(k);
@@ -103,9 +107,12 @@ Result<std::vector<VariantKey>> select_variants(const std::string& pattern, int 
 
 // Exactly one variant: an exact name, else a pattern that matches one.
 Result<VariantKey> select_one(const std::string& pattern, int es) {
+    // Any variant by its exact name, enumerated or not ("pom es3 samples<=64 ...").
+    if (Result<VariantKey> named = VariantKey::parse(pattern)) {
+        if (named->es_major != es) return make_error("'" + pattern + "' is an OpenGL ES " + std::to_string(named->es_major) + ".0 variant: add --es " + std::to_string(named->es_major));
+        return *named;
+    }
     const std::vector<VariantKey> all = all_variants(es);
-    for (const VariantKey& k : all)
-        if (k.describe() == pattern) return k;
     std::vector<VariantKey> found;
     for (const VariantKey& k : all)
         if (matches(pattern, k.describe())) found.push_back(k);

@@ -142,6 +142,54 @@ std::string VariantKey::describe() const {
     return s.str();
 }
 
+Result<VariantKey> VariantKey::parse(const std::string& name) {
+    std::istringstream words(name);
+    std::string word;
+    if (!(words >> word)) return make_error("an empty variant name");
+    Result<Technique> technique = parse_technique(word);
+    if (!technique) return technique.error();
+    VariantKey k;
+    k.technique = *technique;
+    k.packed_height = false;
+    auto number = [](const std::string& text, long limit, long& out) {
+        if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos) return false;
+        out = std::stol(text);
+        return out <= limit;
+    };
+    while (words >> word) {
+        long n = 0;
+        if (word.rfind("es", 0) == 0 && number(word.substr(2), 3, n) && n >= 2) k.es_major = static_cast<std::uint8_t>(n);
+        else if ((word.rfind("samples<=", 0) == 0 && number(word.substr(9), 65535, n)) ||
+                 (word.rfind("steps<=", 0) == 0 && number(word.substr(7), 65535, n)))
+            k.max_samples = static_cast<std::uint16_t>(n);
+        else if (word.rfind("refine=", 0) == 0 && number(word.substr(7), 255, n)) k.refine_steps = static_cast<std::uint8_t>(n);
+        else if (word.rfind("shadow=", 0) == 0 && word.find('x') != std::string::npos) {
+            const std::string mode = word.substr(7, word.find('x') - 7);
+            if (!number(word.substr(word.find('x') + 1), 255, n)) return make_error("variant '" + name + "': bad '" + word + "'");
+            if (mode == "hard") k.shadow = ShadowMode::hard;
+            else if (mode == "soft") k.shadow = ShadowMode::soft;
+            else return make_error("variant '" + name + "': bad '" + word + "'");
+            k.shadow_samples = static_cast<std::uint8_t>(n);
+        } else if (word == "depth") k.depth_write = true;
+        else if (word == "lod") k.lod = true;
+        else if (word == "exact-view") k.exact_view = true;
+        else if (word == "packed") k.packed_height = true;
+        else if (word == "separate-height") k.packed_height = false;
+        else if (word == "normal-rg") k.normal_rg = true;
+        else if (word == "height-11bit") k.height_11bit = true;
+        else if (word.rfind("debug", 0) == 0 && number(word.substr(5), 4, n) && n >= 1) k.debug_output = static_cast<std::uint8_t>(n);
+        else if (word == "no-fragment-highp") k.no_fragment_highp = true;
+        else if (word.rfind("ladder", 0) == 0 && number(word.substr(6), kLadderSteps, n) && n >= 1)
+            k.ladder_step = static_cast<std::uint8_t>(n);
+        else return make_error("variant '" + name + "': unknown word '" + word + "'");
+    }
+    // What the technique ignores is dropped; a name that is not what the
+    // key describes (an option the technique lacks) is refused.
+    if (k.describe() != name)
+        return make_error("variant '" + name + "' is not a variant's name (the nearest is '" + k.describe() + "')");
+    return k.canonical();
+}
+
 std::string VariantKey::vertex_entry() const {
     return canonical().ladder_step ? "ladder/offset_ladder.vert" : "surface.vert";
 }

@@ -64,7 +64,10 @@ struct VariantKey {
 
     std::vector<ShaderDefine> defines() const;
     std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
-    std::string describe() const;  // "pom es3 samples=32 shadow=soft depth packed"
+    std::string describe() const;  // "pom es3 samples<=32 shadow=softx16 depth exact-view packed"
+    // The key a describe() string names (any variant, enumerated or not);
+    // an error names the word it does not know.
+    static Result<VariantKey> parse(const std::string& name);
 
     // The shader entries (relative to shaders_es/) the variant is built from.
     std::string vertex_entry() const;

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# `parallax profile` end to end: the SPIR-V and NIR counts in its JSON, a
+# comparison, the optimisation ladder with times and errors, the shaders of
+# a commit against the working tree, and a vendor compiler found on PATH
+# (a fake malioc printing a report written for the tests).
+# Usage: profile_cli.sh PARALLAX_BINARY SOURCE_DIR
+set -uo pipefail
+parallax=$1
+source_dir=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# Each technique's default variant: SPIR-V and NIR counts, no vendor tool.
+if "$parallax" profile --no-time --format json >"$work/profile.json" 2>"$work/err" &&
+    python3 - "$work/profile.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+names = [v["variant"] for v in d["variants"]]
+assert any(n.startswith("pom es3") for n in names), names
+for v in d["variants"]:
+    assert v["nir"]["fragment"]["alu"] > 0, v["variant"]
+    assert v["fragment"]["instructions"]["texture"] >= 1, v["variant"]
+    assert v["estimate"]["fragment_longest"]["total"] > 0, v["variant"]
+pom = next(v for v in d["variants"] if v["variant"].startswith("pom es3"))
+assert any(l["trip_count"] == 32 and l["where"].startswith("shaders_es/chunks/march.glsl") for l in pom["fragment"]["loops"])
+assert "no vendor compiler" in d["context"]["vendor"] or "malioc" in d["context"]["vendor"]
+PY
+then echo "ok: profile --format json: SPIR-V, NIR and the model for every default variant"
+else fail "profile json: $(cat "$work/err")"; fi
+
+# ES 2.0 variants too (GLSL ES 1.00 through glslang and a true ES 2.0 context).
+if out=$("$parallax" profile --es 2 --no-time --variants 'offset_limited es2 packed' 2>&1) &&
+    grep -q "offset_limited es2 packed" <<<"$out"; then echo "ok: profile --es 2"
+else fail "profile --es 2: $out"; fi
+
+# Two variants compared.
+if out=$("$parallax" profile --no-time --compare 'steep es3 samples<=32 exact-view packed' \
+        'steep es3 samples<=64 exact-view packed' 2>&1) && grep -q "B - A" <<<"$out" &&
+    grep -q "texture samples (longest)" <<<"$out"; then echo "ok: profile --compare"
+else fail "profile --compare: $out"; fi
+
+# The ladder, drawn: seven rows with times and errors.
+if "$parallax" profile --ladder --size 64x64 --frames 1 --no-nir --format json >"$work/ladder.json" 2>"$work/err" &&
+    python3 - "$work/ladder.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+steps = d["steps"]
+assert [s["step"] for s in steps] == [1, 2, 3, 4, 5, 6, 0], [s["step"] for s in steps]
+for s in steps:
+    assert s["measured"]["ns_per_pixel"] > 0, s["variant"]
+    assert s["measured"]["uv_error_mean"] >= 0, s["variant"]
+# Back-to-back reads: one wait fewer than step 4.
+assert steps[4]["fragment"]["in_order_waits"] == steps[3]["fragment"]["in_order_waits"] - 1
+PY
+then echo "ok: profile --ladder draws every step"
+else fail "profile --ladder: $(cat "$work/err")"; fi
+
+# The shaders of HEAD against this program's (a clean tree: no change).
+if [ -d "$source_dir/.git" ] || git -C "$source_dir" rev-parse HEAD >/dev/null 2>&1; then
+    if out=$(cd "$source_dir" && "$parallax" profile --no-time --no-nir --variants 'pom es3 samples<=32 exact-view packed' \
+            --against HEAD 2>&1) && grep -q "Changed lines, fragment stage" <<<"$out" && grep -q "@ HEAD" <<<"$out"; then
+        echo "ok: profile --against HEAD"
+    else fail "profile --against: $out"; fi
+else
+    echo "skip: profile --against (not a git checkout)"
+fi
+
+# A vendor compiler on PATH: its cycles in the same table.
+mkdir -p "$work/bin"
+cat >"$work/bin/malioc" <<SH
+#!/bin/sh
+cat "$source_dir/tests/data/vendor/malioc_valhall.json"
+SH
+chmod +x "$work/bin/malioc"
+if out=$(PATH="$work/bin:$PATH" "$parallax" profile --no-time --no-nir --variants 'normal es3' 2>&1) &&
+    grep -q "malioc:" <<<"$out" && grep -q "Vendor compilers: malioc" <<<"$out"; then
+    echo "ok: a malioc on PATH is run and its cycles shown"
+else fail "vendor compiler: $out"; fi
+
+[ "$failures" = 0 ] && echo "all profile cases behave" || { echo "$failures profile case(s) failed"; exit 1; }
