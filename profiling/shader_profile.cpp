@@ -232,6 +232,34 @@ std::string header_lines(const ReportContext& c, ReportFormat format) {
 
 }  // namespace
 
+std::string agreement_report(const std::vector<VariantProfile>& profiles, const std::string& baseline, ReportFormat format) {
+    const VariantProfile* base = nullptr;
+    for (const VariantProfile& p : profiles)
+        if (p.name == baseline && p.measured) base = &p;
+    if (!base || base->fragment_longest.total <= 0.0) return "";
+    std::vector<std::vector<std::string>> rows;
+    std::string agree, part;
+    for (const VariantProfile& p : profiles) {
+        if (!p.measured || &p == base) continue;
+        const double model = p.fragment_longest.total / base->fragment_longest.total;
+        // The bench's interleaved per-round ratio to normal mapping: steadier
+        // than a ratio of two medians on a shared machine.
+        const double measured = p.measured->ratio_to_normal;
+        const double ratio = measured > 0.0 ? model / measured : 0.0;
+        rows.push_back({p.name, fixed(model, 2), fixed(measured, 2), fixed(ratio, 2)});
+        std::string& list = ratio >= 0.5 && ratio <= 2.0 ? agree : part;
+        list += (list.empty() ? "" : ", ") + p.name + " (" + fixed(ratio, 2) + ")";
+    }
+    std::ostringstream s;
+    s << render_table({"variant", "model cycles / normal mapping", "llvmpipe time / normal mapping", "model / measured"},
+                      rows, format);
+    if (format == ReportFormat::markdown) s << "\n";
+    s << "Within a factor of 2 of the measurement: " << (agree.empty() ? "none" : agree) << ".\n";
+    if (format == ReportFormat::markdown) s << "\n";
+    s << "Further apart: " << (part.empty() ? "none" : part) << ".\n";
+    return s.str();
+}
+
 std::string model_section(const CostModel& m, ReportFormat format) {
     std::ostringstream s;
     const bool md = format == ReportFormat::markdown;

@@ -76,6 +76,12 @@ std::string compare_report(const VariantProfile& a, const VariantProfile& b, Rep
 // cycles, measured time and the image error against the exact reference.
 std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat format, const ReportContext& context);
 
+// Model against measurement: for each measured variant, its estimated
+// cycles relative to `baseline`'s (normal mapping's variant) beside its
+// measured time relative to normal mapping (BenchRow::ratio_to_normal), and a sentence naming where they agree within a factor of 2
+// and where they part.
+std::string agreement_report(const std::vector<VariantProfile>& profiles, const std::string& baseline, ReportFormat format);
+
 // The cost model's parameters and assumptions, for reports.
 std::string model_section(const CostModel& model, ReportFormat format);
 

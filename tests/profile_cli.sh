@@ -51,6 +51,13 @@ assert [s["step"] for s in steps] == [1, 2, 3, 4, 5, 6, 0], [s["step"] for s in 
 for s in steps:
     assert s["measured"]["ns_per_pixel"] > 0, s["variant"]
     assert s["measured"]["uv_error_mean"] >= 0, s["variant"]
+# Every step draws offset limiting: its hit error and colour stay near the
+# shipped shader's (which normalises the view per fragment).
+shipped = steps[-1]["measured"]
+for s in steps[:-1]:
+    m = s["measured"]
+    assert abs(m["uv_error_mean"] - shipped["uv_error_mean"]) <= 0.15 * shipped["uv_error_mean"], (s["step"], m, shipped)
+    assert abs(m["color_psnr_db"] - shipped["color_psnr_db"]) <= 1.5, (s["step"], m, shipped)
 # Back-to-back reads: one wait fewer than step 4.
 assert steps[4]["fragment"]["in_order_waits"] == steps[3]["fragment"]["in_order_waits"] - 1
 PY
