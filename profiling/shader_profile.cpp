@@ -395,6 +395,28 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
     if (format == ReportFormat::markdown) s << "\n";
     s << render_table(header, rows, format);
     if (format == ReportFormat::markdown) s << "\n";
+    // The spread of what was measured and estimated across the whitepaper's steps.
+    double t_lo = 1e300, t_hi = 0, r_lo = 1e300, r_hi = 0, c_first = 0, c_last = 0;
+    int measured = 0;
+    for (const VariantProfile& p : steps) {
+        if (!p.key.ladder_step) continue;
+        if (p.key.ladder_step == 1) c_first = p.fragment_longest.total;
+        c_last = p.fragment_longest.total;
+        if (!p.measured) continue;
+        ++measured;
+        t_lo = std::min(t_lo, p.measured->ns_per_pixel);
+        t_hi = std::max(t_hi, p.measured->ns_per_pixel);
+        r_lo = std::min(r_lo, p.measured->ratio_to_normal);
+        r_hi = std::max(r_hi, p.measured->ratio_to_normal);
+    }
+    if (c_first > 0)
+        s << "From the baseline to the last step the model's fragment cycles go from " << fixed(c_first) << " to "
+          << fixed(c_last) << " (" << fixed(100.0 * (c_last - c_first) / c_first, 0) << "%)";
+    if (measured)
+        s << "; the measured llvmpipe time spans " << fixed(t_lo, 2) << " to " << fixed(t_hi, 2)
+          << " ns per pixel over the steps, " << fixed(r_lo, 2) << " to " << fixed(r_hi, 2) << " times normal mapping";
+    if (c_first > 0) s << ".\n";
+    if (format == ReportFormat::markdown) s << "\n";
     for (const VariantProfile& p : steps) {
         const LadderStep& info = ladder_step_info(p.key.ladder_step);
         s << (format == ReportFormat::markdown ? "- " : "  ") << (info.step ? std::to_string(info.step) : "shipped") << ", "
