@@ -7,9 +7,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <thread>
 
 extern char** environ;
 
@@ -35,55 +37,85 @@ Result<ProcessResult> run_process(const std::vector<std::string>& argv, const Pr
     for (std::string& a : argv_copy) args.push_back(a.data());
     args.push_back(nullptr);
 
-    int pipe_fds[2];
-    if (pipe2(pipe_fds, O_CLOEXEC) != 0) return make_error(std::string("pipe: ") + std::strerror(errno));
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) return make_error(std::string("pipe: ") + std::strerror(errno));
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    const int null_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
-    const int out_fd = options.capture_stdout ? pipe_fds[1] : null_fd;
-    const int err_fd = options.capture_stderr ? pipe_fds[1] : null_fd;
-    posix_spawn_file_actions_adddup2(&actions, out_fd, STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, err_fd, STDERR_FILENO);
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    pid_t pid = 0;
+    if (options.capture_stdout) posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+    else posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    if (options.capture_stderr) posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
+    else posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    sigset_t no_signals, all_signals;
+    sigemptyset(&no_signals);
+    sigfillset(&all_signals);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    posix_spawnattr_setpgroup(&attributes, 0);
+    posix_spawnattr_setsigmask(&attributes, &no_signals);
+    posix_spawnattr_setsigdefault(&attributes, &all_signals);
+    pid_t pid = -1;
     const int spawned = argv[0].find('/') == std::string::npos
-                            ? posix_spawnp(&pid, argv[0].c_str(), &actions, nullptr, args.data(), envp.data())
-                            : posix_spawn(&pid, argv[0].c_str(), &actions, nullptr, args.data(), envp.data());
+                            ? posix_spawnp(&pid, argv[0].c_str(), &actions, &attributes, args.data(), envp.data())
+                            : posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, args.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
-    close(pipe_fds[1]);
-    if (null_fd >= 0) close(null_fd);
+    posix_spawnattr_destroy(&attributes);
+    close(fds[1]);
     if (spawned != 0) {
-        close(pipe_fds[0]);
+        close(fds[0]);
         return make_error("cannot run '" + argv[0] + "': " + std::strerror(spawned));
     }
 
     ProcessResult result;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_s);
+    auto remaining_ms = [&] {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        return static_cast<int>(std::clamp<long long>(left.count(), 0, 1000000000));
+    };
+    bool killed = false;
+    auto kill_group = [&] {
+        if (!killed) kill(-pid, SIGKILL);
+        killed = true;
+    };
     char buffer[65536];
     for (;;) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
+        pollfd p{fds[0], POLLIN, 0};
+        const int ready = poll(&p, 1, remaining_ms());
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) {
             result.timed_out = true;
-            kill(pid, SIGKILL);
+            kill_group();
             break;
         }
-        pollfd p{pipe_fds[0], POLLIN, 0};
-        const int ready = poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000)));
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready < 0) break;
-        if (ready == 0) continue;
-        const ssize_t n = read(pipe_fds[0], buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;  // end of output: the child closed it (or exited)
-        const std::size_t room = options.max_output > result.output.size() ? options.max_output - result.output.size() : 0;
-        if (static_cast<std::size_t>(n) > room) result.truncated = true;
-        result.output.append(buffer, std::min(static_cast<std::size_t>(n), room));
+        const ssize_t n = read(fds[0], buffer, sizeof buffer);
+        if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+        if (n <= 0) break;  // end of output (or a read error: nothing more to collect)
+        if (result.output.size() + static_cast<std::size_t>(n) > options.max_output) {
+            result.truncated = true;
+            kill_group();
+            break;
+        }
+        result.output.append(buffer, static_cast<std::size_t>(n));
     }
-    close(pipe_fds[0]);
+    close(fds[0]);
+    // The output has ended; the child gets what is left of its time to exit.
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    for (;;) {
+        const pid_t done = waitpid(pid, &status, killed ? 0 : WNOHANG);
+        if (done == pid) break;
+        if (done < 0 && errno == EINTR) continue;
+        if (done < 0) return make_error(std::string("waitpid: ") + std::strerror(errno));
+        if (remaining_ms() == 0) {
+            result.timed_out = true;
+            kill_group();
+            continue;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (!killed) kill(-pid, SIGKILL);  // anything the child left running in its group
+    if (WIFEXITED(status)) result.exit_status = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
     return result;
 }
 

@@ -1,11 +1,9 @@
 #include "profiling/vendor_compilers.h"
 
+#include "profiling/process.h"
+
 #include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <spawn.h>
 #include <sys/types.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,7 +21,6 @@
 
 #include <nlohmann/json.hpp>
 
-extern char** environ;
 
 // The reports these parsers read, and where their layout comes from (neither
 // tool is installed here; the samples under tests/data/vendor/ follow these):
@@ -709,92 +706,20 @@ private:
     std::string path_;
 };
 
-// Runs argv[0] (an absolute path) with stdout and stderr into one pipe. The
-// child leads its own process group so that the time limit and the output cap
-// kill whatever it started too: a wrapper script's child would otherwise
-// hold the pipe open after the script is gone.
+// Runs argv[0] with stdout and stderr into one pipe (profiling/process.h:
+// its own process group, killed whole at the time limit or the output cap).
 Result<ProcessOutcome> run_captured(const std::vector<std::string>& argv, std::chrono::milliseconds time_limit) {
-    int fds[2];
-    if (pipe2(fds, O_CLOEXEC) != 0) return make_error(std::string("pipe: ") + std::strerror(errno));
-
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);  // never our stdin
-    posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
-    posix_spawnattr_t attributes;
-    posix_spawnattr_init(&attributes);
-    sigset_t no_signals, all_signals;
-    sigemptyset(&no_signals);
-    sigfillset(&all_signals);
-    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-    posix_spawnattr_setpgroup(&attributes, 0);
-    posix_spawnattr_setsigmask(&attributes, &no_signals);
-    posix_spawnattr_setsigdefault(&attributes, &all_signals);
-
-    std::vector<char*> arguments;
-    for (const std::string& a : argv) arguments.push_back(const_cast<char*>(a.c_str()));
-    arguments.push_back(nullptr);
-    pid_t pid = -1;
-    const int spawned = posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, arguments.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attributes);
-    close(fds[1]);
-    if (spawned != 0) {
-        close(fds[0]);
-        return make_error("cannot start " + argv[0] + ": " + std::strerror(spawned));
-    }
-
+    ProcessOptions options;
+    options.timeout_s = std::chrono::duration<double>(time_limit).count();
+    options.max_output = kOutputCap;
+    Result<ProcessResult> ran = run_process(argv, options);
+    if (!ran) return ran.error();
     ProcessOutcome outcome;
-    const auto deadline = std::chrono::steady_clock::now() + time_limit;
-    auto remaining_ms = [&] {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        return static_cast<int>(std::max<long long>(0, left.count()));
-    };
-    bool killed = false;
-    auto kill_group = [&] {
-        if (!killed) kill(-pid, SIGKILL);
-        killed = true;
-    };
-    char buffer[65536];
-    for (;;) {
-        pollfd p{fds[0], POLLIN, 0};
-        const int ready = poll(&p, 1, remaining_ms());
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready == 0) {
-            outcome.timed_out = true;
-            kill_group();
-            break;
-        }
-        const ssize_t n = read(fds[0], buffer, sizeof buffer);
-        if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
-        if (n <= 0) break;  // end of output (or a read error: nothing more to collect)
-        if (outcome.output.size() + static_cast<std::size_t>(n) > kOutputCap) {
-            outcome.over_cap = true;
-            kill_group();
-            break;
-        }
-        outcome.output.append(buffer, static_cast<std::size_t>(n));
-    }
-    close(fds[0]);
-
-    // The output has ended; the tool gets what is left of its time to exit.
-    int status = 0;
-    for (;;) {
-        const pid_t done = waitpid(pid, &status, killed ? 0 : WNOHANG);
-        if (done == pid) break;
-        if (done < 0 && errno == EINTR) continue;
-        if (done < 0) return make_error(std::string("waitpid: ") + std::strerror(errno));
-        if (remaining_ms() == 0) {
-            outcome.timed_out = true;
-            kill_group();
-            continue;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    if (!killed) kill(-pid, SIGKILL);  // anything the tool left running in its group
-    if (WIFEXITED(status)) outcome.exit_status = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
+    outcome.output = std::move(ran->output);
+    outcome.exit_status = ran->exit_status;
+    outcome.signal = ran->signal;
+    outcome.timed_out = ran->timed_out;
+    outcome.over_cap = ran->truncated;
     return outcome;
 }
 
