@@ -46,7 +46,7 @@ test: build
 SANITIZE_DIR ?= build-sanitize
 FUZZ_SECONDS ?= 60
 SANITIZE_PACKAGES := clang-14 libclang-rt-14-dev libfuzzer-14-dev llvm-14
-SANITIZE_TARGETS := px_unit_tests px_report_tests px_gpu_tests parallax_cli px_fuzz_scene px_fuzz_image px_fuzz_ktx1 px_fuzz_ktx2 px_fuzz_pvr
+SANITIZE_TARGETS := px_unit_tests px_report_tests px_cost_tests px_gpu_tests parallax_cli px_fuzz_scene px_fuzz_image px_fuzz_ktx1 px_fuzz_ktx2 px_fuzz_pvr
 # Mesa's own allocations look like leaks to LeakSanitizer: leaks are checked
 # where no GL runs (the unit tests, the fuzz targets), not in the GPU tests.
 ASAN_BASE := abort_on_error=0:detect_stack_use_after_return=1:strict_string_checks=1:check_initialization_order=1
@@ -60,7 +60,7 @@ sanitize: sanitize-deps
 		-DPX_SANITIZE=ON -DPX_FUZZ=ON -DPX_FUZZ_SECONDS=$(FUZZ_SECONDS) >/dev/null
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target $(SANITIZE_TARGETS)
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=$(ASAN_BASE):detect_leaks=1 UBSAN_OPTIONS=$(UBSAN_OPTS) \
-		ctest --output-on-failure -j $(JOBS) -R '^(unit|unit_reports)$$'
+		ctest --output-on-failure -j $(JOBS) -R '^(unit|unit_reports|unit_costs)$$'
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=$(ASAN_BASE):detect_leaks=0 UBSAN_OPTIONS=$(UBSAN_OPTS) \
 		ctest --output-on-failure -j $(JOBS) -R '^(gpu_es2|gpu_es3|cli_errors)$$'
 	@cd $(SANITIZE_DIR) && ASAN_OPTIONS=$(ASAN_BASE):detect_leaks=1 UBSAN_OPTIONS=$(UBSAN_OPTS) \

@@ -57,18 +57,12 @@ constexpr const char* kNirMarker = "@@parallax-nir-variant ";
 
 // Each technique's variant as a bench material draws it by default.
 std::vector<VariantKey> default_variants(int es) {
-    const TechniqueOptions defaults;
     std::vector<VariantKey> out;
     for (const TechniqueInfo& info : technique_table()) {
         if (info.min_es_major > es) continue;
-        VariantKey k;
-        k.technique = info.id;
-        k.es_major = static_cast<std::uint8_t>(es);
-        k.max_samples = static_cast<std::uint16_t>((info.options & kOptSteps) ? defaults.max_steps : defaults.max_samples);
-        k.refine_steps = static_cast<std::uint8_t>(defaults.refine_steps);
-        k.shadow_samples = static_cast<std::uint8_t>(defaults.shadow_samples);
-        k.packed_height = true;
-        k.exact_view = defaults.exact_view;
+        VariantKey k = default_variant(info, es);
+        k.packed_height = true;  // the bench's procedural materials
+        k.exact_view = TechniqueOptions{}.exact_view;
         out.push_back(k.canonical());
     }
     return out;

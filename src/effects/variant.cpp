@@ -226,8 +226,18 @@ VariantKey VariantKey::with_layout(const TextureLayout& layout) const {
     return k;
 }
 
-std::vector<VariantKey> enumerate_variants(int es_major) {
+VariantKey default_variant(const TechniqueInfo& info, int es_major) {
     const TechniqueOptions defaults;
+    VariantKey base;
+    base.technique = info.id;
+    base.es_major = static_cast<std::uint8_t>(es_major);
+    base.max_samples = static_cast<std::uint16_t>((info.options & kOptSteps) ? defaults.max_steps : defaults.max_samples);
+    base.refine_steps = static_cast<std::uint8_t>(defaults.refine_steps);
+    base.shadow_samples = static_cast<std::uint8_t>(defaults.shadow_samples);
+    return base;
+}
+
+std::vector<VariantKey> enumerate_variants(int es_major) {
     std::vector<VariantKey> out;
     auto add = [&out](const VariantKey& k) {
         const VariantKey c = k.canonical();
@@ -237,12 +247,7 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
     };
     for (const TechniqueInfo& info : technique_table()) {
         if (info.min_es_major > es_major) continue;
-        VariantKey base;
-        base.technique = info.id;
-        base.es_major = static_cast<std::uint8_t>(es_major);
-        base.max_samples = static_cast<std::uint16_t>((info.options & kOptSteps) ? defaults.max_steps : defaults.max_samples);
-        base.refine_steps = static_cast<std::uint8_t>(defaults.refine_steps);
-        base.shadow_samples = static_cast<std::uint8_t>(defaults.shadow_samples);
+        const VariantKey base = default_variant(info, es_major);
         for (int packed = 0; packed < 2; ++packed)
             for (ShadowMode shadow : {ShadowMode::none, ShadowMode::hard, ShadowMode::soft})
                 for (int depth = 0; depth < 2; ++depth)

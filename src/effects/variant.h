@@ -87,6 +87,10 @@ struct LadderStep {
 };
 const LadderStep& ladder_step_info(int step);  // 1..kLadderSteps
 
+// A technique's variant with the default loop bounds of TechniqueOptions
+// (its other options off): the base every enumeration starts from.
+VariantKey default_variant(const TechniqueInfo& info, int es_major);
+
 // Every variant the program can build for an ES version on a context that
 // has every optional extension: each technique with each of its options on
 // and off, at the default and extreme loop bounds. Shader validation tests
