@@ -35,6 +35,12 @@ if out=$("$parallax" profile --es 2 --no-time --variants 'offset_limited es2 pac
     grep -q "offset_limited es2 packed" <<<"$out"; then echo "ok: profile --es 2"
 else fail "profile --es 2: $out"; fi
 
+# --out writes the report as Markdown and JSON too.
+if "$parallax" profile --no-time --no-nir --variants 'normal es3' --out "$work/out" >/dev/null 2>"$work/err" &&
+    grep -q "| normal es3 |" "$work/out/profile.md" && python3 -c "import json,sys; json.load(open(sys.argv[1]))" "$work/out/profile.json"; then
+    echo "ok: profile --out writes profile.md and profile.json"
+else fail "profile --out: $(cat "$work/err")"; fi
+
 # Two variants compared.
 if out=$("$parallax" profile --no-time --compare 'steep es3 samples<=32 exact-view packed' \
         'steep es3 samples<=64 exact-view packed' 2>&1) && grep -q "B - A" <<<"$out" &&
