@@ -179,7 +179,9 @@ expect_error "profile: unknown format" "unknown format 'xml'" profile --no-time 
 expect_error "profile: no variant matches" "matches no OpenGL ES 3.0 variant" profile --no-time --no-nir --variants nosuch
 expect_error "profile: ambiguous --compare" "matches" profile --no-time --no-nir --compare pom steep
 expect_error "profile: --compare needs two" "compare" profile --no-time --no-nir --compare pom
-expect_error "profile: unknown revision" "git" profile --no-time --no-nir --against no-such-revision-here
+expect_error "profile: unknown revision" "is not a commit" profile --no-time --no-nir --against no-such-revision-here
+expect_error "profile: an option as revision" "is not a revision" profile --no-time --no-nir --against=--output=$work/x
+[ -e "$work/x" ] && { echo "FAIL: --against wrote $work/x"; failures=$((failures + 1)); }
 expect_error "profile: missing model file" "$work/none.json" profile --no-time --no-nir --model "$work/none.json"
 expect_error "profile: bad model field" "$work/model.json: \$.texture.samples_per_cycle" profile --no-time --no-nir --model "$work/model.json"
 expect_error "profile: bad size" "--size" profile --no-nir --size 0x0

@@ -388,6 +388,11 @@ std::string ops_text(const profiling::OpCounts& c) {
 
 int run_against(const ProfileArgs& a, const std::vector<VariantKey>& keys, const profiling::CostModel& model,
                 profiling::ReportFormat format, const profiling::ReportContext& context) {
+    // A revision, never an option: git would take "--output=FILE" as one.
+    if (a.against.empty() || a.against[0] == '-' || a.against.find_first_of(" \t\n") != std::string::npos)
+        return fail("--against: '" + a.against + "' is not a revision");
+    Result<std::string> commit = git({"rev-parse", "--verify", "--quiet", "--end-of-options", a.against + "^{commit}"});
+    if (!commit) return fail("--against: '" + a.against + "' is not a commit of the git repository here (run it in a checkout)");
     Result<ShaderFiles> old_files = shader_files_at(a.against);
     if (!old_files) return fail(old_files.error().message);
     Result<ChangedLines> changed = changed_lines(a.against);
