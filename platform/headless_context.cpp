@@ -1,4 +1,4 @@
-#include "platform/headless_context.h"
+#include "parallaxes/platform/headless_context.h"
 
 #include <dlfcn.h>
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "core/result.h"
+#include "parallaxes/core/result.h"
 
 namespace px::platform {
 

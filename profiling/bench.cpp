@@ -1,4 +1,4 @@
-#include "profiling/bench.h"
+#include "parallaxes/profiling/bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,12 +6,12 @@
 #include <ctime>
 #include <memory>
 
-#include "gl/gl.h"
-#include "reference/reference_image.h"
-#include "reference/tracer.h"
-#include "render/renderer.h"
-#include "render/surface_capture.h"
-#include "scene/material_images.h"
+#include "parallaxes/gl/gl.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/reference/tracer.h"
+#include "parallaxes/render/renderer.h"
+#include "parallaxes/render/surface_capture.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px::profiling {
 

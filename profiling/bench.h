@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "assets/image.h"
-#include "profiling/bench_results.h"
-#include "core/result.h"
-#include "render/renderer.h"
-#include "render/target.h"
-#include "scene/scene.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/profiling/bench_results.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/render/renderer.h"
+#include "parallaxes/render/target.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px::profiling {
 

@@ -4,11 +4,11 @@
 // Every writer builds its whole text in memory, writes it to path + ".tmp" and
 // renames that over path, so a failure never leaves a partial file behind.
 // Numbers are formatted with std::to_chars, which ignores the C locale.
-#include "profiling/bench_results.h"
+#include "parallaxes/profiling/bench_results.h"
 
-#include "core/files.h"
-#include "core/numeric.h"
-#include "effects/technique.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/numeric.h"
+#include "parallaxes/effects/technique.h"
 
 #include <algorithm>
 #include <map>

@@ -1,4 +1,4 @@
-#include "profiling/cost_model.h"
+#include "parallaxes/profiling/cost_model.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "profiling/shader_costs.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/profiling/shader_costs.h"
 
 namespace px::profiling {
 

@@ -1,9 +1,9 @@
-#include "profiling/planner_table.h"
+#include "parallaxes/profiling/planner_table.h"
 
 #include <algorithm>
 #include <map>
 
-#include "scene/material_images.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px::profiling {
 

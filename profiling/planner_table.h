@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "planner/cost_table.h"
-#include "profiling/bench.h"
+#include "parallaxes/planner/cost_table.h"
+#include "parallaxes/profiling/bench.h"
 
 namespace px::profiling {
 

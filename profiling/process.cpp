@@ -1,4 +1,4 @@
-#include "profiling/process.h"
+#include "parallaxes/profiling/process.h"
 
 #include <fcntl.h>
 #include <poll.h>

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/variant.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {
 

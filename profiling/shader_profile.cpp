@@ -1,4 +1,4 @@
-#include "profiling/shader_profile.h"
+#include "parallaxes/profiling/shader_profile.h"
 
 #include <cmath>
 #include <cstdio>

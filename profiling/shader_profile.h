@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "effects/variant.h"
-#include "profiling/cost_model.h"
-#include "profiling/shader_costs.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/profiling/cost_model.h"
+#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {
 

@@ -1,4 +1,4 @@
-#include "profiling/showcase.h"
+#include "parallaxes/profiling/showcase.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,11 +6,11 @@
 #include <ctime>
 #include <set>
 
-#include "core/files.h"
-#include "gl/gl.h"
-#include "reference/metrics.h"
-#include "reference/reference_image.h"
-#include "render/surface_capture.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/gl/gl.h"
+#include "parallaxes/reference/metrics.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/surface_capture.h"
 
 namespace px::profiling {
 

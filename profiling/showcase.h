@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "render/renderer.h"
-#include "render/target.h"
-#include "scene/scene.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/render/renderer.h"
+#include "parallaxes/render/target.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px::profiling {
 

@@ -1,6 +1,6 @@
-#include "profiling/stability.h"
+#include "parallaxes/profiling/stability.h"
 
-#include "profiling/bench.h"
+#include "parallaxes/profiling/bench.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,13 +12,13 @@
 #include <set>
 #include <sstream>
 
-#include "core/limits.h"
-#include "core/text.h"
-#include "gl/gl.h"
-#include "reference/reference_image.h"
-#include "reference/tracer.h"
-#include "render/surface_capture.h"
-#include "scene/material_images.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/text.h"
+#include "parallaxes/gl/gl.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/reference/tracer.h"
+#include "parallaxes/render/surface_capture.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px::profiling {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "profiling/stability_catalogue.h"
-#include "render/renderer.h"
+#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/render/renderer.h"
 
 namespace px::profiling {
 

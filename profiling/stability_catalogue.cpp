@@ -1,4 +1,4 @@
-#include "profiling/stability_catalogue.h"
+#include "parallaxes/profiling/stability_catalogue.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/limits.h"
-#include "core/text.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/text.h"
 
 // The GL-free half of the stability catalogue: reading it, judging rows,
 // formatting reports (the unit tests link it without a context).

@@ -17,8 +17,8 @@
 
 #include <glm/glm.hpp>
 
-#include "core/result.h"
-#include "scene/scene.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px::profiling {
 

@@ -1,6 +1,6 @@
-#include "profiling/vendor_compilers.h"
+#include "parallaxes/profiling/vendor_compilers.h"
 
-#include "profiling/process.h"
+#include "parallaxes/profiling/process.h"
 
 #include <fcntl.h>
 #include <sys/types.h>

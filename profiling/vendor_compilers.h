@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/variant.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
 
 namespace px::profiling {
 

@@ -11,8 +11,8 @@
 #include <limits>
 #include <random>
 
-#include "emulation/precision.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/emulation/precision.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px::emulation {
 namespace {

@@ -8,10 +8,10 @@
 #include <utility>
 #include <vector>
 
-#include "profiling/bench.h"
-#include "reference/reference_image.h"
-#include "render/surface_capture.h"
-#include "scene/material_images.h"
+#include "parallaxes/profiling/bench.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/surface_capture.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px::test {
 namespace {

@@ -9,12 +9,12 @@
 #include <limits>
 #include <map>
 
-#include "emulation/precision.h"
-#include "gl/caps.h"
-#include "gl/framebuffer.h"
-#include "gl/handles.h"
-#include "gl/state.h"
-#include "render/surface_capture.h"
+#include "parallaxes/emulation/precision.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/gl/framebuffer.h"
+#include "parallaxes/gl/handles.h"
+#include "parallaxes/gl/state.h"
+#include "parallaxes/render/surface_capture.h"
 
 namespace px::test {
 namespace {
@@ -152,8 +152,8 @@ Capture capture(const SceneDesc& scene, bool es2, const ShaderTransform& transfo
     Status loaded = (*renderer)->load(scene);
     EXPECT_TRUE(loaded.ok()) << loaded.error().message;
     if (!loaded) return c;
-    for (const DrawReport& r : (*renderer)->reports()) c.description += r.variant.describe();
     auto surfaces = capture_surfaces(**renderer, 128, 128);
+    for (const DrawReport& r : (*renderer)->reports()) c.description += r.variant.describe();
     EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
     if (surfaces) c.surfaces = std::move(*surfaces);
     return c;

@@ -12,9 +12,9 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "platform/headless_context.h"
-#include "render/offscreen_target.h"
-#include "render/renderer.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/render/offscreen_target.h"
+#include "parallaxes/render/renderer.h"
 
 namespace px::test {
 

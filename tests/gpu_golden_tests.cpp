@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gl/caps.h"
+#include "parallaxes/gl/caps.h"
 
 namespace px::test {
 namespace {

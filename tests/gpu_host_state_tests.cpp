@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "render/surface_capture.h"
+#include "parallaxes/render/surface_capture.h"
 
 namespace px::test {
 namespace {
@@ -345,6 +345,7 @@ TEST(TextureSize, LodFollowsTheTracedHeightMapNotTheNormalMap) {
         ASSERT_TRUE(renderer.ok());
         Status loaded = (*renderer)->load(scene);
         ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+        ASSERT_TRUE((*renderer)->set_view(scene.camera, 128, 128).ok());  // plans: the reports say what is drawn
         ASSERT_TRUE((*renderer)->reports()[0].variant.lod) << "the context runs the LOD variant";
         auto surfaces = capture_surfaces(**renderer, 128, 128);
         ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
@@ -383,7 +384,8 @@ TEST(DebugOutput, PackingWithoutFragmentHighpIsDecodedAsSuch) {
         auto renderer = Renderer::create(options);
         EXPECT_TRUE(renderer.ok());
         EXPECT_TRUE((*renderer)->load(scene).ok());
-        key = (*renderer)->reports()[0].variant;
+        EXPECT_TRUE((*renderer)->set_view(scene.camera, 96, 96).ok());
+        key = (*renderer)->reports().at(0).variant;
         auto surfaces = capture_surfaces(**renderer, 96, 96);
         EXPECT_TRUE(surfaces.ok()) << surfaces.error().message;
         return std::move(*surfaces);

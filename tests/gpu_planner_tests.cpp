@@ -8,11 +8,11 @@
 #include <set>
 
 #include "gpu_fixture.h"
-#include "profiling/showcase.h"
-#include "profiling/stability.h"
-#include "profiling/stability_catalogue.h"
-#include "scene/material_images.h"
-#include "shaders/effect_code.h"
+#include "parallaxes/profiling/showcase.h"
+#include "parallaxes/profiling/stability.h"
+#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/shaders/effect_code.h"
 
 namespace px::test {
 namespace {

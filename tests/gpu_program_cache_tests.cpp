@@ -10,8 +10,8 @@
 #include <functional>
 #include <map>
 
-#include "gl/caps.h"
-#include "gl/program.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/gl/program.h"
 
 namespace px::test {
 namespace {

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "reference/reference_image.h"
-#include "render/surface_capture.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/surface_capture.h"
 
 namespace px::test {
 namespace {

@@ -10,16 +10,16 @@
 #include <string>
 #include <vector>
 
-#include "gl/caps.h"
-#include "gl/texture.h"
-#include "profiling/bench.h"
-#include "reference/reference_image.h"
-#include "render/surface_capture.h"
-#include "scene/material_images.h"
-#include "scene/scene_textures.h"
-#include "texture/codecs.h"
-#include "texture/convert.h"
-#include "texture/decode.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/gl/texture.h"
+#include "parallaxes/profiling/bench.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/surface_capture.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/scene_textures.h"
+#include "parallaxes/texture/codecs.h"
+#include "parallaxes/texture/convert.h"
+#include "parallaxes/texture/decode.h"
 
 namespace px::test {
 namespace {
@@ -325,6 +325,7 @@ TEST(Textures, MaxmipIsExactOnAnElevenBitEacHeightMap) {
             auto renderer = Renderer::create();
             ASSERT_TRUE(renderer.ok());
             ASSERT_TRUE((*renderer)->load(s).ok());
+            ASSERT_TRUE((*renderer)->set_view(s.camera, 96, 96).ok());
             EXPECT_TRUE((*renderer)->reports()[0].variant.height_11bit) << (*renderer)->reports()[0].variant.describe();
             auto surfaces = capture_surfaces(**renderer, 96, 96);
             ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
@@ -370,6 +371,7 @@ TEST(Textures, NonPowerOfTwoHeightMapsWorkWithEveryTechnique) {
         ASSERT_TRUE(renderer.ok());
         Status loaded = (*renderer)->load(scene);
         ASSERT_TRUE(loaded.ok()) << info.name << ": " << loaded.error().message;
+        ASSERT_TRUE((*renderer)->set_view(scene.camera, 64, 64).ok());
         EXPECT_EQ((*renderer)->reports()[0].variant.technique, info.id) << info.name;
         bool resampled = false;
         for (const std::string& n : (*renderer)->texture_notes()) resampled |= n.find("resampled to 128x64") != std::string::npos;

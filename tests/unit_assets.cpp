@@ -11,8 +11,8 @@
 
 #include <unistd.h>  // getpid: a per-process temp directory
 
-#include "assets/heightfield.h"
-#include "assets/image.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/image.h"
 
 namespace px {
 namespace {

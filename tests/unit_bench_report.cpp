@@ -19,8 +19,8 @@
 
 #include <unistd.h>  // getpid: a per-process temp directory
 
-#include "effects/technique.h"
-#include "profiling/bench_results.h"
+#include "parallaxes/effects/technique.h"
+#include "parallaxes/profiling/bench_results.h"
 
 namespace px::profiling {
 namespace {

@@ -10,8 +10,8 @@
 #include <sstream>
 #include <string>
 
-#include "core/files.h"
-#include "core/numeric.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/numeric.h"
 
 namespace px {
 namespace {

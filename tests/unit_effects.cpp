@@ -6,11 +6,11 @@
 #include <set>
 #include <sstream>
 
-#include "effects/variant.h"
-#include "planner/planner.h"
-#include "shaders/interface.h"
-#include "shaders/shader_source.h"
-#include "scene/scene.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/planner/planner.h"
+#include "parallaxes/shaders/interface.h"
+#include "parallaxes/shaders/shader_source.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px {
 namespace {

@@ -21,14 +21,14 @@
 #include <string>
 #include <vector>
 
-#include "assets/heightfield.h"
-#include "assets/image.h"
-#include "core/files.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "scene/material_images.h"
-#include "scene/mesh.h"
-#include "scene/scene.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/text.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/mesh.h"
+#include "parallaxes/scene/scene.h"
 
 // stb_image_write's deflate, compiled into the library's image.cpp: the
 // tests build PNGs byte by byte with it.

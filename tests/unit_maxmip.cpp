@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "assets/heightfield.h"
-#include "assets/max_mipmap.h"
-#include "effects/technique.h"
-#include "reference/tracer.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/max_mipmap.h"
+#include "parallaxes/effects/technique.h"
+#include "parallaxes/reference/tracer.h"
 
 namespace px {
 namespace {

@@ -9,8 +9,8 @@
 #include <string>
 #include <utility>
 
-#include "core/limits.h"
-#include "scene/mesh.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/scene/mesh.h"
 
 namespace px {
 namespace {

@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <string>
 
-#include "planner/cost_table.h"
-#include "planner/planner.h"
-#include "planner/relief.h"
-#include "scene/material_images.h"
-#include "scene/scene.h"
+#include "parallaxes/planner/cost_table.h"
+#include "parallaxes/planner/planner.h"
+#include "parallaxes/planner/relief.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px {
 namespace {

@@ -10,10 +10,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "reference/metrics.h"
-#include "reference/reference_image.h"
-#include "scene/material_images.h"
-#include "scene/scene.h"
+#include "parallaxes/reference/metrics.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px::reference {
 namespace {

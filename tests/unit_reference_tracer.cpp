@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "assets/heightfield.h"
-#include "reference/tracer.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/reference/tracer.h"
 
 namespace px::reference {
 namespace {

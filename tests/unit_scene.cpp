@@ -10,9 +10,9 @@
 
 #include <gtest/gtest.h>
 
-#include "assets/heightfield.h"
-#include "assets/image.h"
-#include "scene/scene.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px {
 namespace {

@@ -7,10 +7,10 @@
 #include <regex>
 #include <sstream>
 
-#include "effects/variant.h"
-#include "shaders/conditional.h"
-#include "shaders/effect_code.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/shaders/conditional.h"
+#include "parallaxes/shaders/effect_code.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px {
 namespace {

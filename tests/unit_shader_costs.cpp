@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <string>
 
-#include "profiling/cost_model.h"
-#include "profiling/shader_costs.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/profiling/cost_model.h"
+#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {
 namespace {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/files.h"
-#include "texture/containers.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/texture/containers.h"
 
 namespace {
 

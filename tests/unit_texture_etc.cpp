@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "texture/codecs.h"
+#include "parallaxes/texture/codecs.h"
 
 namespace px {
 namespace {

@@ -10,14 +10,14 @@
 #include <string>
 #include <unistd.h>
 
-#include "core/files.h"
-#include "effects/variant.h"
-#include "scene/material_images.h"
-#include "scene/scene_textures.h"
-#include "texture/containers.h"
-#include "texture/convert.h"
-#include "texture/decode.h"
-#include "texture/format.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/scene_textures.h"
+#include "parallaxes/texture/containers.h"
+#include "parallaxes/texture/convert.h"
+#include "parallaxes/texture/decode.h"
+#include "parallaxes/texture/format.h"
 
 namespace px {
 namespace {

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "assets/image.h"
-#include "texture/codecs.h"
-#include "texture/format.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/texture/codecs.h"
+#include "parallaxes/texture/format.h"
 
 namespace px {
 namespace {

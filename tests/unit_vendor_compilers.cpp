@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "profiling/vendor_compilers.h"
+#include "parallaxes/profiling/vendor_compilers.h"
 
 namespace px::profiling {
 namespace {

@@ -10,15 +10,15 @@
 #include <thread>
 #include <vector>
 
-#include "core/files.h"
-#include "profiling/bench.h"
-#include "profiling/planner_table.h"
-#include "profiling/showcase.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/planner_table.h"
+#include "parallaxes/profiling/showcase.h"
 #include "plan_report.h"
 #include "cli_common.h"
 #include "commands.h"
-#include "platform/headless_context.h"
-#include "render/offscreen_target.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/render/offscreen_target.h"
 
 namespace px::tools {
 

@@ -10,13 +10,13 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "core/files.h"
+#include "parallaxes/core/files.h"
 #include "plan_report.h"
-#include "platform/headless_context.h"
-#include "profiling/planner_table.h"
-#include "render/offscreen_target.h"
-#include "render/renderer.h"
-#include "scene/material_images.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/profiling/planner_table.h"
+#include "parallaxes/render/offscreen_target.h"
+#include "parallaxes/render/renderer.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px::tools {
 

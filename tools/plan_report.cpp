@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/files.h"
+#include "parallaxes/core/files.h"
 
 namespace px::tools {
 

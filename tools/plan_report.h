@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "planner/planner.h"
+#include "parallaxes/planner/planner.h"
 
 namespace px::tools {
 

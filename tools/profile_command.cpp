@@ -17,17 +17,17 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "core/files.h"
-#include "gl/gl.h"
-#include "gl/program.h"
-#include "platform/headless_context.h"
-#include "profiling/bench.h"
-#include "profiling/cost_model.h"
-#include "profiling/process.h"
-#include "profiling/shader_profile.h"
-#include "profiling/stability_catalogue.h"
-#include "profiling/vendor_compilers.h"
-#include "render/offscreen_target.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/gl/gl.h"
+#include "parallaxes/gl/program.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/cost_model.h"
+#include "parallaxes/profiling/process.h"
+#include "parallaxes/profiling/shader_profile.h"
+#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/profiling/vendor_compilers.h"
+#include "parallaxes/render/offscreen_target.h"
 
 namespace px::tools {
 

@@ -6,8 +6,8 @@
 #include <memory>
 #include <system_error>
 
-#include "core/files.h"
-#include "core/text.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/text.h"
 
 namespace px::tools {
 

@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <string>
 
-#include "gl/program_binary.h"
+#include "parallaxes/gl/program_binary.h"
 
 namespace px::tools {
 

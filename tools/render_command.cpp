@@ -12,10 +12,10 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "platform/headless_context.h"
+#include "parallaxes/platform/headless_context.h"
 #include "program_binary_files.h"
-#include "render/offscreen_target.h"
-#include "render/renderer.h"
+#include "parallaxes/render/offscreen_target.h"
+#include "parallaxes/render/renderer.h"
 #include "plan_report.h"
 #include "texture_assets.h"
 

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "commands.h"
-#include "emulation/precision.h"
-#include "gl/program.h"
+#include "parallaxes/emulation/precision.h"
+#include "parallaxes/gl/program.h"
 
 namespace px::tools {
 

@@ -14,9 +14,9 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "core/files.h"
-#include "platform/headless_context.h"
-#include "profiling/stability.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/profiling/stability.h"
 #include "stability_precision.h"
 
 namespace px::tools {

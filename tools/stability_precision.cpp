@@ -1,6 +1,6 @@
 #include "stability_precision.h"
 
-#include "emulation/precision.h"
+#include "parallaxes/emulation/precision.h"
 
 namespace px::tools {
 

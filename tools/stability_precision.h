@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "platform/headless_context.h"
-#include "profiling/stability.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/profiling/stability.h"
 
 namespace px::tools {
 

@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "core/result.h"
-#include "scene/scene_textures.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/scene/scene_textures.h"
 
 namespace px::tools {
 

@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "core/files.h"
-#include "platform/headless_context.h"
-#include "reference/metrics.h"
-#include "reference/reference_image.h"
-#include "render/offscreen_target.h"
-#include "render/renderer.h"
-#include "render/surface_capture.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/reference/metrics.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/offscreen_target.h"
+#include "parallaxes/render/renderer.h"
+#include "parallaxes/render/surface_capture.h"
 #include "texture_assets.h"
 
 namespace px::tools {

@@ -9,12 +9,12 @@
 
 #include "cli_common.h"
 #include "commands.h"
-#include "gl/caps.h"
-#include "platform/headless_context.h"
-#include "scene/material_images.h"
-#include "texture/containers.h"
-#include "texture/decode.h"
-#include "core/files.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/texture/containers.h"
+#include "parallaxes/texture/decode.h"
+#include "parallaxes/core/files.h"
 #include "texture_assets.h"
 
 namespace px::tools {

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "render/renderer.h"
+#include "parallaxes/render/renderer.h"
 
 namespace {
 

@@ -1,8 +1,8 @@
-#include "assets/heightfield.h"
-#include "core/text.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/core/text.h"
 
-#include "core/limits.h"
-#include "core/numeric.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/numeric.h"
 
 #include <algorithm>
 #include <array>

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "assets/image.h"
-#include "core/result.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
 
 namespace px {
 

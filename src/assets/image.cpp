@@ -1,8 +1,8 @@
-#include "assets/image.h"
+#include "parallaxes/assets/image.h"
 
-#include "core/files.h"
-#include "core/limits.h"
-#include "core/text.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/text.h"
 
 #include <array>
 #include <csetjmp>

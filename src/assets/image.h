@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/limits.h"
-#include "core/result.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/result.h"
 
 namespace px {
 

@@ -1,6 +1,6 @@
-#include "assets/max_mipmap.h"
+#include "parallaxes/assets/max_mipmap.h"
 
-#include "core/numeric.h"
+#include "parallaxes/core/numeric.h"
 
 #include <algorithm>
 #include <cmath>

@@ -20,9 +20,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "assets/heightfield.h"
-#include "assets/image.h"
-#include "core/result.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "core/caps.h"
+#include "parallaxes/core/caps.h"
 
 namespace px {
 

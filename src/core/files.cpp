@@ -1,4 +1,4 @@
-#include "core/files.h"
+#include "parallaxes/core/files.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "core/text.h"
+#include "parallaxes/core/text.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "core/text.h"
+#include "parallaxes/core/text.h"
 
 #include <algorithm>
 #include <cstdio>

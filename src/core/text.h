@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string>
 
-#include "core/limits.h"
+#include "parallaxes/core/limits.h"
 
 namespace px {
 

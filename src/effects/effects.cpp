@@ -1,4 +1,4 @@
-#include "effects/effects.h"
+#include "parallaxes/effects/effects.h"
 
 #include <sstream>
 

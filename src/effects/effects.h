@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/result.h"
-#include "effects/technique.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/technique.h"
 
 namespace px {
 

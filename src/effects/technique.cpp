@@ -1,5 +1,5 @@
-#include "effects/technique.h"
-#include "core/text.h"
+#include "parallaxes/effects/technique.h"
+#include "parallaxes/core/text.h"
 
 #include <cmath>
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
+#include "parallaxes/core/result.h"
 
 namespace px {
 

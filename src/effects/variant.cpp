@@ -1,9 +1,9 @@
-#include "effects/variant.h"
+#include "parallaxes/effects/variant.h"
 
 #include <algorithm>
 #include <sstream>
 
-#include "core/limits.h"
+#include "parallaxes/core/limits.h"
 
 namespace px {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/technique.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/technique.h"
 
 namespace px {
 

@@ -33,7 +33,7 @@
 // nohighp: in the fragment stage every precision -> fp16; the vertex stage
 // as fp16. Integers are not emulated (declared highp in the rounding
 // profiles). Functions on the exempt list are emitted without rounding.
-#include "emulation/precision.h"
+#include "parallaxes/emulation/precision.h"
 
 #include <cmath>
 #include <cstdint>

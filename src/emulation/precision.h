@@ -11,8 +11,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/variant.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
 
 namespace px::emulation {
 

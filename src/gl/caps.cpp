@@ -1,10 +1,10 @@
-#include "gl/caps.h"
+#include "parallaxes/gl/caps.h"
 
 #include <cstdio>
 #include <sstream>
 #include <vector>
 
-#include "gl/gl.h"
+#include "parallaxes/gl/gl.h"
 
 namespace px {
 

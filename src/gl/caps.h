@@ -2,7 +2,7 @@
 // data (the only part of Caps that needs GL).
 #pragma once
 
-#include "core/caps.h"
+#include "parallaxes/core/caps.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "gl/errors.h"
+#include "parallaxes/gl/errors.h"
 
 #include <mutex>
 
@@ -19,11 +19,15 @@ const char* gl_enum_name(GLenum e) {
 const char* framebuffer_status_name(GLenum status) {
     switch (status) {
         case GL_FRAMEBUFFER_COMPLETE: return "GL_FRAMEBUFFER_COMPLETE";
+        // ES 3.0: framebuffer 0 of a context with no default framebuffer
+        // (surfaceless, or made current with no surface).
+        case GL_FRAMEBUFFER_UNDEFINED: return "GL_FRAMEBUFFER_UNDEFINED (framebuffer 0 of a context made current without a surface)";
         case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
         case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
         case GL_FRAMEBUFFER_INCOMPLETE_DIMENSIONS: return "GL_FRAMEBUFFER_INCOMPLETE_DIMENSIONS";
         case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
         case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+        case 0: return "no status (glCheckFramebufferStatus failed: is a context current?)";
         default: return "unknown framebuffer status";
     }
 }

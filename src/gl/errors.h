@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "gl/gl.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/gl/gl.h"
 
 namespace px {
 

@@ -1,7 +1,7 @@
-#include "gl/framebuffer.h"
+#include "parallaxes/gl/framebuffer.h"
 
-#include "gl/errors.h"
-#include "gl/state.h"
+#include "parallaxes/gl/errors.h"
+#include "parallaxes/gl/state.h"
 
 namespace px {
 

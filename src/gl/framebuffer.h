@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "core/result.h"
-#include "core/caps.h"
-#include "gl/handles.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/core/caps.h"
+#include "parallaxes/gl/handles.h"
 
 namespace px {
 

@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "gl/gl.h"
+#include "parallaxes/gl/gl.h"
 
 namespace px {
 

@@ -1,4 +1,5 @@
-#include "gl/program.h"
+#include "parallaxes/gl/program.h"
+#include "parallaxes/core/counters.h"
 
 #include <cstdlib>
 #include <optional>
@@ -7,7 +8,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "gl/errors.h"
+#include "parallaxes/gl/errors.h"
 
 namespace px {
 
@@ -260,6 +261,7 @@ Result<const Program*> ProgramCache::get(const VariantKey& key) {
         id = program_binary_identity(support_.context_identity, sources->vertex.text, sources->fragment.text);
         if (std::unique_ptr<Program> loaded = load_binary(*id, key, defines)) {
             ++stats_.from_binary;
+            counters::count(counters::Step::program_build);
             const Program* raw = loaded.get();
             programs_.emplace(key.bits(), std::move(loaded));
             return raw;
@@ -270,6 +272,7 @@ Result<const Program*> ProgramCache::get(const VariantKey& key) {
     Result<std::unique_ptr<Program>> program = Program::adopt(std::move(*linked), key, defines);
     if (!program) return program.error();
     ++stats_.compiled;
+    counters::count(counters::Step::program_build);
     if (id) store_binary(*id, (*program)->id());
     const Program* raw = program->get();
     programs_.emplace(key.bits(), std::move(*program));

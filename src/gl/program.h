@@ -13,12 +13,12 @@
 
 #include <glm/glm.hpp>
 
-#include "core/result.h"
-#include "effects/variant.h"
-#include "gl/handles.h"
-#include "gl/program_binary.h"
-#include "shaders/interface.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/gl/handles.h"
+#include "parallaxes/gl/program_binary.h"
+#include "parallaxes/shaders/interface.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px {
 

@@ -1,11 +1,11 @@
-#include "gl/program_binary.h"
+#include "parallaxes/gl/program_binary.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <initializer_list>
 #include <limits>
 
-#include "shaders/interface.h"
+#include "parallaxes/shaders/interface.h"
 
 namespace px {
 

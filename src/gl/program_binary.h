@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "core/caps.h"
-#include "core/result.h"
-#include "gl/errors.h"
-#include "gl/gl.h"
-#include "gl/handles.h"
+#include "parallaxes/core/caps.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/gl/errors.h"
+#include "parallaxes/gl/gl.h"
+#include "parallaxes/gl/handles.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "gl/state.h"
+#include "parallaxes/gl/state.h"
 
 namespace px {
 

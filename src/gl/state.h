@@ -32,8 +32,8 @@
 #include <array>
 #include <memory>
 
-#include "core/caps.h"
-#include "gl/gl.h"
+#include "parallaxes/core/caps.h"
+#include "parallaxes/gl/gl.h"
 
 namespace px {
 

@@ -1,11 +1,11 @@
-#include "gl/texture.h"
+#include "parallaxes/gl/texture.h"
 
 #include <string>
 
-#include "core/numeric.h"
-#include "gl/errors.h"
-#include "gl/state.h"
-#include "texture/decode.h"
+#include "parallaxes/core/numeric.h"
+#include "parallaxes/gl/errors.h"
+#include "parallaxes/gl/state.h"
+#include "parallaxes/texture/decode.h"
 
 namespace px {
 

@@ -3,12 +3,12 @@
 // a SavedGlState (gl/state.h), as Renderer::load does.
 #pragma once
 
-#include "assets/image.h"
-#include "assets/max_mipmap.h"
-#include "core/result.h"
-#include "gl/caps.h"
-#include "gl/handles.h"
-#include "texture/texture_data.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/assets/max_mipmap.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/gl/handles.h"
+#include "parallaxes/texture/texture_data.h"
 
 namespace px {
 

@@ -1,4 +1,4 @@
-#include "planner/cost_table.h"
+#include "parallaxes/planner/cost_table.h"
 
 #include <cmath>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/text.h"
+#include "parallaxes/core/text.h"
 
 namespace px {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/technique.h"
-#include "planner/relief.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/technique.h"
+#include "parallaxes/planner/relief.h"
 
 namespace px {
 

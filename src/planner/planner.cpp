@@ -1,4 +1,4 @@
-#include "planner/planner.h"
+#include "parallaxes/planner/planner.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/text.h"
+#include "parallaxes/core/text.h"
 
 namespace px {
 

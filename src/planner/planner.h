@@ -13,12 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "core/caps.h"
-#include "core/result.h"
-#include "effects/variant.h"
-#include "planner/cost_table.h"
-#include "planner/relief.h"
-#include "scene/scene.h"
+#include "parallaxes/core/caps.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/planner/cost_table.h"
+#include "parallaxes/planner/relief.h"
+#include "parallaxes/scene/prepared_scene.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px {
 
@@ -95,9 +96,34 @@ struct PlannerOptions {
     std::vector<CostTable> calibrations;
 };
 
+// What the planner plans for: one frame as the host draws it. The view and
+// projection matrices are the host's (any perspective or orthographic
+// projection; the eye is where the inverse view matrix puts it), `width` and
+// `height` the viewport's size in pixels (texels per pixel depend on it), and
+// `models` each object's model transform this frame, in scene order (empty:
+// the scene's own transforms).
+struct PlanView {
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    int width = 0, height = 0;
+    std::vector<glm::mat4> models;
+
+    // The scene camera's view at this image size (what `parallax render` draws).
+    static PlanView from_camera(const CameraDesc& camera, int width, int height);
+};
+
 class ScenePlanner {
 public:
-    // `reliefs`: one per scene material, in order. Errors: a broken table.
+    // The planner of a prepared scene: reliefs measured from its materials'
+    // traced fields, surveys from the meshes that are drawn (a displaced
+    // plane's displaced grid). Errors: a broken table.
+    // `reliefs`: as reliefs() of a planner of this scene, where only some
+    // materials changed (empty: every one measured here).
+    static Result<std::unique_ptr<ScenePlanner>> create(const PreparedScene& scene, const Caps& caps,
+                                                        PlannerOptions options = {},
+                                                        std::vector<MaterialRelief> reliefs = {});
+    // From a description alone (surveys the undisplaced meshes): `reliefs`,
+    // one per scene material, in order. Errors: a broken table.
     static Result<std::unique_ptr<ScenePlanner>> create(const SceneDesc& scene, const Caps& caps,
                                                         std::vector<MaterialRelief> reliefs,
                                                         PlannerOptions options = {});
@@ -106,8 +132,17 @@ public:
     // Errors name the object and the JSON path of the field: an impossible
     // target (no candidate reaches it here), a technique the context cannot run.
     Result<std::vector<ObjectPlan>> plan(const CameraDesc& camera, int width, int height) const;
+    // The same for a host's frame. Errors also: a degenerate or non-finite
+    // matrix, or a `models` list of the wrong length.
+    Result<std::vector<ObjectPlan>> plan(const PlanView& view) const;
+    // The relief measured for each material, in scene order (to build a
+    // planner again with one material replaced).
+    const std::vector<MaterialRelief>& reliefs() const;
 
     struct Impl;
+    // For the factories in scene_planner.cpp.
+    static std::unique_ptr<ScenePlanner> make_empty();
+    Impl& impl() { return *impl_; }
 
 private:
     ScenePlanner() = default;

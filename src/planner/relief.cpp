@@ -1,4 +1,4 @@
-#include "planner/relief.h"
+#include "parallaxes/planner/relief.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "assets/heightfield.h"
+#include "parallaxes/assets/heightfield.h"
 
 namespace px {
 

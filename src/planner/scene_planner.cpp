@@ -12,7 +12,7 @@
 // adds there, divided by the texels per pixel where the texture is minified
 // (the error in texels of the level sampled); the object's prediction is
 // the 95th percentile of that over its pixels.
-#include "planner/planner.h"
+#include "parallaxes/planner/planner.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +25,8 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/text.h"
+#include "parallaxes/core/counters.h"
+#include "parallaxes/core/text.h"
 
 namespace px {
 
@@ -249,12 +250,18 @@ struct ScenePlanner::Impl {
                                    const std::vector<std::vector<PointView>>& points,
                                    const std::vector<glm::vec4>& screen_boxes,
                                    const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const;
-    ObjectView view_object(size_t object_index, const CameraDesc& camera, int width, int height,
+    ObjectView view_object(size_t object_index, const PlanView& frame,
                            std::vector<PointView>& points, glm::vec4& screen_box,
                            std::pair<glm::vec3, glm::vec3>& world_box) const;
 };
 
 ScenePlanner::~ScenePlanner() = default;
+
+std::unique_ptr<ScenePlanner> ScenePlanner::make_empty() {
+    std::unique_ptr<ScenePlanner> p(new ScenePlanner());
+    p->impl_ = std::make_unique<Impl>();
+    return p;
+}
 
 MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDesc& material) {
     MaterialRelief r;
@@ -265,15 +272,50 @@ MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDes
     return r;
 }
 
+namespace {
+
+// One planner of either kind: `meshes` are the objects' meshes in scene
+// order, null where the description's own (undisplaced) mesh is built here.
+Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const Caps& caps,
+                                                   std::vector<MaterialRelief> reliefs, PlannerOptions options,
+                                                   const std::vector<const Mesh*>& meshes);
+
+}  // namespace
+
+Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const PreparedScene& scene, const Caps& caps,
+                                                           PlannerOptions options, std::vector<MaterialRelief> reliefs) {
+    const bool measure = reliefs.empty();
+    for (size_t i = 0; measure && i < scene.materials.size(); ++i) {
+        const MaterialImages& images = scene.materials[i]->images;
+        reliefs.push_back(material_relief(images.traced, scene.desc.materials[i]));
+        reliefs.back().layout = images.layout;
+    }
+    std::vector<const Mesh*> meshes;
+    for (const auto& o : scene.objects) meshes.push_back(&o->mesh);
+    return make_planner(scene.desc, caps, std::move(reliefs), std::move(options), meshes);
+}
+
 Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const SceneDesc& scene, const Caps& caps,
                                                            std::vector<MaterialRelief> reliefs,
                                                            PlannerOptions options) {
+    return make_planner(scene, caps, std::move(reliefs), std::move(options), {});
+}
+
+const std::vector<MaterialRelief>& ScenePlanner::reliefs() const { return impl_->reliefs; }
+
+namespace {
+
+Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const Caps& caps,
+                                                   std::vector<MaterialRelief> reliefs, PlannerOptions options,
+                                                   const std::vector<const Mesh*>& meshes) {
     if (reliefs.size() != scene.materials.size())
         return make_error("planner: " + std::to_string(reliefs.size()) + " reliefs for " +
                           std::to_string(scene.materials.size()) + " materials");
-    std::unique_ptr<ScenePlanner> p(new ScenePlanner());
-    p->impl_ = std::make_unique<Impl>();
-    Impl& m = *p->impl_;
+    if (!meshes.empty() && meshes.size() != scene.objects.size())
+        return make_error("planner: " + std::to_string(meshes.size()) + " meshes for " +
+                          std::to_string(scene.objects.size()) + " objects");
+    std::unique_ptr<ScenePlanner> p = ScenePlanner::make_empty();
+    ScenePlanner::Impl& m = p->impl();
     m.scene = scene;
     m.caps = caps;
     m.reliefs = std::move(reliefs);
@@ -287,12 +329,29 @@ Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const SceneDesc& scen
     m.generic_curves = curves_of(m.generic);
     m.calibrations = std::move(options.calibrations);
     for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
-    for (const ObjectDesc& o : scene.objects) {
-        const Mesh mesh = build_object_mesh(o.mesh);
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        if (!meshes.empty()) {
+            m.units_per_uv.push_back(meshes[i]->units_per_uv);
+            m.surveys.push_back(survey_mesh(*meshes[i]));
+            continue;
+        }
+        const Mesh mesh = build_object_mesh(scene.objects[i].mesh);
         m.units_per_uv.push_back(mesh.units_per_uv);
         m.surveys.push_back(survey_mesh(mesh));
     }
     return p;
+}
+
+}  // namespace
+
+PlanView PlanView::from_camera(const CameraDesc& camera, int width, int height) {
+    PlanView v;
+    v.width = width;
+    v.height = height;
+    const float aspect = height > 0 ? static_cast<float>(width) / static_cast<float>(height) : 1.0f;
+    v.view = glm::lookAt(camera.position, camera.target, camera.up);
+    v.projection = glm::perspective(glm::radians(camera.fov_y_deg), aspect, camera.near_plane, camera.far_plane);
+    return v;
 }
 
 ScenePlanner::Impl::Source ScenePlanner::Impl::generic_source(const MaterialRelief& r) const {
@@ -328,7 +387,7 @@ std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(
     return std::nullopt;
 }
 
-ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, int width, int height,
+ObjectView ScenePlanner::Impl::view_object(size_t oi, const PlanView& frame,
                                            std::vector<PointView>& points, glm::vec4& screen_box,
                                            std::pair<glm::vec3, glm::vec3>& world_box) const {
     ObjectView view;
@@ -336,14 +395,21 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
     const ObjectDesc& object = scene.objects[oi];
     const MaterialDesc* material = scene.find_material(object.material);
     const size_t mi = scene.material_index(object.material);
-    const glm::mat4 model = object.transform.matrix();
+    const glm::mat4 model = frame.models.empty() ? object.transform.matrix() : frame.models[oi];
     const glm::mat3 model3(model);
     const glm::mat3 normal_matrix = glm::inverseTranspose(model3);
-    const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    const glm::mat4 view_matrix = glm::lookAt(camera.position, camera.target, camera.up);
-    const glm::mat4 projection = glm::perspective(glm::radians(camera.fov_y_deg), aspect, camera.near_plane, camera.far_plane);
+    const glm::mat4& view_matrix = frame.view;
+    const glm::mat4& projection = frame.projection;
     const glm::mat4 view_projection = projection * view_matrix;
-    const double pixel_angle = 2.0 * std::tan(glm::radians(static_cast<double>(camera.fov_y_deg)) * 0.5) / height;
+    // The eye, and for an orthographic projection (w' independent of z)
+    // the direction back along the parallel rays.
+    const glm::mat4 inverse_view = glm::inverse(view_matrix);
+    const glm::vec3 eye(inverse_view[3]);
+    const bool orthographic = projection[2][3] == 0.0f;
+    const glm::vec3 back = glm::normalize(glm::vec3(inverse_view[2]));
+    // A pixel's size across the screen at clip w: 2 w / (P[1][1] height)
+    // (glm::perspective: w is the depth, and P[1][1] = 1 / tan(fov / 2)).
+    const double pixel_per_w = 2.0 / (std::fabs(static_cast<double>(projection[1][1])) * frame.height);
     // Texels per world unit along the surface: the traced texture's texels
     // per tile over the world units a tile spans (renderer: units_per_tile).
     const double model_scale = std::cbrt(std::fabs(static_cast<double>(glm::determinant(model3))));
@@ -385,7 +451,8 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
         glm::vec3 n = normal_matrix * sp.normal;
         if (!(glm::length(n) > 0.0f)) continue;
         n = glm::normalize(n);
-        const glm::vec3 to_eye = camera.position - p;
+        const glm::vec3 to_eye =
+            orthographic ? back * std::max(1e-3f, -(view_matrix * glm::vec4(p, 1.0f)).z) : eye - p;
         const double distance = glm::length(to_eye);
         if (!(distance > 0.0)) continue;
         const double cos_view = glm::dot(n, to_eye) / distance;
@@ -397,7 +464,8 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
         const double depth = -(view_matrix * glm::vec4(p, 1.0f)).z;
         // A pixel's width across the ray at this point: the pixel's angle
         // shrinks off axis as cos(off-axis angle) (depth / distance).
-        const double pixel_world = pixel_angle * depth * (depth / distance);
+        const double pixel_world = orthographic ? pixel_per_w * static_cast<double>(clip.w)
+                                                : pixel_per_w * static_cast<double>(clip.w) * (depth / distance);
         // Texels per world unit on this triangle: from its area in the
         // texture (uv transform and texture size) over its area in the world.
         // Once per triangle (its points are consecutive): the corners in
@@ -407,7 +475,7 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
             glm::vec3 c[3];
             for (int k = 0; k < 3; ++k) {
                 c[k] = glm::vec3(model * glm::vec4(sp.corners[k], 1.0f));
-                const glm::dvec3 to = glm::dvec3(camera.position - c[k]);
+                const glm::dvec3 to = orthographic ? glm::dvec3(back) : glm::dvec3(eye - c[k]);
                 const double len = glm::length(to);
                 corner_to_eye[k] = len > 0.0 ? to / len : glm::dvec3(0.0);
             }
@@ -489,13 +557,43 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const CameraDesc& camera, 
 Result<std::vector<ObjectPlan>> ScenePlanner::plan(const CameraDesc& camera, int width, int height) const {
     if (width < 1 || height < 1)
         return make_error("planner: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
+    return plan(PlanView::from_camera(camera, width, height));
+}
+
+namespace {
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+}  // namespace
+
+Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const {
+    const int width = frame.width, height = frame.height;
+    if (width < 1 || height < 1)
+        return make_error("planner: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
     const Impl& m = *impl_;
+    if (!frame.models.empty() && frame.models.size() != m.scene.objects.size())
+        return make_error("planner: " + std::to_string(frame.models.size()) + " model transforms for " +
+                          std::to_string(m.scene.objects.size()) + " objects");
+    if (!finite(frame.view) || !finite(frame.projection))
+        return make_error("planner: the view or projection matrix has a NaN or infinite entry");
+    for (size_t i = 0; i < frame.models.size(); ++i)
+        if (!finite(frame.models[i]))
+            return make_error("planner: the model transform of object '" + echo(m.scene.objects[i].name) +
+                              "' has a NaN or infinite entry");
+    if (!(std::fabs(frame.projection[1][1]) > 0.0f) || glm::determinant(frame.view) == 0.0f)
+        return make_error("planner: the projection or view matrix is degenerate (no finite pixel size)");
     const size_t n = m.scene.objects.size();
     std::vector<ObjectView> views(n);
     std::vector<std::vector<PointView>> points(n);
     std::vector<glm::vec4> screen_boxes(n);
     std::vector<std::pair<glm::vec3, glm::vec3>> world_boxes(n);
-    for (size_t i = 0; i < n; ++i) views[i] = m.view_object(i, camera, width, height, points[i], screen_boxes[i], world_boxes[i]);
+    for (size_t i = 0; i < n; ++i) views[i] = m.view_object(i, frame, points[i], screen_boxes[i], world_boxes[i]);
+    counters::count(counters::Step::object_plan, n);
     std::vector<ObjectPlan> plans;
     plans.reserve(n);
     for (size_t i = 0; i < n; ++i) {

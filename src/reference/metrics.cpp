@@ -1,5 +1,5 @@
-#include "reference/metrics.h"
-#include "reference/reference_image.h"
+#include "parallaxes/reference/metrics.h"
+#include "parallaxes/reference/reference_image.h"
 
 #include <algorithm>
 #include <cmath>

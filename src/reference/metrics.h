@@ -6,9 +6,9 @@
 
 #include <glm/glm.hpp>
 
-#include "assets/image.h"
-#include "core/result.h"
-#include "core/surface_image.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/core/surface_image.h"
 
 namespace px::reference {
 

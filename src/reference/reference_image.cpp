@@ -1,6 +1,6 @@
-#include "reference/reference_image.h"
-#include "core/text.h"
-#include "scene/material_images.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/core/text.h"
+#include "parallaxes/scene/material_images.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,10 +12,10 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/limits.h"
-#include "core/numeric.h"
-#include "reference/tracer.h"
-#include "scene/material_images.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/numeric.h"
+#include "parallaxes/reference/tracer.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px::reference {
 

@@ -6,17 +6,17 @@
 // (reference/metrics.h).
 #pragma once
 
-#include "scene/material_images.h"
+#include "parallaxes/scene/material_images.h"
 
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "assets/image.h"
-#include "core/result.h"
-#include "effects/technique.h"
-#include "reference/metrics.h"
-#include "scene/scene.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/technique.h"
+#include "parallaxes/reference/metrics.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px::reference {
 

@@ -1,6 +1,6 @@
-#include "reference/tracer.h"
+#include "parallaxes/reference/tracer.h"
 
-#include "core/numeric.h"
+#include "parallaxes/core/numeric.h"
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@
 
 #include <glm/glm.hpp>
 
-#include "assets/heightfield.h"
+#include "parallaxes/assets/heightfield.h"
 
 namespace px::reference {
 

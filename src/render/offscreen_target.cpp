@@ -1,10 +1,10 @@
-#include "render/offscreen_target.h"
+#include "parallaxes/render/offscreen_target.h"
 
 #include <string>
 
-#include "gl/caps.h"
-#include "gl/errors.h"
-#include "gl/state.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/gl/errors.h"
+#include "parallaxes/gl/state.h"
 
 namespace px {
 

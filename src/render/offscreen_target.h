@@ -4,11 +4,11 @@
 // Needs a current context.
 #pragma once
 
-#include "assets/image.h"
-#include "core/result.h"
-#include "core/caps.h"
-#include "gl/framebuffer.h"
-#include "render/target.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/core/caps.h"
+#include "parallaxes/gl/framebuffer.h"
+#include "parallaxes/render/target.h"
 
 namespace px {
 

@@ -1,5 +1,5 @@
-#include "render/renderer.h"
-#include "core/text.h"
+#include "parallaxes/render/renderer.h"
+#include "parallaxes/core/text.h"
 
 #include <algorithm>
 #include <array>
@@ -9,17 +9,26 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/limits.h"
-#include "gl/state.h"
-#include "gl/texture.h"
-#include "scene/material_images.h"
-#include "shaders/interface.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/gl/state.h"
+#include "parallaxes/gl/texture.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/shaders/interface.h"
 
 namespace px {
 
 namespace slot = shader::slot;
 
 namespace {
+
+// A GL error check after each object names the object and its program; in
+// release builds one check per frame (building the message on every draw
+// costs more than the check).
+#ifdef NDEBUG
+constexpr bool kCheckEveryDraw = false;
+#else
+constexpr bool kCheckEveryDraw = true;
+#endif
 
 struct GpuMesh {
     BufferHandle vertices;
@@ -45,7 +54,6 @@ struct GpuMaterial {
     glm::vec2 traced_size{0.0f};
     VariantPlan plan;   // a material that names its technique: what the context draws of it
     bool planned = false;  // declares effects: each object's plan picks the variant
-    HeightField field;  // 8-bit quantised, as uploaded: for displaced meshes
 };
 
 struct GpuObject {
@@ -122,12 +130,11 @@ struct FrameValues {
     std::array<float, kMaxLights> light_radii{};        // angular radius, radians
 };
 
-FrameValues frame_values(const SceneDesc& scene, const CameraDesc& cam, const RenderTarget& target) {
+FrameValues frame_values(const SceneDesc& scene, const HostFrame& frame) {
     FrameValues f;
-    const float aspect = static_cast<float>(target.width) / static_cast<float>(target.height);
-    f.view = glm::lookAt(cam.position, cam.target, cam.up);
-    f.projection = glm::perspective(glm::radians(cam.fov_y_deg), aspect, cam.near_plane, cam.far_plane);
-    f.camera_position = cam.position;
+    f.view = frame.view;
+    f.projection = frame.projection;
+    f.camera_position = glm::vec3(glm::inverse(frame.view)[3]);
     f.ambient = scene.ambient;
     f.light_count = static_cast<int>(std::min<size_t>(scene.lights.size(), kMaxLights));
     for (size_t i = 0; i < static_cast<size_t>(f.light_count); ++i) {
@@ -153,8 +160,7 @@ void set_frame_uniforms(const Program& p, const FrameValues& f) {
 }
 
 // The object's transform; returns whether it mirrors.
-bool set_object_uniforms(const Program& p, const ObjectDesc& object, const GpuMesh& mesh, const MaterialDesc& m) {
-    const glm::mat4 model = object.transform.matrix();
+bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh& mesh, const MaterialDesc& m) {
     const glm::mat3 model3(model);
     const bool mirrored = glm::determinant(model3) < 0.0f;
     p.set(slot::model, model);
@@ -214,10 +220,11 @@ void draw_mesh(const GpuMesh& mesh) {
 }
 
 // The fixed-function state every draw assumes, whatever the host left set
-// (SavedGlState gives the host's back afterwards).
-void set_draw_state(const Caps& caps, const RenderTarget& target, const glm::vec4& clear_color) {
-    glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
-    glViewport(0, 0, target.width, target.height);
+// (SavedGlState gives the host's back afterwards), and the frame's clears,
+// inside the viewport only.
+void set_draw_state(const Caps& caps, const HostFrame& frame, const Viewport& vp, const glm::vec4& clear_color) {
+    glBindFramebuffer(GL_FRAMEBUFFER, frame.target.framebuffer);
+    glViewport(vp.x, vp.y, vp.width, vp.height);
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_STENCIL_TEST);
     glDisable(GL_BLEND);
@@ -233,9 +240,18 @@ void set_draw_state(const Caps& caps, const RenderTarget& target, const glm::vec
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glDepthRangef(0.0f, 1.0f);
-    glClearDepthf(1.0f);
-    glClearColor(clear_color.r, clear_color.g, clear_color.b, clear_color.a);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const GLbitfield clears = (frame.clear_color ? GL_COLOR_BUFFER_BIT : 0u) | (frame.clear_depth ? GL_DEPTH_BUFFER_BIT : 0u);
+    if (clears) {
+        const bool whole = vp.x == 0 && vp.y == 0 && vp.width == frame.target.width && vp.height == frame.target.height;
+        if (!whole) {  // a clear ignores the viewport: the scissor keeps it inside
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(vp.x, vp.y, vp.width, vp.height);
+        }
+        glClearDepthf(1.0f);
+        glClearColor(clear_color.r, clear_color.g, clear_color.b, clear_color.a);
+        glClear(clears);
+        glDisable(GL_SCISSOR_TEST);
+    }
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glEnable(GL_CULL_FACE);
@@ -244,21 +260,22 @@ void set_draw_state(const Caps& caps, const RenderTarget& target, const glm::vec
 
 }  // namespace
 
+
 struct Renderer::GpuScene {
-    SceneDesc desc;  // owned copy: materials and objects point into it
     std::vector<GpuMesh> meshes;
     std::vector<GpuMaterial> materials;
     std::vector<GpuObject> objects;
     ProgramCache programs;
     std::unique_ptr<ScenePlanner> planner;
-    CameraDesc camera;             // the view the plans are for
-    int plan_width = 512, plan_height = 512;  // and the image size
+    CameraDesc camera;     // draw(target)'s camera (set_view)
+    PlanView planned_for;  // the frame the objects' plans are for
+    bool planned = false;  // whether they are planned at all
 };
 
 namespace {
 
 // One object with one variant, into the bound framebuffer.
-Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const VariantKey& key,
+Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm::mat4& model, const VariantKey& key,
                    const TechniqueOptions& options, const FrameValues& frame) {
     const GpuMaterial& material = scene.materials[object.material];
     Result<const Program*> program = scene.programs.get(key);
@@ -267,20 +284,15 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const Var
     glUseProgram(p.id());
     set_frame_uniforms(p, frame);
     const GpuMesh& mesh = scene.meshes[object.mesh];
-    const bool mirrored = set_object_uniforms(p, *object.desc, mesh, *material.desc);
+    const bool mirrored = set_object_uniforms(p, model, mesh, *material.desc);
     // A mirroring model matrix reverses the triangles' winding on screen:
     // flip the front face so the object's outside stays the drawn side.
     glFrontFace(mirrored ? GL_CW : GL_CCW);
     set_material_uniforms(p, material, key, options);
     draw_mesh(mesh);
+    if (!kCheckEveryDraw) return {};
     return check_gl("drawing object '" + object.desc->name + "' with " + p.description());
 }
-
-}  // namespace
-
-Renderer::~Renderer() { release(); }
-
-namespace {
 
 // Where a texture's data came from, for messages about it.
 std::string source_label(const TextureSource& source) {
@@ -301,7 +313,140 @@ std::string normal_label(const MaterialDesc& m, bool packed) {
     return label;
 }
 
+// One texture slot from its texture file (every level as given) or from the
+// CPU image (RGBA8, mipmapped by the GPU); what happened goes to `uploads`.
+Result<Texture> upload_slot(const std::optional<TextureData>& file, const Image& image, const std::string& label,
+                            bool mipmaps, const Caps& caps, bool force_decode, std::vector<TextureUpload>& uploads) {
+    TextureUpload report;
+    if (file) {
+        Result<Texture> t = upload_texture_data(*file, caps, label, mipmaps, force_decode, &report);
+        if (t) uploads.push_back(report);
+        return t;
+    }
+    Result<Texture> t = upload_texture(image, caps, label, mipmaps);
+    if (t) {
+        report.what = label;
+        report.container = "image";
+        report.format = TextureFormat::rgba8;
+        report.width = static_cast<std::uint32_t>(image.width);
+        report.height = static_cast<std::uint32_t>(image.height);
+        report.levels = mipmaps ? full_mip_count(report.width, report.height) : 1;
+        report.path = mipmaps ? "RGBA8, mip chain generated by the GPU" : "RGBA8, base level";
+        std::uint64_t bytes = 0;
+        for (int l = 0; l < report.levels; ++l) bytes += 4ull * mip_extent(report.width, l) * mip_extent(report.height, l);
+        report.gpu_bytes = bytes;
+        uploads.push_back(report);
+    }
+    return t;
+}
+
+// A material's textures on the GPU, and for a material that names its
+// technique, the variant the context draws of it.
+Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages& images, const Caps& caps,
+                                    bool force_decode, std::vector<TextureUpload>& uploads,
+                                    std::vector<std::string>& notes) {
+    GpuMaterial g;
+    g.desc = &m;
+    const std::string what = "material '" + echo(m.name) + "'";
+    for (const std::string& note : images.notes) notes.push_back(what + ": " + note);
+    const HeightField& field = images.traced;
+    g.planned = m.effects.has_value();
+    bool traced = false, pyramid = false;
+    if (g.planned) {
+        // Any technique may be chosen as the camera moves: upload what
+        // tracing needs wherever there is a relief to trace.
+        traced = m.effects->parallax && m.height_scale > 0.0f;
+        pyramid = traced && caps.es_major >= 3 && (field.width & (field.width - 1)) == 0 &&
+                  (field.height & (field.height - 1)) == 0;
+    } else {
+        Result<VariantPlan> plan = plan_variant(m, caps, images.field.width, images.field.height);
+        if (!plan) return with_context(what, plan.error());
+        g.plan = std::move(*plan);
+        traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
+        // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
+        pyramid = (technique_info(g.plan.key.technique).options & kOptSteps) != 0;
+    }
+    Result<Texture> albedo = upload_slot(images.albedo_texture, images.albedo,
+                                         what + " albedo (" + source_label(m.albedo) + ")", true, caps, force_decode, uploads);
+    if (!albedo) return albedo.error();
+    g.albedo = std::move(*albedo);
+    Result<Texture> normal =
+        upload_slot(images.normal_texture, images.normal,
+                    what + " normal map (" + normal_label(m, images.layout.packed_height) + ")", true, caps, force_decode, uploads);
+    if (!normal) return normal.error();
+    g.normal = std::move(*normal);
+    const bool base_level_trace = traced && caps.es_major < 3;
+    const bool separate = images.height.has_value() || images.height_texture.has_value();
+    if (separate || base_level_trace) {
+        const std::string label = what + " height (" +
+                                  (separate ? source_label(m.height) : normal_label(m, images.layout.packed_height)) + ")" +
+                                  (base_level_trace ? ", base level for the trace" : "");
+        Result<Texture> height =
+            separate ? upload_slot(images.height_texture, images.height ? *images.height : images.normal, label,
+                                   !base_level_trace, caps, force_decode, uploads)
+                     : upload_slot(images.normal_texture, images.normal, label, false, caps, force_decode, uploads);
+        if (!height) return height.error();
+        g.height = std::move(*height);
+    }
+    const Texture& traced_texture = g.height.handle ? g.height : g.normal;
+    g.traced_size = glm::vec2(static_cast<float>(traced_texture.width), static_cast<float>(traced_texture.height));
+    if (pyramid) {
+        Result<MaxMipmap> max_pyramid = build_max_mipmap(field, images.layout.height_11bit ? 11 : 8);
+        if (!max_pyramid) return with_context(what + " height (" + source_label(m.height) + ")", max_pyramid.error());
+        Result<Texture> max_map =
+            upload_max_mipmap(*max_pyramid, caps, what + " max pyramid of the height (" + source_label(m.height) + ")");
+        if (!max_map) return max_map.error();
+        g.max_map = std::move(*max_map);
+        g.max_levels = max_pyramid->level_count();
+    }
+    return g;
+}
+
+bool same_plan_view(const PlanView& a, const PlanView& b) {
+    return a.width == b.width && a.height == b.height && a.view == b.view && a.projection == b.projection &&
+           a.models == b.models;
+}
+
+// The size of a framebuffer's renderbuffer attachments, where GL can tell
+// (a texture attachment's size cannot be queried on ES 3.0, nor the default
+// framebuffer's: the host knows those). {0, 0}: nothing to compare with.
+glm::ivec2 renderbuffer_extent(GLuint framebuffer) {
+    glm::ivec2 extent(0);
+    if (framebuffer == 0) return extent;
+    GLint previous = 0;
+    glGetIntegerv(GL_RENDERBUFFER_BINDING, &previous);
+    const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_DEPTH_ATTACHMENT, GL_STENCIL_ATTACHMENT};
+    for (GLenum a : attachments) {
+        GLint type = GL_NONE, name = 0;
+        glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, a, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+        if (type != GL_RENDERBUFFER) continue;
+        glGetFramebufferAttachmentParameteriv(GL_FRAMEBUFFER, a, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+        glBindRenderbuffer(GL_RENDERBUFFER, static_cast<GLuint>(name));
+        GLint w = 0, h = 0;
+        glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_WIDTH, &w);
+        glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_HEIGHT, &h);
+        // The framebuffer's extent is its smallest attachment's.
+        extent.x = extent.x == 0 ? w : std::min(extent.x, w);
+        extent.y = extent.y == 0 ? h : std::min(extent.y, h);
+    }
+    glBindRenderbuffer(GL_RENDERBUFFER, static_cast<GLuint>(previous));
+    return extent;
+}
+
+std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
 }  // namespace
+
+HostFrame HostFrame::from_camera(const CameraDesc& camera, const RenderTarget& target) {
+    HostFrame f;
+    f.target = target;
+    const PlanView v = PlanView::from_camera(camera, target.width, target.height);
+    f.view = v.view;
+    f.projection = v.projection;
+    return f;
+}
+
+Renderer::~Renderer() { release(); }
 
 Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& options) {
     const GLubyte* version = glGetString(GL_VERSION);
@@ -325,6 +470,20 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     r->variant_transform_ = options.variant_transform;
     r->force_texture_decode_ = options.force_texture_decode;
     r->planner_options_ = options.planner;
+    r->preserve_host_state_ = options.preserve_host_state;
+    // Which context is current: the host's function, or EGL's through the
+    // loader (EGL 1.5 and EGL_KHR_get_all_proc_addresses return core EGL
+    // functions from eglGetProcAddress).
+    if (options.current_context) {
+        r->current_context_ = options.current_context;
+    } else if (options.get_proc_address) {
+        using CurrentContext = void* (*)();
+        if (void* f = options.get_proc_address("eglGetCurrentContext")) {
+            const auto current = reinterpret_cast<CurrentContext>(f);
+            r->current_context_ = [current]() -> const void* { return current(); };
+        }
+    }
+    if (r->current_context_) r->context_ = r->current_context_();
     install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
     if (options.program_binaries.enabled()) {
         r->program_binaries_ = options.program_binaries;
@@ -333,9 +492,25 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     return r;
 }
 
+Status Renderer::check_context(const char* what) const {
+    if (!current_context_) return {};
+    const void* now = current_context_();
+    if (now == context_) return {};
+    return make_error(std::string(what) + ": " +
+                      (now ? "another OpenGL ES context is current than the one the renderer was created in"
+                           : "no OpenGL ES context is current") +
+                      "; make the renderer's context current first (a renderer draws only in its own context)");
+}
+
 MaterialImageOptions Renderer::material_image_options() const {
     MaterialImageOptions o;
     o.power_of_two_textures = !caps_.npot_mipmaps();
+    return o;
+}
+
+PrepareOptions Renderer::prepare_options() const {
+    PrepareOptions o;
+    o.images = material_image_options();
     return o;
 }
 
@@ -346,9 +521,17 @@ ProgramStats Renderer::program_stats() const {
     return ProgramCache(shader_transform_, program_binaries_, binary_support_).stats();
 }
 
-void Renderer::release() { scene_.reset(); }
+void Renderer::release() {
+    if (scene_ && !check_context("release")) {
+        abandon();  // another context's objects may have the same names
+        return;
+    }
+    scene_.reset();
+    prepared_.reset();
+}
 
 void Renderer::abandon() {
+    prepared_.reset();
     if (!scene_) return;
     for (GpuMesh& m : scene_->meshes) {
         m.vertices.abandon();
@@ -366,154 +549,124 @@ void Renderer::abandon() {
 }
 
 Status Renderer::load(const SceneDesc& scene) {
-    Status valid = validate_scene(scene);
-    if (!valid) return valid;
-    Status resources = check_scene_resources(scene, true);
-    if (!resources) return resources;
-    // Any partial GPU scene is released by its handles' destructors, and the
-    // host's GL state restored, on the way out.
-    return out_of_memory_is_an_error("loading scene '" + echo(scene.name) + "'",
-                                     [&] { return load_checked(scene); });
+    if (Status c = check_context("load"); !c) return c;
+    Result<std::shared_ptr<const PreparedScene>> prepared = prepare_scene(scene, prepare_options());
+    if (!prepared) return prepared.error();
+    return load(std::move(*prepared));
 }
 
-Status Renderer::load_checked(const SceneDesc& scene) {
-    SavedGlState saved(caps_);
+Status Renderer::load(std::shared_ptr<const PreparedScene> scene) {
+    if (Status c = check_context("load"); !c) return c;
+    if (!scene) return make_error("load: no prepared scene (null)");
+    const MaterialImageOptions needed = material_image_options();
+    if (scene->options.images.power_of_two_textures != needed.power_of_two_textures && needed.power_of_two_textures)
+        return make_error("load: scene '" + echo(scene->desc.name) +
+                          "' was prepared for a context with non-power-of-two textures; this one has none "
+                          "(prepare it with Renderer::prepare_options())");
+    const std::string name = scene->desc.name;
+    // Any partial GPU scene is released by its handles' destructors, and the
+    // host's GL state restored, on the way out.
+    return out_of_memory_is_an_error("loading scene '" + echo(name) + "'",
+                                     [&] { return load_checked(std::move(scene)); });
+}
+
+Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
+    std::optional<SavedGlState> saved;
+    if (preserve_host_state_) saved.emplace(caps_);
     set_unpack_defaults(caps_);
     auto gpu = std::make_unique<GpuScene>();
     gpu->programs = ProgramCache(shader_transform_, program_binaries_, binary_support_);
-    gpu->desc = scene;
-    const SceneDesc& desc = gpu->desc;
+    const SceneDesc& desc = prepared->desc;
 
-    std::vector<MaterialRelief> reliefs;
     std::vector<TextureUpload> uploads;
     std::vector<std::string> notes;
-    for (const MaterialDesc& m : desc.materials) {
-        GpuMaterial g;
-        g.desc = &m;
-        Result<MaterialImages> images = build_material_images(m, desc.base_dir, material_image_options());
-        if (!images) return images.error();
-        const std::string what = "material '" + echo(m.name) + "'";
-        for (const std::string& note : images->notes) notes.push_back(what + ": " + note);
-        g.field = images->traced;
-        reliefs.push_back(material_relief(g.field, m));
-        reliefs.back().layout = images->layout;
-        g.planned = m.effects.has_value();
-        bool traced = false, pyramid = false;
-        if (g.planned) {
-            // Any technique may be chosen as the camera moves: upload what
-            // tracing needs wherever there is a relief to trace.
-            traced = m.effects->parallax && m.height_scale > 0.0f;
-            pyramid = traced && caps_.es_major >= 3 && (g.field.width & (g.field.width - 1)) == 0 &&
-                      (g.field.height & (g.field.height - 1)) == 0;
-        } else {
-            Result<VariantPlan> plan = plan_variant(m, caps_, images->field.width, images->field.height);
-            if (!plan) return with_context(what, plan.error());
-            g.plan = std::move(*plan);
-            traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
-            // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
-            pyramid = (technique_info(g.plan.key.technique).options & kOptSteps) != 0;
-        }
-        // Each slot from its texture file (every level as given) or from the
-        // CPU image (RGBA8, mipmapped by the GPU).
-        const auto upload = [&](const std::optional<TextureData>& file, const Image& image, const std::string& label,
-                                bool mipmaps) -> Result<Texture> {
-            TextureUpload report;
-            if (file) {
-                Result<Texture> t = upload_texture_data(*file, caps_, label, mipmaps, force_texture_decode_, &report);
-                if (t) uploads.push_back(report);
-                return t;
-            }
-            Result<Texture> t = upload_texture(image, caps_, label, mipmaps);
-            if (t) {
-                report.what = label;
-                report.container = "image";
-                report.format = TextureFormat::rgba8;
-                report.width = static_cast<std::uint32_t>(image.width);
-                report.height = static_cast<std::uint32_t>(image.height);
-                report.levels = mipmaps ? full_mip_count(report.width, report.height) : 1;
-                report.path = mipmaps ? "RGBA8, mip chain generated by the GPU" : "RGBA8, base level";
-                std::uint64_t bytes = 0;
-                for (int l = 0; l < report.levels; ++l)
-                    bytes += 4ull * mip_extent(report.width, l) * mip_extent(report.height, l);
-                report.gpu_bytes = bytes;
-                uploads.push_back(report);
-            }
-            return t;
-        };
-        Result<Texture> albedo = upload(images->albedo_texture, images->albedo,
-                                        what + " albedo (" + source_label(m.albedo) + ")", true);
-        if (!albedo) return albedo.error();
-        g.albedo = std::move(*albedo);
-        Result<Texture> normal = upload(images->normal_texture, images->normal,
-                                        what + " normal map (" + normal_label(m, images->layout.packed_height) + ")", true);
-        if (!normal) return normal.error();
-        g.normal = std::move(*normal);
-        const bool base_level_trace = traced && caps_.es_major < 3;
-        const bool separate = images->height.has_value() || images->height_texture.has_value();
-        if (separate || base_level_trace) {
-            const std::string label = what + " height (" + (separate ? source_label(m.height) : normal_label(m, images->layout.packed_height)) + ")" +
-                                      (base_level_trace ? ", base level for the trace" : "");
-            Result<Texture> height = separate ? upload(images->height_texture, images->height ? *images->height : images->normal,
-                                                       label, !base_level_trace)
-                                              : upload(images->normal_texture, images->normal, label, false);
-            if (!height) return height.error();
-            g.height = std::move(*height);
-        }
-        const Texture& traced_texture = g.height.handle ? g.height : g.normal;
-        g.traced_size = glm::vec2(static_cast<float>(traced_texture.width), static_cast<float>(traced_texture.height));
-        if (pyramid) {
-            Result<MaxMipmap> max_pyramid = build_max_mipmap(g.field, images->layout.height_11bit ? 11 : 8);
-            if (!max_pyramid) return with_context(what + " height (" + source_label(m.height) + ")", max_pyramid.error());
-            Result<Texture> max_map = upload_max_mipmap(*max_pyramid, caps_, what + " max pyramid of the height (" + source_label(m.height) + ")");
-            if (!max_map) return max_map.error();
-            g.max_map = std::move(*max_map);
-            g.max_levels = max_pyramid->level_count();
-        }
-        gpu->materials.push_back(std::move(g));
+    for (size_t i = 0; i < desc.materials.size(); ++i) {
+        Result<GpuMaterial> g = upload_material(desc.materials[i], prepared->materials[i]->images, caps_,
+                                                force_texture_decode_, uploads, notes);
+        if (!g) return g.error();
+        gpu->materials.push_back(std::move(*g));
     }
-    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(desc, caps_, std::move(reliefs), planner_options_);
+    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(*prepared, caps_, planner_options_);
     if (!planner) return planner.error();
     gpu->planner = std::move(*planner);
     gpu->camera = desc.camera;
-    for (const ObjectDesc& o : desc.objects) {
-        const std::string what = "object '" + echo(o.name) + "'";
-        const size_t material_index = desc.material_index(o.material);  // validate_scene checked it exists
-        Mesh mesh;
-        if (o.mesh.displaced) {
-            if (o.mesh.kind != MeshKind::plane)
-                return make_error(what + ": only planes can be displaced (mesh.displaced)");
-            const GpuMaterial& material = gpu->materials[material_index];
-            const MaterialDesc& m = *material.desc;
-            // The relief under the shading's uv' (the material's uv transform), a
-            // tile size / area_scale mesh units as the units_per_tile uniform says.
-            Result<Mesh> displaced =
-                make_displaced_plane(o.mesh.size, material.field, m.uv.matrix<double>(), glm::dvec2(m.uv.offset),
-                                     m.height_scale, static_cast<float>(m.polygon_height()));
-            if (!displaced) return with_context(what, displaced.error());
-            mesh = std::move(*displaced);
-        } else {
-            mesh = build_object_mesh(o.mesh);
-        }
-        Result<GpuMesh> g = upload_mesh(mesh, caps_, what);
+    for (size_t i = 0; i < desc.objects.size(); ++i) {
+        const ObjectDesc& o = desc.objects[i];
+        Result<GpuMesh> g = upload_mesh(prepared->objects[i]->mesh, caps_, "object '" + echo(o.name) + "'");
         if (!g) return g.error();
         gpu->meshes.push_back(std::move(*g));
         GpuObject object;
         object.desc = &o;
         object.mesh = gpu->meshes.size() - 1;
-        object.material = material_index;
+        object.material = prepared->objects[i]->material;
         gpu->objects.push_back(object);
     }
+    // The variants of materials that name their technique do not depend on
+    // the frame: build them now, so that a shader error surfaces at load.
+    // Those the planner picks per frame are built by the frame that draws them.
+    for (const GpuObject& object : gpu->objects) {
+        const GpuMaterial& material = gpu->materials[object.material];
+        if (material.planned) continue;
+        VariantKey key = material.plan.key.with_layout(prepared->materials[object.material]->images.layout);
+        if (variant_transform_) key = variant_transform_(key).canonical();
+        Result<const Program*> program = gpu->programs.get(key);
+        if (!program) return with_context("material '" + echo(material.desc->name) + "'", program.error());
+    }
     scene_ = std::move(gpu);
+    prepared_ = std::move(prepared);
     texture_uploads_ = std::move(uploads);
     texture_notes_ = std::move(notes);
-    // Plan for the scene's camera at the nominal size, and build those
-    // programs now, so that a shader error surfaces at load.
-    Result<int> planned = apply_plans(scene_->camera, scene_->plan_width, scene_->plan_height);
-    if (!planned) {
-        scene_.reset();
-        return planned.error();
-    }
+    reports_.clear();
     return {};
+}
+
+Status Renderer::replace_material(const MaterialDesc& material) {
+    if (Status c = check_context("replace_material"); !c) return c;
+    if (!scene_ || !prepared_) return make_error("replace_material: no scene loaded");
+    Result<std::shared_ptr<const PreparedScene>> next = px::replace_material(*prepared_, material);
+    if (!next) return next.error();
+    const PreparedScene& p = **next;
+    const size_t mi = p.desc.material_index(material.name);
+    return out_of_memory_is_an_error("replacing material '" + echo(material.name) + "'", [&]() -> Status {
+        std::optional<SavedGlState> saved;
+        if (preserve_host_state_) saved.emplace(caps_);
+        set_unpack_defaults(caps_);
+        std::vector<TextureUpload> uploads;
+        std::vector<std::string> notes;
+        Result<GpuMaterial> g = upload_material(p.desc.materials[mi], p.materials[mi]->images, caps_,
+                                                force_texture_decode_, uploads, notes);
+        if (!g) return g.error();
+        // Meshes displaced from the new relief, before anything is replaced.
+        std::vector<std::pair<size_t, GpuMesh>> meshes;
+        for (size_t i = 0; i < p.objects.size(); ++i) {
+            if (p.objects[i].get() == prepared_->objects[i].get()) continue;
+            Result<GpuMesh> m = upload_mesh(p.objects[i]->mesh, caps_, "object '" + echo(p.desc.objects[i].name) + "'");
+            if (!m) return m.error();
+            meshes.emplace_back(scene_->objects[i].mesh, std::move(*m));
+        }
+        if (!g->planned) {
+            VariantKey key = g->plan.key.with_layout(p.materials[mi]->images.layout);
+            if (variant_transform_) key = variant_transform_(key).canonical();
+            Result<const Program*> program = scene_->programs.get(key);
+            if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
+        }
+        // The other materials' reliefs as measured at load.
+        std::vector<MaterialRelief> reliefs = scene_->planner->reliefs();
+        reliefs[mi] = material_relief(p.materials[mi]->images.traced, p.desc.materials[mi]);
+        reliefs[mi].layout = p.materials[mi]->images.layout;
+        Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(p, caps_, planner_options_, std::move(reliefs));
+        if (!planner) return planner.error();
+        // Nothing can fail from here: swap it all in.
+        scene_->materials[mi] = std::move(*g);
+        for (auto& [index, mesh] : meshes) scene_->meshes[index] = std::move(mesh);
+        for (size_t i = 0; i < scene_->materials.size(); ++i) scene_->materials[i].desc = &p.desc.materials[i];
+        for (size_t i = 0; i < scene_->objects.size(); ++i) scene_->objects[i].desc = &p.desc.objects[i];
+        scene_->planner = std::move(*planner);
+        scene_->planned = false;
+        prepared_ = std::move(*next);
+        texture_uploads_.insert(texture_uploads_.end(), uploads.begin(), uploads.end());
+        return {};
+    });
 }
 
 Result<std::vector<ObjectPlan>> Renderer::plan_view(const CameraDesc& camera, int width, int height) const {
@@ -521,8 +674,9 @@ Result<std::vector<ObjectPlan>> Renderer::plan_view(const CameraDesc& camera, in
     return scene_->planner->plan(camera, width, height);
 }
 
-Result<int> Renderer::apply_plans(const CameraDesc& camera, int width, int height) {
-    Result<std::vector<ObjectPlan>> plans = scene_->planner->plan(camera, width, height);
+Result<int> Renderer::apply_plans(const PlanView& view) {
+    if (scene_->planned && same_plan_view(view, scene_->planned_for)) return 0;
+    Result<std::vector<ObjectPlan>> plans = scene_->planner->plan(view);
     if (!plans) return plans.error();
     int changed = 0;
     std::vector<DrawReport> reports;
@@ -531,31 +685,41 @@ Result<int> Renderer::apply_plans(const CameraDesc& camera, int width, int heigh
         ObjectPlan& plan = (*plans)[i];
         if (variant_transform_) plan.key = variant_transform_(plan.key).canonical();
         if (!(plan.key == object.plan.key)) ++changed;
-        Result<const Program*> program = scene_->programs.get(plan.key);
-        if (!program) return with_context("material '" + echo(scene_->materials[object.material].desc->name) + "'", program.error());
         object.plan = std::move(plan);
         const MaterialDesc& m = *scene_->materials[object.material].desc;
         reports.push_back(DrawReport{object.desc->name, object.desc->material, m.technique.technique, object.plan.key,
                                      object.plan.notes, object.plan});
     }
-    scene_->camera = camera;
-    scene_->plan_width = width;
-    scene_->plan_height = height;
+    scene_->planned_for = view;
+    scene_->planned = true;
+    ++stats_.plans;
     reports_ = std::move(reports);
     return changed;
 }
 
 Result<int> Renderer::set_view(const CameraDesc& camera, int width, int height) {
+    if (Status c = check_context("set_view"); !c) return c.error();
     if (!scene_) return make_error("set_view: no scene loaded");
-    if (width < 1 || height < 1)
-        return make_error("set_view: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
-    SavedGlState saved(caps_);
-    return apply_plans(camera, width, height);
+    if (width < 1 || height < 1) return make_error("set_view: image size " + size_text(width, height) + " is empty");
+    std::optional<SavedGlState> saved;
+    if (preserve_host_state_) saved.emplace(caps_);
+    Result<int> changed = apply_plans(PlanView::from_camera(camera, width, height));
+    if (!changed) return changed;
+    scene_->camera = camera;
+    // Build what the plans draw now, outside the frame.
+    for (const GpuObject& object : scene_->objects) {
+        Result<const Program*> program = scene_->programs.get(object.plan.key);
+        if (!program)
+            return with_context("material '" + echo(scene_->materials[object.material].desc->name) + "'", program.error());
+    }
+    return changed;
 }
 
 Status Renderer::prepare(const std::vector<VariantKey>& keys) {
+    if (Status c = check_context("prepare"); !c) return c;
     if (!scene_) return make_error("prepare: no scene loaded");
-    SavedGlState saved(caps_);
+    std::optional<SavedGlState> saved;
+    if (preserve_host_state_) saved.emplace(caps_);
     for (const VariantKey& key : keys) {
         Result<const Program*> program = scene_->programs.get(key);
         if (!program) return program.error();
@@ -563,43 +727,90 @@ Status Renderer::prepare(const std::vector<VariantKey>& keys) {
     return {};
 }
 
+HostFrame Renderer::scene_frame(const RenderTarget& target, std::uint8_t debug_output) const {
+    HostFrame f = HostFrame::from_camera(scene_ ? scene_->camera : (prepared_ ? prepared_->desc.camera : CameraDesc{}), target);
+    f.clear_color = true;
+    f.clear_depth = true;
+    f.debug_output = debug_output;
+    return f;
+}
+
 Status Renderer::draw(const RenderTarget& target, std::uint8_t debug_output) {
-    if (!scene_) return make_error("draw: no scene loaded");
     if (target.width < 1 || target.height < 1)
-        return make_error("draw: target size " + std::to_string(target.width) + "x" + std::to_string(target.height) +
-                          " is empty");
-    SavedGlState saved(caps_);
+        return make_error("draw: target size " + size_text(target.width, target.height) + " is empty");
+    return draw(scene_frame(target, debug_output));
+}
+
+Status Renderer::draw(const HostFrame& frame) {
+    if (Status c = check_context("draw"); !c) return c;
+    if (!scene_) return make_error("draw: no scene loaded");
+    const RenderTarget& target = frame.target;
+    if (target.width < 1 || target.height < 1)
+        return make_error("draw: target size " + size_text(target.width, target.height) + " is empty");
+    const Viewport& v = frame.viewport;
+    const bool whole = v.width == 0 && v.height == 0 && v.x == 0 && v.y == 0;
+    if (!whole && (v.width < 1 || v.height < 1 || v.x < 0 || v.y < 0 || v.x > target.width - v.width ||
+                   v.y > target.height - v.height))
+        return make_error("draw: viewport " + size_text(v.width, v.height) + " at (" + std::to_string(v.x) + ", " +
+                          std::to_string(v.y) + ") is empty or not inside the " + size_text(target.width, target.height) +
+                          " target");
+    if (!frame.models.empty() && frame.models.size() != scene_->objects.size())
+        return make_error("draw: " + std::to_string(frame.models.size()) + " model transforms for " +
+                          std::to_string(scene_->objects.size()) + " objects (give one per object, in scene order, "
+                          "or none)");
+    std::optional<SavedGlState> saved;
+    if (preserve_host_state_) saved.emplace(caps_);
+    return draw_checked(frame);
+}
+
+Status Renderer::draw_checked(const HostFrame& frame) {
+    const RenderTarget& target = frame.target;
     glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
-        return make_error(std::string("draw: target framebuffer ") + std::to_string(target.framebuffer) +
+        return make_error("draw: target framebuffer " + std::to_string(target.framebuffer) +
                           " is incomplete: " + framebuffer_status_name(status));
-    const SceneDesc& scene = scene_->desc;
+    const glm::ivec2 extent = renderbuffer_extent(target.framebuffer);
+    if ((extent.x > 0 && target.width > extent.x) || (extent.y > 0 && target.height > extent.y))
+        return make_error("draw: target size " + size_text(target.width, target.height) + " does not fit framebuffer " +
+                          std::to_string(target.framebuffer) + ", whose attachments are " +
+                          size_text(extent.x, extent.y));
+    Viewport vp = frame.viewport;
+    if (vp.width == 0 && vp.height == 0) vp = Viewport{0, 0, target.width, target.height};
+    PlanView view;
+    view.view = frame.view;
+    view.projection = frame.projection;
+    view.width = vp.width;
+    view.height = vp.height;
+    view.models = frame.models;
+    Result<int> planned = apply_plans(view);
+    if (!planned) return planned.error();
     // Debug outputs: alpha marks drawn pixels, -1 (float target) or 0 (packed) where nothing is.
-    const glm::vec4 clear = debug_output == 0 ? glm::vec4(scene.background, 1.0f)
-                                              : glm::vec4(0.0f, 0.0f, 0.0f, debug_output == 1 ? -1.0f : 0.0f);
-    if (target.width != scene_->plan_width || target.height != scene_->plan_height) {
-        // The plan depends on the image size (texels per pixel): plan again.
-        Result<int> planned = apply_plans(scene_->camera, target.width, target.height);
-        if (!planned) return planned.error();
-        glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
-    }
-    set_draw_state(caps_, target, clear);
-    const FrameValues frame = frame_values(scene, scene_->camera, target);
-
-    for (const GpuObject& object : scene_->objects) {
+    const SceneDesc& scene = prepared_->desc;
+    const std::uint8_t debug = frame.debug_output;
+    const glm::vec4 clear = debug == 0 ? glm::vec4(scene.background, 1.0f)
+                                       : glm::vec4(0.0f, 0.0f, 0.0f, debug == 1 ? -1.0f : 0.0f);
+    set_draw_state(caps_, frame, vp, clear);
+    const FrameValues values = frame_values(scene, frame);
+    for (size_t i = 0; i < scene_->objects.size(); ++i) {
+        const GpuObject& object = scene_->objects[i];
         VariantKey key = object.plan.key;
-        key.debug_output = debug_output;
-        Status s = draw_object(*scene_, object, key, object.plan.options, frame);
+        key.debug_output = debug;
+        const glm::mat4 model = frame.models.empty() ? object.desc->transform.matrix() : frame.models[i];
+        Status s = draw_object(*scene_, object, model, key, object.plan.options, values);
         if (!s) return s;
     }
-    return {};
+    ++stats_.frames;
+    stats_.objects_drawn += scene_->objects.size();
+    return check_gl("drawing scene '" + echo(scene.name) + "'");
 }
 
 Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, const RenderTarget& warm_target) {
+    if (Status c = check_context("prepare"); !c) return c;
     if (!scene_) return make_error("prepare: no scene loaded");
     if (warm_target.width < 1 || warm_target.height < 1) return make_error("prepare: the warm-up target is empty");
-    SavedGlState saved(caps_);
+    std::optional<SavedGlState> saved;
+    if (preserve_host_state_) saved.emplace(caps_);
     glBindFramebuffer(GL_FRAMEBUFFER, warm_target.framebuffer);
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -607,8 +818,10 @@ Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, con
     // Drivers finish compiling at a program's first draw (Mesa's llvmpipe
     // JITs its shader variant then): draw each object once with each
     // variant it will need, so that no frame of the path pays for it.
-    set_draw_state(caps_, warm_target, glm::vec4(0.0f));
-    const FrameValues frame = frame_values(scene_->desc, scene_->camera, warm_target);
+    HostFrame frame = scene_frame(warm_target);
+    const Viewport whole{0, 0, warm_target.width, warm_target.height};
+    set_draw_state(caps_, frame, whole, glm::vec4(0.0f));
+    const FrameValues values = frame_values(prepared_->desc, frame);
     std::vector<std::vector<std::uint64_t>> warmed(scene_->objects.size());
     for (const std::vector<ObjectPlan>& plans : frames) {
         if (plans.size() != scene_->objects.size())
@@ -618,12 +831,13 @@ Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, con
             const std::uint64_t bits = plans[i].key.bits();
             if (std::find(warmed[i].begin(), warmed[i].end(), bits) != warmed[i].end()) continue;
             warmed[i].push_back(bits);
-            Status s = draw_object(*scene_, scene_->objects[i], plans[i].key, plans[i].options, frame);
+            const GpuObject& object = scene_->objects[i];
+            Status s = draw_object(*scene_, object, object.desc->transform.matrix(), plans[i].key, plans[i].options, values);
             if (!s) return s;
         }
     }
     glFinish();
-    return {};
+    return check_gl("warming the programs of scene '" + echo(prepared_->desc.name) + "'");
 }
 
 }  // namespace px

@@ -1,6 +1,8 @@
-// Draws a scene into a framebuffer of the current context. The renderer never
-// creates or owns a context: the host app (or platform/ in headless runs)
-// makes one current, then loads a scene and draws it into any framebuffer.
+// Draws a prepared scene into a framebuffer of the current context, as part of
+// the host's own frame. The renderer never creates or owns a context: the
+// host app (or platform/ in headless runs) makes one current, loads a scene
+// once, then each frame calls draw() with its own camera, viewport, object
+// transforms and depth buffer, between its own draws.
 #pragma once
 
 #include <functional>
@@ -8,16 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/variant.h"
-#include "gl/caps.h"
-#include "planner/planner.h"
-#include "gl/errors.h"
-#include "gl/program.h"
-#include "render/target.h"
-#include "gl/texture.h"
-#include "scene/material_images.h"
-#include "scene/scene.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/gl/caps.h"
+#include "parallaxes/planner/planner.h"
+#include "parallaxes/gl/errors.h"
+#include "parallaxes/gl/program.h"
+#include "parallaxes/render/target.h"
+#include "parallaxes/gl/texture.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/prepared_scene.h"
+#include "parallaxes/scene/scene.h"
 
 namespace px {
 
@@ -56,6 +59,22 @@ struct RendererOptions {
     // Decode every texture file on the CPU and upload RGBA8, even where the
     // context samples its format (tests of the fallback path).
     bool force_texture_decode = false;
+    // Save every piece of GL state the library touches before each call and
+    // restore it after (gl/state.h has the list). A host that sets its own
+    // state before each of its draws may turn this off: the library then
+    // leaves behind what its draw set (its program, textures on units 0-3,
+    // buffers, vertex array and attributes 0-3, viewport, depth test, depth
+    // mask and function, cull face, front face, blend and scissor off, and
+    // the framebuffer binding). docs/host-integration.md has the measured saving.
+    bool preserve_host_state = true;
+    // Names the context that is current (e.g. eglGetCurrentContext); the
+    // renderer records it at create() and refuses every later call made
+    // while another context (or none) is current, with an error instead of
+    // a driver crash. Empty: looked up through get_proc_address
+    // ("eglGetCurrentContext"); where neither is given the renderer cannot
+    // tell contexts apart, and the host must keep the renderer's context
+    // current (or share objects with it) whenever it calls the renderer.
+    std::function<const void*()> current_context;
     // Draw as a context without GL_OES_texture_npot would (ES 2.0): every
     // non-power-of-two texture is resampled (tests of that path).
     bool emulate_no_texture_npot = false;
@@ -72,6 +91,43 @@ struct DrawReport {
     ObjectPlan plan;                 // the planner's whole answer: view, prediction, notes
 };
 
+// A rectangle of the target in pixels, from its lower left corner (as glViewport).
+struct Viewport {
+    int x = 0, y = 0;
+    int width = 0, height = 0;  // 0 x 0: the whole target
+};
+
+// One frame as the host draws it (planned and drawn by Renderer::draw).
+struct HostFrame {
+    HostFrame() = default;
+    explicit HostFrame(const RenderTarget& t) : target(t) {}
+
+    RenderTarget target;       // the framebuffer the host draws into, and its size in pixels
+    Viewport viewport;         // where in it the scene is drawn; empty: the whole target
+    glm::mat4 view{1.0f};      // the host's camera: view and projection matrices
+    glm::mat4 projection{1.0f};
+    // Each object's model transform this frame, in scene order; empty: the
+    // transforms of the scene description.
+    std::vector<glm::mat4> models;
+    // By default nothing is cleared: the scene is depth-tested against the
+    // host's depth buffer and drawn over its colour. Clears stay inside
+    // the viewport; colour is cleared to the scene's background.
+    bool clear_color = false;
+    bool clear_depth = false;
+    std::uint8_t debug_output = 0;  // VariantKey::debug_output (render/surface_capture.h)
+
+    // A camera description as view and projection matrices, for a viewport
+    // of this size (its aspect ratio).
+    static HostFrame from_camera(const CameraDesc& camera, const RenderTarget& target);
+};
+
+// How the library reached the current frame: counts since create().
+struct RendererStats {
+    std::uint64_t frames = 0;         // draw() calls that drew
+    std::uint64_t plans = 0;          // frames the objects were planned for (the others reused a plan)
+    std::uint64_t objects_drawn = 0;
+};
+
 class Renderer {
 public:
     // Needs a current OpenGL ES 2.0 or 3.x context.
@@ -82,23 +138,46 @@ public:
 
     const Caps& caps() const { return caps_; }
 
-    // Uploads meshes and textures and builds the programs the scene needs.
-    // Replaces any scene loaded before. Errors name the object or material.
+    // How scenes must be prepared for this context (texture sizes it can
+    // sample): pass to prepare_scene, or let load(SceneDesc) do it.
+    PrepareOptions prepare_options() const;
+    // Uploads a prepared scene's meshes and textures, and builds the programs
+    // of the materials that name their technique (so that a shader error
+    // surfaces here); variants the planner picks per frame are built at the
+    // frame that first draws them. Replaces any scene loaded before. Errors
+    // name the object or material. The prepared scene is shared, not copied:
+    // the exact reference and the benchmark read the same one.
+    Status load(std::shared_ptr<const PreparedScene> scene);
+    // prepare_scene(scene, prepare_options()), then load.
     Status load(const SceneDesc& scene);
-    // Draws the loaded scene into `target`. Every piece of GL state the
-    // renderer changes is restored afterwards for the host app (the list is
-    // in gl/state.h), and state the host left set that would change the
-    // image (scissor, stencil, blend, colour mask, sampler objects, ...) is
-    // set aside for the draw. `load` restores the host's state the same way.
-    // `debug_output` (VariantKey::debug_output) draws what each shader
-    // computed instead of colour; see render/surface_capture.h.
-    // A target of another size than the plans were made for is planned
-    // again first (the plan depends on texels per pixel).
-    Status draw(const RenderTarget& target, std::uint8_t debug_output = 0);
+    // Replaces one material (by name) of the loaded scene: only its textures
+    // (and meshes displaced from it) are built and uploaded again. On error
+    // the loaded scene is unchanged.
+    Status replace_material(const MaterialDesc& material);
+    // The loaded scene (null before a load).
+    const std::shared_ptr<const PreparedScene>& prepared() const { return prepared_; }
 
-    // Moving cameras: plans every object again for this camera and image
-    // size, and draws from then on with that camera. Returns how many
-    // objects changed variant. Cheap (no GL unless a new variant must be
+    // Plans and draws the loaded scene as part of the host's frame: into
+    // frame.target's framebuffer, inside frame.viewport, with the host's
+    // view, projection and object transforms, depth-tested (GL_LESS)
+    // against the host's depth buffer, with depth written (corrected where
+    // the plan writes gl_FragDepth). Nothing is cleared unless asked. The
+    // objects are planned again only when the frame's camera, viewport
+    // size or transforms changed. Every piece of GL state the renderer
+    // changes is restored afterwards (gl/state.h has the list) unless
+    // RendererOptions::preserve_host_state is off, and state the host left
+    // set that would change the image (scissor, stencil, blend, colour
+    // mask, sampler objects, ...) is set aside for the draw.
+    Status draw(const HostFrame& frame);
+    // What `parallax render` draws: scene_frame(target, debug_output).
+    Status draw(const RenderTarget& target, std::uint8_t debug_output = 0);
+    // The whole target seen from the camera of the last set_view (at first,
+    // the scene's), cleared to the scene's background first.
+    HostFrame scene_frame(const RenderTarget& target, std::uint8_t debug_output = 0) const;
+
+    // Moving cameras for draw(target): plans every object again for this
+    // camera and image size, and draws from then on with that camera.
+    // Returns how many objects changed variant. Cheap (no GL unless a new variant must be
     // compiled: call prepare() first to keep compiles out of the frame).
     Result<int> set_view(const CameraDesc& camera, int width, int height);
     // The plans for a view, without applying them.
@@ -121,11 +200,14 @@ public:
     // the textures this context draws (scene/material_images.h).
     MaterialImageOptions material_image_options() const;
     size_t program_count() const;
+    const RendererStats& stats() const { return stats_; }
     // How the loaded scene's programs were made (compiled, from binaries,
     // stored entries rejected); all zero before a load.
     ProgramStats program_stats() const;
 
-    // Deletes every GL object (context still current).
+    // Deletes every GL object (its context current: with another current,
+    // it forgets them instead, as abandon(), rather than delete another
+    // context's objects of the same names).
     void release();
     // After a context loss: forgets every GL object without calling GL.
     void abandon();
@@ -133,9 +215,16 @@ public:
     struct GpuScene;
 
 private:
-    Status load_checked(const SceneDesc& scene);
-    Result<int> apply_plans(const CameraDesc& camera, int width, int height);
+    Status load_checked(std::shared_ptr<const PreparedScene> scene);
+    Result<int> apply_plans(const PlanView& view);
+    Status check_context(const char* what) const;
+    Status draw_checked(const HostFrame& frame);
     Renderer() = default;
+    std::shared_ptr<const PreparedScene> prepared_;
+    std::function<const void*()> current_context_;
+    const void* context_ = nullptr;  // the context create() ran in (when current_context_ can tell)
+    bool preserve_host_state_ = true;
+    RendererStats stats_;
     Caps caps_;
     ShaderTransform shader_transform_;
     std::function<VariantKey(const VariantKey&)> variant_transform_;

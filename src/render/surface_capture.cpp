@@ -1,13 +1,13 @@
-#include "render/surface_capture.h"
+#include "parallaxes/render/surface_capture.h"
 
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "gl/errors.h"
-#include "gl/framebuffer.h"
-#include "gl/handles.h"
-#include "gl/state.h"
+#include "parallaxes/gl/errors.h"
+#include "parallaxes/gl/framebuffer.h"
+#include "parallaxes/gl/handles.h"
+#include "parallaxes/gl/state.h"
 
 namespace px {
 

@@ -8,9 +8,9 @@
 // anyway. Restores every piece of GL state it changes (gl/state.h).
 #pragma once
 
-#include "core/result.h"
-#include "core/surface_image.h"
-#include "render/renderer.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/core/surface_image.h"
+#include "parallaxes/render/renderer.h"
 
 namespace px {
 

@@ -3,7 +3,7 @@
 // platform/ makes an offscreen one for headless runs.
 #pragma once
 
-#include "gl/gl.h"
+#include "parallaxes/gl/gl.h"
 
 namespace px {
 

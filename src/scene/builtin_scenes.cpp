@@ -1,7 +1,7 @@
 // Scenes built into the program, written in C++ so they need no files. The
 // scene's up axis is +z; planes lie in the xy plane with u along +x, v along +y.
-#include "scene/scene.h"
-#include "core/text.h"
+#include "parallaxes/scene/scene.h"
+#include "parallaxes/core/text.h"
 
 #include <cmath>
 #include <utility>

@@ -1,11 +1,12 @@
-#include "scene/material_images.h"
-#include "core/text.h"
+#include "parallaxes/core/counters.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/core/text.h"
 
-#include "core/limits.h"
-#include "core/numeric.h"
-#include "scene/scene_format.h"
-#include "texture/containers.h"
-#include "texture/decode.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/numeric.h"
+#include "parallaxes/scene/scene_format.h"
+#include "parallaxes/texture/containers.h"
+#include "parallaxes/texture/decode.h"
 
 #include <algorithm>
 #include <cctype>
@@ -188,6 +189,7 @@ std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_s
 
 Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::string& base_dir,
                                              const MaterialImageOptions& options) {
+    counters::count(counters::Step::image_build);
     Result<MaterialImages> built = build_material_images_as_given(m, base_dir);
     if (!built) return built;
     MaterialImages& out = *built;

@@ -4,12 +4,12 @@
 
 #include <optional>
 
-#include "assets/heightfield.h"
-#include "assets/image.h"
-#include "core/result.h"
-#include "effects/variant.h"
-#include "scene/scene.h"
-#include "texture/texture_data.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/scene/scene.h"
+#include "parallaxes/texture/texture_data.h"
 
 namespace px {
 

@@ -1,6 +1,7 @@
-#include "scene/mesh.h"
-#include "core/text.h"
-#include "core/limits.h"
+#include "parallaxes/core/counters.h"
+#include "parallaxes/scene/mesh.h"
+#include "parallaxes/core/text.h"
+#include "parallaxes/core/limits.h"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +9,7 @@
 #include <cstddef>
 #include <string>
 
-#include "core/numeric.h"
+#include "parallaxes/core/numeric.h"
 
 namespace px {
 
@@ -420,6 +421,7 @@ DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm:
 
 Result<Mesh> make_displaced_plane(float size, const HeightField& field, const glm::dmat2& uv_matrix,
                                   const glm::dvec2& uv_offset, float height_scale, float polygon_height) {
+    counters::count(counters::Step::mesh_build);
     if (field.width < 1 || field.height < 1) return make_error("displaced plane: the height field is empty");
     const DisplacedGrid grid = displaced_plane_grid(field.width, field.height, uv_matrix);
     const std::int64_t vertex_count = grid.vertex_count();

@@ -9,8 +9,8 @@
 
 #include <glm/glm.hpp>
 
-#include "assets/heightfield.h"
-#include "core/result.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/core/result.h"
 
 namespace px {
 

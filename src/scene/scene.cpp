@@ -2,8 +2,9 @@
 // path of the offending field; and the scene description's small methods.
 // No JSON here: a host app that builds its scene in code links this without
 // the parser (scene_json.cpp).
-#include "scene/scene.h"
-#include "core/text.h"
+#include "parallaxes/core/counters.h"
+#include "parallaxes/scene/scene.h"
+#include "parallaxes/core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,9 +13,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/limits.h"
-#include "core/numeric.h"
-#include "scene/scene_format.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/numeric.h"
+#include "parallaxes/scene/scene_format.h"
 
 namespace px {
 
@@ -242,6 +243,7 @@ const MaterialDesc* SceneDesc::find_material(const std::string& material_name) c
 }
 
 Status validate_scene(const SceneDesc& scene) {
+    counters::count(counters::Step::validation);
     Checker c;
     check_name(c, scene.name, "name", 255);  // a file's stem is the default: up to 255 bytes
     check_camera(c, scene.camera);
@@ -274,6 +276,7 @@ Status validate_scene(const SceneDesc& scene) {
 }
 
 Mesh build_object_mesh(const MeshDesc& d) {
+    counters::count(counters::Step::mesh_build);
     switch (d.kind) {
         case MeshKind::plane: return make_plane(d.size, d.segments, d.tangent, d.normal);
         case MeshKind::cube: return make_cube(d.size);

@@ -10,11 +10,11 @@
 
 #include <glm/glm.hpp>
 
-#include "assets/heightfield.h"
-#include "core/result.h"
-#include "effects/effects.h"
-#include "effects/technique.h"
-#include "scene/mesh.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/effects.h"
+#include "parallaxes/effects/technique.h"
+#include "parallaxes/scene/mesh.h"
 
 namespace px {
 
@@ -170,10 +170,15 @@ Result<SceneDesc> builtin_scene(const std::string& name);
 // the offending field (e.g. materials[1].technique) for unknown fields,
 // wrong types and bad values.
 Result<SceneDesc> parse_scene(const std::string& json_text, const std::string& origin);
+// What loading checks: everything (value ranges, cross references, resource
+// limits with file headers read), or the syntax, the fields and that texture
+// files exist only, for a caller that hands the description straight to
+// prepare_scene (scene/prepared_scene.h), which validates it once.
+enum class SceneChecks { validate, syntax_only };
 // Reads and parses a scene file.
-Result<SceneDesc> load_scene_file(const std::string& path);
+Result<SceneDesc> load_scene_file(const std::string& path, SceneChecks checks = SceneChecks::validate);
 // Either a built-in scene's name or a path to a JSON file.
-Result<SceneDesc> load_scene(const std::string& name_or_path);
+Result<SceneDesc> load_scene(const std::string& name_or_path, SceneChecks checks = SceneChecks::validate);
 
 // Checks cross references (object -> material) and value ranges.
 Status validate_scene(const SceneDesc& scene);

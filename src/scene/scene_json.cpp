@@ -2,8 +2,8 @@
 // and column for malformed JSON, or the JSON path of the offending field
 // otherwise; the format is described in docs/scene-format.md. The value
 // checks are scene.cpp's validate_scene.
-#include "scene/scene.h"
-#include "core/text.h"
+#include "parallaxes/scene/scene.h"
+#include "parallaxes/core/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -25,10 +25,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/files.h"
-#include "core/limits.h"
-#include "scene/material_images.h"
-#include "scene/scene_format.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/scene_format.h"
 
 namespace px {
 
@@ -627,19 +627,23 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }  // namespace
 
 namespace {
-Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::string& origin);
+Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::string& origin, bool validate);
 }  // namespace
 
-Result<SceneDesc> parse_scene(const std::string& json_text, const std::string& origin) {
+static Result<SceneDesc> parse_scene_limited(const std::string& json_text, const std::string& origin, bool validate) {
     if (json_text.size() > kMaxSceneFileBytes)
         return make_error(echo_path(origin) + ": the scene is larger than the limit of " +
                           std::to_string(kMaxSceneFileBytes >> 20) + " MiB");
-    return out_of_memory_is_an_error(echo_path(origin), [&] { return parse_scene_text(json_text, origin); });
+    return out_of_memory_is_an_error(echo_path(origin), [&] { return parse_scene_text(json_text, origin, validate); });
+}
+
+Result<SceneDesc> parse_scene(const std::string& json_text, const std::string& origin) {
+    return parse_scene_limited(json_text, origin, true);
 }
 
 namespace {
 
-Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::string& origin) {
+Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::string& origin, bool validate) {
     const auto at = [&](std::size_t byte) {
         const auto [line, column] = line_column(json_text, byte);
         return origin + ":" + std::to_string(line) + ":" + std::to_string(column);
@@ -674,6 +678,7 @@ Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::stri
     if (wants_default && !scene.find_material(kDefaultMaterial))
         scene.materials.push_back(default_material(kDefaultMaterial));
 
+    if (!validate) return scene;  // prepare_scene validates it
     if (Status s = validate_scene(scene); !s) return with_context(origin, s.error());
     // Procedural sizes now; files' headers once their paths are resolved.
     if (Status s = check_scene_resources(scene, false); !s) return with_context(origin, s.error());
@@ -682,10 +687,11 @@ Result<SceneDesc> parse_scene_text(const std::string& json_text, const std::stri
 
 }  // namespace
 
-Result<SceneDesc> load_scene_file(const std::string& path) {
+Result<SceneDesc> load_scene_file(const std::string& path, SceneChecks checks) {
     Result<std::string> text = read_text_file(path);
     if (!text) return text.error();
-    Result<SceneDesc> scene = parse_scene(*text, path);
+    const bool validate = checks == SceneChecks::validate;
+    Result<SceneDesc> scene = parse_scene_limited(*text, path, validate);
     if (!scene) return scene;
 
     std::error_code ec;
@@ -711,17 +717,18 @@ Result<SceneDesc> load_scene_file(const std::string& path) {
             source->path = resolved.string();
         }
     }
+    if (!validate) return scene;
     if (Status s = check_scene_resources(*scene, true); !s) return with_context(path, s.error());
     return scene;
 }
 
-Result<SceneDesc> load_scene(const std::string& name_or_path) {
+Result<SceneDesc> load_scene(const std::string& name_or_path, SceneChecks checks) {
     const std::vector<std::string> builtins = builtin_scene_names();
     if (std::find(builtins.begin(), builtins.end(), name_or_path) != builtins.end())
         return builtin_scene(name_or_path);
     std::error_code ec;
     if (ends_with(name_or_path, ".json") || fs::is_regular_file(name_or_path, ec))
-        return load_scene_file(name_or_path);
+        return load_scene_file(name_or_path, checks);
     return make_error("unknown scene '" + echo_path(name_or_path) + "': neither a built-in scene (" + joined(builtins) +
                       ") nor a scene file");
 }

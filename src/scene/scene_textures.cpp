@@ -1,11 +1,11 @@
-#include "scene/scene_textures.h"
+#include "parallaxes/scene/scene_textures.h"
 
 #include <chrono>
 #include <filesystem>
 
-#include "core/files.h"
-#include "core/text.h"
-#include "scene/material_images.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/text.h"
+#include "parallaxes/scene/material_images.h"
 
 namespace px {
 

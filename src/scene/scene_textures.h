@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "scene/scene.h"
-#include "texture/containers.h"
-#include "texture/convert.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/scene/scene.h"
+#include "parallaxes/texture/containers.h"
+#include "parallaxes/texture/convert.h"
 
 namespace px {
 struct ConvertOptions {

@@ -1,4 +1,4 @@
-#include "shaders/conditional.h"
+#include "parallaxes/shaders/conditional.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "shaders/effect_code.h"
+#include "parallaxes/shaders/effect_code.h"
 
 #include <cctype>
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "effects/variant.h"
-#include "shaders/shader_source.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px {
 

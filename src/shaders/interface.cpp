@@ -1,4 +1,4 @@
-#include "shaders/interface.h"
+#include "parallaxes/shaders/interface.h"
 
 #include <optional>
 #include <sstream>

@@ -13,9 +13,9 @@
 #include <cstdint>
 #include <string>
 
-#include "core/limits.h"
-#include "core/result.h"
-#include "effects/variant.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
 
 namespace px::shader {
 

@@ -1,7 +1,7 @@
-#include "shaders/shader_source.h"
+#include "parallaxes/shaders/shader_source.h"
 
-#include "shaders/conditional.h"
-#include "shaders/interface.h"
+#include "parallaxes/shaders/conditional.h"
+#include "parallaxes/shaders/interface.h"
 
 #include <algorithm>
 #include <iterator>

@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/result.h"
-#include "effects/variant.h"
-#include "shaders/conditional.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/shaders/conditional.h"
 
 namespace px {
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "texture/codecs.h"
+#include "parallaxes/texture/codecs.h"
 
 namespace px {
 

@@ -22,8 +22,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/result.h"
-#include "texture/format.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/texture/format.h"
 
 namespace px {
 

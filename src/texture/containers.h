@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "texture/texture_data.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/texture/texture_data.h"
 
 namespace px {
 

@@ -1,10 +1,10 @@
-#include "texture/convert.h"
+#include "parallaxes/texture/convert.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/numeric.h"
-#include "texture/codecs.h"
+#include "parallaxes/core/numeric.h"
+#include "parallaxes/texture/codecs.h"
 
 namespace px {
 

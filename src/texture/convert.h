@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "assets/heightfield.h"
-#include "assets/image.h"
-#include "core/result.h"
-#include "texture/texture_data.h"
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/texture/texture_data.h"
 
 namespace px {
 

@@ -1,9 +1,9 @@
-#include "texture/decode.h"
+#include "parallaxes/texture/decode.h"
 
 #include <algorithm>
 #include <string>
 
-#include "texture/codecs.h"
+#include "parallaxes/texture/codecs.h"
 
 namespace px {
 

@@ -11,7 +11,7 @@
 #include <cstring>
 #include <string>
 
-#include "texture/codecs.h"
+#include "parallaxes/texture/codecs.h"
 
 namespace px {
 

@@ -1,6 +1,6 @@
-#include "texture/format.h"
+#include "parallaxes/texture/format.h"
 
-#include "texture/texture_data.h"
+#include "parallaxes/texture/texture_data.h"
 
 #include <algorithm>
 #include <cctype>

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "core/caps.h"
-#include "core/result.h"
+#include "parallaxes/core/caps.h"
+#include "parallaxes/core/result.h"
 
 namespace px {
 

@@ -24,8 +24,8 @@
 #include <cstring>
 #include <string>
 
-#include "core/limits.h"
-#include "texture/containers.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/texture/containers.h"
 
 namespace px {
 

@@ -9,8 +9,8 @@
 #include <cstring>
 #include <string>
 
-#include "core/limits.h"
-#include "texture/containers.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/texture/containers.h"
 
 namespace px {
 

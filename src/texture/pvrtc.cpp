@@ -36,7 +36,7 @@
 #include <limits>
 #include <string>
 
-#include "texture/codecs.h"
+#include "parallaxes/texture/codecs.h"
 
 namespace px {
 

@@ -1,6 +1,6 @@
-#include "texture/texture_data.h"
+#include "parallaxes/texture/texture_data.h"
 
-#include "core/limits.h"
+#include "parallaxes/core/limits.h"
 
 namespace px {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result.h"
-#include "texture/format.h"
+#include "parallaxes/core/result.h"
+#include "parallaxes/texture/format.h"
 
 namespace px {
 

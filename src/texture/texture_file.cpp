@@ -3,10 +3,10 @@
 #include <cstring>
 #include <string>
 
-#include "core/files.h"
-#include "core/limits.h"
-#include "core/text.h"
-#include "texture/containers.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/core/text.h"
+#include "parallaxes/texture/containers.h"
 
 namespace px {
 

@@ -5,8 +5,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "assets/image.h"
-#include "core/limits.h"
+#include "parallaxes/assets/image.h"
+#include "parallaxes/core/limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     // One channel count per input, chosen by its first byte, so each

@@ -8,9 +8,9 @@
 #include <memory>
 #include <string>
 
-#include "planner/planner.h"
-#include "scene/material_images.h"
-#include "scene/scene.h"
+#include "parallaxes/planner/planner.h"
+#include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/scene.h"
 
 namespace {
 

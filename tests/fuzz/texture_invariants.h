@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/limits.h"
-#include "texture/containers.h"
+#include "parallaxes/core/limits.h"
+#include "parallaxes/texture/containers.h"
 
 namespace px_fuzz {
 
