@@ -7,6 +7,8 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <string>
 
 #include <GLES2/gl2.h>
@@ -14,6 +16,26 @@
 namespace px::platform {
 
 namespace {
+
+// Live HeadlessContexts per display: eglInitialize on an initialised display
+// does nothing, eglTerminate ends it for all, so the last one terminates it.
+std::mutex g_display_mutex;
+std::map<EGLDisplay, int> g_display_users;
+
+void retain_display(EGLDisplay display) {
+    std::lock_guard<std::mutex> lock(g_display_mutex);
+    ++g_display_users[display];
+}
+
+// Whether this was the display's last user.
+bool release_display(EGLDisplay display) {
+    std::lock_guard<std::mutex> lock(g_display_mutex);
+    auto it = g_display_users.find(display);
+    if (it == g_display_users.end()) return true;
+    if (--it->second > 0) return false;
+    g_display_users.erase(it);
+    return true;
+}
 
 const char* egl_error_name(EGLint e) {
     switch (e) {
@@ -69,6 +91,7 @@ struct HeadlessContext::Egl {
     PFNEGLDESTROYCONTEXTPROC DestroyContext = nullptr;
     PFNEGLMAKECURRENTPROC MakeCurrent = nullptr;
     PFNEGLRELEASETHREADPROC ReleaseThread = nullptr;
+    PFNEGLGETCURRENTCONTEXTPROC GetCurrentContext = nullptr;
 
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLContext context = EGL_NO_CONTEXT;
@@ -79,10 +102,17 @@ struct HeadlessContext::Egl {
 
     ~Egl() {
         if (display != EGL_NO_DISPLAY) {
-            MakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            // Release only this context: another one of the process may be
+            // current. eglTerminate ends every context of the display (one
+            // per process for the surfaceless platform), so only the last
+            // HeadlessContext on it terminates it.
+            if (context != EGL_NO_CONTEXT && (!GetCurrentContext || GetCurrentContext() == context))
+                MakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
             if (context != EGL_NO_CONTEXT) DestroyContext(display, context);
-            Terminate(display);
-            ReleaseThread();
+            if (release_display(display)) {
+                Terminate(display);
+                ReleaseThread();
+            }
         }
         // libEGL stays loaded: Mesa's drivers register exit handlers.
     }
@@ -133,6 +163,7 @@ Result<std::unique_ptr<HeadlessContext>> HeadlessContext::create(const ContextOp
     PX_LOAD(DestroyContext, "eglDestroyContext");
     PX_LOAD(MakeCurrent, "eglMakeCurrent");
     PX_LOAD(ReleaseThread, "eglReleaseThread");
+    PX_LOAD(GetCurrentContext, "eglGetCurrentContext");
 #undef PX_LOAD
     if (!egl->GetError || !egl->QueryString || !egl->GetDisplay || !egl->Initialize || !egl->Terminate ||
         !egl->BindAPI || !egl->ChooseConfig || !egl->CreateContext || !egl->DestroyContext || !egl->MakeCurrent ||
@@ -191,6 +222,7 @@ Result<std::unique_ptr<HeadlessContext>> HeadlessContext::create(const ContextOp
         egl->display = EGL_NO_DISPLAY;
         return make_error(message + "; " + kInstallHint);
     }
+    retain_display(egl->display);
     description += ", EGL " + std::to_string(egl_major) + "." + std::to_string(egl_minor);
     const char* display_extensions = egl->QueryString(egl->display, EGL_EXTENSIONS);
     if (!has_word(display_extensions, "EGL_KHR_surfaceless_context"))

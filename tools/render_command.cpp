@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "parallaxes/core/counters.h"
 #include "parallaxes/platform/headless_context.h"
 #include "program_binary_files.h"
 #include "parallaxes/render/offscreen_target.h"
@@ -41,6 +42,7 @@ struct RenderArgs {
     std::string program_cache;  // empty: default_program_cache_dir(); "off": none
     std::string textures;       // "": the scene's own; else an asset variant (texture/convert.h)
     bool decode_textures = false;
+    bool stats = false;
 };
 
 // The camera of frame i of n along a path: orbit turns it around the
@@ -84,7 +86,11 @@ int run_render(const RenderArgs& a) {
 
     if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
         return fail("--camera-path must be orbit or dolly, got '" + a.camera_path + "'");
-    Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene);
+    // The scene is validated once, by prepare_scene below, unless the asset
+    // step converts its textures first (it needs a valid scene).
+    const SceneChecks checks = a.textures.empty() ? SceneChecks::syntax_only : SceneChecks::validate;
+    const PipelineCounters counters_before = pipeline_counters();
+    Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene, checks);
     if (!scene) return fail(scene.error().message);
     if (!a.technique.empty()) {
         Result<Technique> t = parse_technique(a.technique);
@@ -128,7 +134,10 @@ int run_render(const RenderArgs& a) {
     Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
 
-    Status loaded = (*renderer)->load(*scene);
+    // One preparation of the scene, for this context's texture rules.
+    Result<std::shared_ptr<const PreparedScene>> prepared = prepare_scene(*scene, (*renderer)->prepare_options());
+    if (!prepared) return fail(in_scene_file(scene->source, prepared.error().message));
+    Status loaded = (*renderer)->load(*prepared);
     if (!loaded) return fail(in_scene_file(scene->source, loaded.error().message));
 
     // A camera path: every frame's plan is known before the first, so the
@@ -196,6 +205,15 @@ int run_render(const RenderArgs& a) {
     Status written = write_png(output, *image);
     if (!written) return fail(written.error().message);
 
+    if (a.stats) {
+        const PipelineCounters c = pipeline_counters() - counters_before;
+        std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
+                    "%llu object plan(s) over %llu frame(s) drawn, %llu program(s) built\n",
+                    static_cast<unsigned long long>(c.validations), static_cast<unsigned long long>(c.image_builds),
+                    static_cast<unsigned long long>(c.mesh_builds), static_cast<unsigned long long>(c.object_plans),
+                    static_cast<unsigned long long>((*renderer)->stats().frames),
+                    static_cast<unsigned long long>(c.programs_built));
+    }
     const Caps& caps = (*renderer)->caps();
     std::printf("scene      %s%s\n", scene->name.c_str(), a.technique.empty() ? "" : (" (every material: " + a.technique + ")").c_str());
     std::printf("context    %s | %s | %s\n", caps.version.c_str(), caps.renderer.c_str(),
@@ -262,6 +280,8 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--decode-textures", args->decode_textures,
                   "Decode every texture file on the CPU (RGBA8 upload) even where the context samples its format");
     cmd->add_flag("--list", args->list, "List techniques and built-in scenes");
+    cmd->add_flag("--stats", args->stats,
+                  "Print how often the pipeline validated, built images and meshes, planned and built programs");
     cmd->add_flag("--explain", args->explain,
                   "Print the plan per object: effects asked for, variant chosen, prediction, what was dropped and why");
     cmd->add_option("--camera-path", args->camera_path,

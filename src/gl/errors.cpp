@@ -41,6 +41,12 @@ std::string program_info_log(GLuint program) {
     return log;
 }
 
+void discard_pending_errors() {
+    for (int i = 0; i < 16 && glGetError() != GL_NO_ERROR; ++i) {
+    }
+    (void)take_debug_messages();
+}
+
 Status check_gl(const std::string& where) {
     std::string errors;
     // Bounded: a lost context may report errors forever.

@@ -15,6 +15,11 @@ const char* gl_enum_name(GLenum e);
 // Drains glGetError; an error names `where` and every pending error code.
 Status check_gl(const std::string& where);
 
+// Reads and discards errors the host left pending (GL keeps no way to put
+// them back), so that the library's checks report only its own; called on
+// entry to each call of the library that checks for errors.
+void discard_pending_errors();
+
 // The program's info log (the driver's link messages), without its NUL.
 std::string program_info_log(GLuint program);
 

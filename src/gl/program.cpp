@@ -177,7 +177,8 @@ Result<std::unique_ptr<Program>> Program::adopt(ProgramHandle program, const Var
         const GLint location = p->uniforms_[static_cast<std::size_t>(s.uniform)];
         if (location >= 0) glUniform1i(location, s.unit);
     }
-    glUseProgram(static_cast<GLuint>(previous));
+    // (A previous program the host deleted while current is gone now.)
+    glUseProgram(previous != 0 && glIsProgram(static_cast<GLuint>(previous)) ? static_cast<GLuint>(previous) : 0);
     Status s = check_gl("building variant '" + description + "'");
     if (!s) return s.error();
     p->handle_ = std::move(program);

@@ -165,7 +165,11 @@ SavedGlState::~SavedGlState() {
     glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(s.array_buffer));
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLuint>(s.element_buffer));
     glBindRenderbuffer(GL_RENDERBUFFER, static_cast<GLuint>(s.renderbuffer));
-    glUseProgram(static_cast<GLuint>(s.program));
+    // A program the host deleted while it was current lives only as long as
+    // it stays current: once the library's draw replaced it, it is gone, and
+    // making it current again would be GL_INVALID_VALUE. Then none is.
+    const GLuint program = static_cast<GLuint>(s.program);
+    glUseProgram(program != 0 && glIsProgram(program) ? program : 0);
     for (int i = 0; i < kLibraryTextureUnits; ++i) {
         glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
         glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(s.textures[static_cast<size_t>(i)]));

@@ -571,6 +571,7 @@ Status Renderer::load(std::shared_ptr<const PreparedScene> scene) {
 }
 
 Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
+    discard_pending_errors();
     std::optional<SavedGlState> saved;
     if (preserve_host_state_) saved.emplace(caps_);
     set_unpack_defaults(caps_);
@@ -628,6 +629,7 @@ Status Renderer::replace_material(const MaterialDesc& material) {
     const PreparedScene& p = **next;
     const size_t mi = p.desc.material_index(material.name);
     return out_of_memory_is_an_error("replacing material '" + echo(material.name) + "'", [&]() -> Status {
+        discard_pending_errors();
         std::optional<SavedGlState> saved;
         if (preserve_host_state_) saved.emplace(caps_);
         set_unpack_defaults(caps_);
@@ -718,6 +720,7 @@ Result<int> Renderer::set_view(const CameraDesc& camera, int width, int height) 
 Status Renderer::prepare(const std::vector<VariantKey>& keys) {
     if (Status c = check_context("prepare"); !c) return c;
     if (!scene_) return make_error("prepare: no scene loaded");
+    discard_pending_errors();
     std::optional<SavedGlState> saved;
     if (preserve_host_state_) saved.emplace(caps_);
     for (const VariantKey& key : keys) {
@@ -758,6 +761,7 @@ Status Renderer::draw(const HostFrame& frame) {
         return make_error("draw: " + std::to_string(frame.models.size()) + " model transforms for " +
                           std::to_string(scene_->objects.size()) + " objects (give one per object, in scene order, "
                           "or none)");
+    discard_pending_errors();
     std::optional<SavedGlState> saved;
     if (preserve_host_state_) saved.emplace(caps_);
     return draw_checked(frame);
@@ -809,6 +813,7 @@ Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, con
     if (Status c = check_context("prepare"); !c) return c;
     if (!scene_) return make_error("prepare: no scene loaded");
     if (warm_target.width < 1 || warm_target.height < 1) return make_error("prepare: the warm-up target is empty");
+    discard_pending_errors();
     std::optional<SavedGlState> saved;
     if (preserve_host_state_) saved.emplace(caps_);
     glBindFramebuffer(GL_FRAMEBUFFER, warm_target.framebuffer);
