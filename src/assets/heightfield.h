@@ -29,7 +29,7 @@ struct HeightField {
     std::vector<float> texels;  // width * height, row 0 = v = 0
 
     float at(int x, int y) const;        // wraps x and y (GL_REPEAT)
-    float& ref(int x, int y) { return texels[static_cast<size_t>(y) * width + x]; }
+    float& ref(int x, int y) { return texels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)]; }
     // Bilinear filtering as GL_LINEAR with GL_REPEAT does it, in double precision.
     double sample_bilinear(double u, double v) const;
 };

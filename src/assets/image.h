@@ -19,9 +19,9 @@ struct Image {
     int channels = 4;                 // 1..4; textures are uploaded as RGBA
     std::vector<std::uint8_t> pixels; // width * height * channels, row 0 = bottom
 
-    std::uint8_t* texel(int x, int y) { return &pixels[(static_cast<size_t>(y) * width + x) * channels]; }
+    std::uint8_t* texel(int x, int y) { return &pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * static_cast<size_t>(channels)]; }
     const std::uint8_t* texel(int x, int y) const {
-        return &pixels[(static_cast<size_t>(y) * width + x) * channels];
+        return &pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * static_cast<size_t>(channels)];
     }
 };
 

@@ -25,7 +25,7 @@ struct SurfaceImage {
     // 11 when packed in 11 bits each (ES 2.0 without fragment highp). The
     // reference leaves it 0.
     int packing_bits = 0;
-    const SurfaceSample& at(int x, int y) const { return samples[static_cast<size_t>(y) * width + x]; }
+    const SurfaceSample& at(int x, int y) const { return samples[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)]; }
 };
 
 }  // namespace px
