@@ -72,7 +72,9 @@ std::string now_iso8601() {
     return buffer;
 }
 
-Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene, const RendererOptions& options = {}) {
+Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene, const RendererOptions& given = {}) {
+    RendererOptions options = given;
+    options.effect_planner = effect_planner;
     Result<std::unique_ptr<Renderer>> r = Renderer::create(options);
     if (!r) return r.error();
     Status loaded = (*r)->load(scene);

@@ -56,7 +56,7 @@ SceneDesc all_effects_scene(const SceneDesc& scene) {
     return s;
 }
 
-Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& options, int frames,
+Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& given_options, int frames,
                                  const RenderTarget& target, const std::string& command,
                                  const std::function<void(const std::string&)>& progress,
                                  const std::function<std::string(const std::vector<ObjectPlan>&)>& explain) {
@@ -75,6 +75,8 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
     run.frames = frames;
 
     const SceneDesc all_scene = all_effects_scene(scene);
+    RendererOptions options = given_options;
+    options.effect_planner = effect_planner;
     Result<std::unique_ptr<Renderer>> planned = Renderer::create(options);
     if (!planned) return planned.error();
     Status loaded = (*planned)->load(scene);

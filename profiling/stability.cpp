@@ -507,6 +507,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
         auto it = renderers.find(key);
         if (it != renderers.end()) return it->second.get();
         RendererOptions ro;
+        ro.effect_planner = effect_planner;
         if (options.renderer_options) {
             Result<RendererOptions> made = options.renderer_options(run.precision, run.variant_es);
             if (!made) return made.error();

@@ -63,7 +63,10 @@ SceneDesc PlaneScene::build() const {
 
 Rendered render(const SceneDesc& scene, int size) {
     Rendered out;
-    auto renderer = Renderer::create({platform::HeadlessContext::proc_loader()});
+    RendererOptions options;
+    options.get_proc_address = platform::HeadlessContext::proc_loader();
+    options.effect_planner = effect_planner;
+    auto renderer = Renderer::create(options);
     EXPECT_TRUE(renderer.ok()) << renderer.error().message;
     if (!renderer) return out;
     auto target = OffscreenTarget::create(size, size);

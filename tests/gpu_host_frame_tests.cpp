@@ -36,6 +36,19 @@ GLuint compile(GLenum type, const char* source) {
     return s;
 }
 
+// The host's own fixed-function state, whatever earlier tests of this
+// process left set (a host sets what its draws need).
+void host_defaults() {
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glDepthRangef(0.0f, 1.0f);
+    if (test_es_major() >= 3) glBindVertexArray(0);
+}
+
 // The host's mesh: a quad standing upright across the floor (y = 0.2,
 // facing the camera), from z = -1 to 1, so that it pierces the relief.
 ObjectDesc host_quad_object() {
@@ -86,6 +99,7 @@ HostPicture draw_as_host(bool depth_write) {
     EXPECT_TRUE(loaded.ok()) << loaded.error().message;
 
     RenderTarget rt = target->target();
+    host_defaults();
     glBindFramebuffer(GL_FRAMEBUFFER, rt.framebuffer);
     glViewport(0, 0, out.width, out.height);
     glClearColor(0.0f, 0.0f, 1.0f, 1.0f);
@@ -228,6 +242,7 @@ TEST(HostFrame, NothingClearedByDefaultAndTransformsMoveWithoutReload) {
     ASSERT_TRUE(renderer.ok());
     ASSERT_TRUE((*renderer)->load(scene).ok());
     const RenderTarget rt = target->target();
+    host_defaults();
     glBindFramebuffer(GL_FRAMEBUFFER, rt.framebuffer);
     glViewport(0, 0, 64, 64);
     glClearColor(1.0f, 0.0f, 0.0f, 1.0f);

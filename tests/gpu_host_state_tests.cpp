@@ -380,6 +380,7 @@ TEST(DebugOutput, PackingWithoutFragmentHighpIsDecodedAsSuch) {
     const SceneDesc scene = p.build();
     auto capture = [&](bool emulate, VariantKey& key) {
         RendererOptions options;
+        options.effect_planner = effect_planner;
         options.emulate_no_fragment_highp = emulate;
         auto renderer = Renderer::create(options);
         EXPECT_TRUE(renderer.ok());

@@ -131,7 +131,9 @@ TEST(PlannerSources, EveryPlannedVariantCarriesNoCodeOfAnEffectItDoesNotUse) {
 TEST(PlannerRender, PlansFollowTheCameraAndPreparedPathsDrawAtOnce) {
     Result<SceneDesc> scene = builtin_scene("showcase");
     ASSERT_TRUE(scene.ok());
-    auto renderer = Renderer::create();
+    RendererOptions options;
+    options.effect_planner = effect_planner;
+    auto renderer = Renderer::create(options);
     ASSERT_TRUE(renderer.ok()) << renderer.error().message;
     ASSERT_TRUE((*renderer)->load(*scene).ok());
     auto target = OffscreenTarget::create(64, 64);

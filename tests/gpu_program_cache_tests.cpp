@@ -47,6 +47,7 @@ struct CachedRender {
 CachedRender render_cached(const SceneDesc& scene, MemoryStore& store) {
     CachedRender out;
     RendererOptions options;
+    options.effect_planner = effect_planner;
     options.get_proc_address = platform::HeadlessContext::proc_loader();
     options.program_binaries = store.callbacks();
     auto renderer = Renderer::create(options);

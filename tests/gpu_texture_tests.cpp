@@ -286,6 +286,7 @@ TEST(Textures, PvrtcRendersThroughTheCpuFallbackAndSaysSo) {
     const Converted etc1 = convert(scene, "etc1", root + "/etc1");
     const Rendered direct = render(etc1.scene, 128);
     RendererOptions forced;
+    forced.effect_planner = effect_planner;
     forced.get_proc_address = platform::HeadlessContext::proc_loader();
     forced.force_texture_decode = true;
     auto decoding = Renderer::create(forced);
@@ -397,6 +398,7 @@ TEST(Textures, EsTwoWithoutNpotResamplesAndSaysSo) {
     scene.materials[0].albedo.field.size = 80;
     const Rendered with_npot = render(scene, 96);
     RendererOptions o;
+    o.effect_planner = effect_planner;
     o.get_proc_address = platform::HeadlessContext::proc_loader();
     o.emulate_no_texture_npot = true;
     auto renderer = Renderer::create(o);

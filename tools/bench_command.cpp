@@ -105,6 +105,7 @@ int run_showcase_bench(const BenchArgs& a, int width, int height) {
     auto target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
     RendererOptions options;
+    options.effect_planner = effect_planner;
     options.get_proc_address = platform::HeadlessContext::proc_loader();
     options.planner.calibrations = load_calibrations(a.calibration_cache);
     Result<profiling::ShowcaseRun> run = profiling::run_showcase(

@@ -58,6 +58,7 @@ int calibrate(const PlanArgs& a, const SceneDesc& scene, const std::string& dir,
     auto context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
+    renderer_options.effect_planner = effect_planner;
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
@@ -121,6 +122,7 @@ int run_plan(const PlanArgs& a) {
     auto context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
+    renderer_options.effect_planner = effect_planner;
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     renderer_options.planner.calibrations = load_calibrations(dir);
     auto renderer = Renderer::create(renderer_options);

@@ -43,6 +43,7 @@ struct RenderArgs {
     std::string textures;       // "": the scene's own; else an asset variant (texture/convert.h)
     bool decode_textures = false;
     bool stats = false;
+    bool no_state_restore = false;
 };
 
 // The camera of frame i of n along a path: orbit turns it around the
@@ -123,8 +124,10 @@ int run_render(const RenderArgs& a) {
     Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
+    renderer_options.effect_planner = effect_planner;
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     renderer_options.force_texture_decode = a.decode_textures;
+    renderer_options.preserve_host_state = !a.no_state_restore;
     renderer_options.planner.calibrations =
         load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
@@ -239,7 +242,7 @@ int run_render(const RenderArgs& a) {
                     static_cast<unsigned long long>(u.gpu_bytes), u.path.c_str());
     }
     std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
-    std::printf("frame      %.2f ms median of %d (min %.2f, max %.2f), %d program(s); wall clock around glFinish\n",
+    std::printf("frame      %.3f ms median of %d (min %.3f, max %.3f), %d program(s); wall clock around glFinish\n",
                 times_ms[times_ms.size() / 2], a.frames, times_ms.front(), times_ms.back(),
                 static_cast<int>((*renderer)->program_count()));
     if (!cameras.empty())
@@ -280,6 +283,9 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--decode-textures", args->decode_textures,
                   "Decode every texture file on the CPU (RGBA8 upload) even where the context samples its format");
     cmd->add_flag("--list", args->list, "List techniques and built-in scenes");
+    cmd->add_flag("--no-state-restore", args->no_state_restore,
+                  "Draw as a host that manages its own GL state would (RendererOptions::preserve_host_state off): "
+                  "compare --frames timings with and without");
     cmd->add_flag("--stats", args->stats,
                   "Print how often the pipeline validated, built images and meshes, planned and built programs");
     cmd->add_flag("--explain", args->explain,

@@ -112,7 +112,30 @@ struct PlanView {
     static PlanView from_camera(const CameraDesc& camera, int width, int height);
 };
 
-class ScenePlanner {
+// What the renderer plans each frame with, behind a virtual interface so that
+// a renderer whose materials all name their technique links none of the
+// effect planner (its survey, cost table and JSON parser): the renderer
+// reaches ScenePlanner only through RendererOptions::effect_planner.
+class FramePlanner {
+public:
+    virtual ~FramePlanner() = default;
+    // One plan per scene object, in order, for this frame.
+    virtual Result<std::vector<ObjectPlan>> plan(const PlanView& view) const = 0;
+    // The relief measured for each material, in scene order.
+    virtual const std::vector<MaterialRelief>& reliefs() const = 0;
+};
+
+// Makes the effect planner of a prepared scene. `reliefs`: one per
+// material, as reliefs() of an earlier planner of the scene; an entry with
+// traced_width 0 (or an empty list) is measured here.
+using EffectPlannerFactory = Result<std::unique_ptr<FramePlanner>> (*)(const PreparedScene& scene, const Caps& caps,
+                                                                       const PlannerOptions& options,
+                                                                       std::vector<MaterialRelief> reliefs);
+// The effect planner (ParallaxES::planner): RendererOptions::effect_planner.
+Result<std::unique_ptr<FramePlanner>> effect_planner(const PreparedScene& scene, const Caps& caps,
+                                                     const PlannerOptions& options, std::vector<MaterialRelief> reliefs);
+
+class ScenePlanner : public FramePlanner {
 public:
     // The planner of a prepared scene: reliefs measured from its materials'
     // traced fields, surveys from the meshes that are drawn (a displaced
@@ -127,17 +150,17 @@ public:
     static Result<std::unique_ptr<ScenePlanner>> create(const SceneDesc& scene, const Caps& caps,
                                                         std::vector<MaterialRelief> reliefs,
                                                         PlannerOptions options = {});
-    ~ScenePlanner();
+    ~ScenePlanner() override;
     // One plan per scene object, in order, for this camera and image size.
     // Errors name the object and the JSON path of the field: an impossible
     // target (no candidate reaches it here), a technique the context cannot run.
     Result<std::vector<ObjectPlan>> plan(const CameraDesc& camera, int width, int height) const;
     // The same for a host's frame. Errors also: a degenerate or non-finite
     // matrix, or a `models` list of the wrong length.
-    Result<std::vector<ObjectPlan>> plan(const PlanView& view) const;
+    Result<std::vector<ObjectPlan>> plan(const PlanView& view) const override;
     // The relief measured for each material, in scene order (to build a
     // planner again with one material replaced).
-    const std::vector<MaterialRelief>& reliefs() const;
+    const std::vector<MaterialRelief>& reliefs() const override;
 
     struct Impl;
     // For the factories in scene_planner.cpp.

@@ -284,11 +284,12 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
 
 Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const PreparedScene& scene, const Caps& caps,
                                                            PlannerOptions options, std::vector<MaterialRelief> reliefs) {
-    const bool measure = reliefs.empty();
-    for (size_t i = 0; measure && i < scene.materials.size(); ++i) {
+    reliefs.resize(scene.materials.size());
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        if (reliefs[i].traced_width > 0) continue;  // measured before
         const MaterialImages& images = scene.materials[i]->images;
-        reliefs.push_back(material_relief(images.traced, scene.desc.materials[i]));
-        reliefs.back().layout = images.layout;
+        reliefs[i] = material_relief(images.traced, scene.desc.materials[i]);
+        reliefs[i].layout = images.layout;
     }
     std::vector<const Mesh*> meshes;
     for (const auto& o : scene.objects) meshes.push_back(&o->mesh);
@@ -302,6 +303,13 @@ Result<std::unique_ptr<ScenePlanner>> ScenePlanner::create(const SceneDesc& scen
 }
 
 const std::vector<MaterialRelief>& ScenePlanner::reliefs() const { return impl_->reliefs; }
+
+Result<std::unique_ptr<FramePlanner>> effect_planner(const PreparedScene& scene, const Caps& caps,
+                                                     const PlannerOptions& options, std::vector<MaterialRelief> reliefs) {
+    Result<std::unique_ptr<ScenePlanner>> p = ScenePlanner::create(scene, caps, options, std::move(reliefs));
+    if (!p) return p.error();
+    return std::unique_ptr<FramePlanner>(std::move(*p));
+}
 
 namespace {
 

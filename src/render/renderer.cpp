@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "parallaxes/core/counters.h"
 #include "parallaxes/core/limits.h"
 #include "parallaxes/gl/state.h"
 #include "parallaxes/gl/texture.h"
@@ -266,7 +267,7 @@ struct Renderer::GpuScene {
     std::vector<GpuMaterial> materials;
     std::vector<GpuObject> objects;
     ProgramCache programs;
-    std::unique_ptr<ScenePlanner> planner;
+    std::unique_ptr<FramePlanner> planner;  // null: every material names its technique
     CameraDesc camera;     // draw(target)'s camera (set_view)
     PlanView planned_for;  // the frame the objects' plans are for
     bool planned = false;  // whether they are planned at all
@@ -470,6 +471,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     r->variant_transform_ = options.variant_transform;
     r->force_texture_decode_ = options.force_texture_decode;
     r->planner_options_ = options.planner;
+    r->effect_planner_ = options.effect_planner;
     r->preserve_host_state_ = options.preserve_host_state;
     // Which context is current: the host's function, or EGL's through the
     // loader (EGL 1.5 and EGL_KHR_get_all_proc_addresses return core EGL
@@ -587,9 +589,18 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
         if (!g) return g.error();
         gpu->materials.push_back(std::move(*g));
     }
-    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(*prepared, caps_, planner_options_);
-    if (!planner) return planner.error();
-    gpu->planner = std::move(*planner);
+    if (effect_planner_) {
+        Result<std::unique_ptr<FramePlanner>> planner = effect_planner_(*prepared, caps_, planner_options_, {});
+        if (!planner) return planner.error();
+        gpu->planner = std::move(*planner);
+    } else {
+        for (size_t i = 0; i < desc.materials.size(); ++i)
+            if (desc.materials[i].effects)
+                return make_error("material '" + echo(desc.materials[i].name) + "' (materials[" + std::to_string(i) +
+                                  "].effects) declares effects, and this renderer has no effect planner: link "
+                                  "ParallaxES::planner and set RendererOptions::effect_planner = px::effect_planner, "
+                                  "or name a technique");
+    }
     gpu->camera = desc.camera;
     for (size_t i = 0; i < desc.objects.size(); ++i) {
         const ObjectDesc& o = desc.objects[i];
@@ -653,17 +664,24 @@ Status Renderer::replace_material(const MaterialDesc& material) {
             if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
         }
         // The other materials' reliefs as measured at load.
-        std::vector<MaterialRelief> reliefs = scene_->planner->reliefs();
-        reliefs[mi] = material_relief(p.materials[mi]->images.traced, p.desc.materials[mi]);
-        reliefs[mi].layout = p.materials[mi]->images.layout;
-        Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(p, caps_, planner_options_, std::move(reliefs));
-        if (!planner) return planner.error();
+        std::unique_ptr<FramePlanner> planner;
+        if (scene_->planner) {
+            std::vector<MaterialRelief> reliefs = scene_->planner->reliefs();
+            reliefs[mi] = MaterialRelief{};  // measured again by the factory
+            Result<std::unique_ptr<FramePlanner>> made = effect_planner_(p, caps_, planner_options_, std::move(reliefs));
+            if (!made) return made.error();
+            planner = std::move(*made);
+        } else if (material.effects) {
+            return make_error("replace_material: material '" + echo(material.name) +
+                              "' declares effects, and this renderer has no effect planner "
+                              "(RendererOptions::effect_planner)");
+        }
         // Nothing can fail from here: swap it all in.
         scene_->materials[mi] = std::move(*g);
         for (auto& [index, mesh] : meshes) scene_->meshes[index] = std::move(mesh);
         for (size_t i = 0; i < scene_->materials.size(); ++i) scene_->materials[i].desc = &p.desc.materials[i];
         for (size_t i = 0; i < scene_->objects.size(); ++i) scene_->objects[i].desc = &p.desc.objects[i];
-        scene_->planner = std::move(*planner);
+        scene_->planner = std::move(planner);
         scene_->planned = false;
         prepared_ = std::move(*next);
         texture_uploads_.insert(texture_uploads_.end(), uploads.begin(), uploads.end());
@@ -673,12 +691,32 @@ Status Renderer::replace_material(const MaterialDesc& material) {
 
 Result<std::vector<ObjectPlan>> Renderer::plan_view(const CameraDesc& camera, int width, int height) const {
     if (!scene_) return make_error("plan: no scene loaded");
-    return scene_->planner->plan(camera, width, height);
+    if (width < 1 || height < 1) return make_error("plan: image size " + size_text(width, height) + " is empty");
+    return plan_frame(PlanView::from_camera(camera, width, height));
+}
+
+Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const {
+    if (scene_->planner) return scene_->planner->plan(view);
+    // Every material names its technique: the variant does not depend on
+    // the frame (plan_variant at load), only the options travel with it.
+    std::vector<ObjectPlan> plans;
+    for (const GpuObject& object : scene_->objects) {
+        const GpuMaterial& material = scene_->materials[object.material];
+        ObjectPlan plan;
+        plan.object = object.desc->name;
+        plan.material = material.desc->name;
+        plan.options = material.desc->technique;
+        plan.key = material.plan.key.with_layout(prepared_->materials[object.material]->images.layout);
+        plan.notes = material.plan.notes;
+        plans.push_back(std::move(plan));
+    }
+    counters::count(counters::Step::object_plan, plans.size());
+    return plans;
 }
 
 Result<int> Renderer::apply_plans(const PlanView& view) {
     if (scene_->planned && same_plan_view(view, scene_->planned_for)) return 0;
-    Result<std::vector<ObjectPlan>> plans = scene_->planner->plan(view);
+    Result<std::vector<ObjectPlan>> plans = plan_frame(view);
     if (!plans) return plans.error();
     int changed = 0;
     std::vector<DrawReport> reports;

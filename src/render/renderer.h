@@ -42,8 +42,15 @@ struct RendererOptions {
     // compiled (gl/program.h ShaderTransform); empty: none. Uniform names
     // and types must survive it: the typed interface is checked as ever.
     ShaderTransform shader_transform;
-    // The effect planner's cost table and calibrations (materials that
-    // declare effects); default: the table built into the library.
+    // The effect planner, for scenes whose materials declare effects:
+    // px::effect_planner (parallaxes/planner/planner.h, ParallaxES::planner).
+    // Null (the default): materials must name their technique, and a scene
+    // that declares effects is refused at load with a message saying so; the
+    // renderer then links none of the planner, its cost table or its JSON
+    // parser.
+    EffectPlannerFactory effect_planner = nullptr;
+    // The effect planner's cost table and calibrations; default: the table
+    // built into the library.
     PlannerOptions planner;
     // Where program binaries are kept across runs (gl/program_binary.h):
     // on a context that has a binary format, each program is looked up
@@ -217,6 +224,7 @@ public:
 private:
     Status load_checked(std::shared_ptr<const PreparedScene> scene);
     Result<int> apply_plans(const PlanView& view);
+    Result<std::vector<ObjectPlan>> plan_frame(const PlanView& view) const;
     Status check_context(const char* what) const;
     Status draw_checked(const HostFrame& frame);
     Renderer() = default;
@@ -229,6 +237,7 @@ private:
     ShaderTransform shader_transform_;
     std::function<VariantKey(const VariantKey&)> variant_transform_;
     PlannerOptions planner_options_;
+    EffectPlannerFactory effect_planner_ = nullptr;
     ProgramBinaryStore program_binaries_;
     ProgramBinarySupport binary_support_;
     std::unique_ptr<GpuScene> scene_;
