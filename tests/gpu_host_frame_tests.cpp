@@ -320,6 +320,19 @@ TEST(HostFrame, OnePreparationForLoadPlanAndDraw) {
     ASSERT_TRUE(prepared);
     EXPECT_EQ(prepared->materials.size(), 1u);
     EXPECT_EQ(prepared->objects[0]->mesh.vertices.size(), prepared->objects[1]->mesh.vertices.size());
+    reference::ReferenceOptions ro;
+    ro.images = (*renderer)->material_image_options();
+    const PipelineCounters before_reference = pipeline_counters();
+    auto shared = reference::render_reference(*prepared, 48, 48, ro);
+    ASSERT_TRUE(shared.ok()) << shared.error().message;
+    const PipelineCounters reference_used = pipeline_counters() - before_reference;
+    EXPECT_EQ(reference_used.validations, 0u);
+    EXPECT_EQ(reference_used.image_builds, 0u) << "the reference built images the preparation has";
+    // The same image as the reference that prepares for itself.
+    auto own = reference::render_reference(scene, 48, 48, ro);
+    ASSERT_TRUE(own.ok()) << own.error().message;
+    EXPECT_EQ(shared->color.pixels, own->color.pixels);
+    EXPECT_EQ((pipeline_counters() - before_reference).image_builds, 1u);
 }
 
 TEST(HostFrame, ASwappedMaterialRebuildsOnlyItself) {

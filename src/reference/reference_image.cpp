@@ -394,28 +394,40 @@ void render_pixel(const Frame& f, int x, int y, const PixelOut& out, std::vector
 
 namespace {
 Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int width, int height,
-                                                const ReferenceOptions& options);
+                                                const ReferenceOptions& options, const PreparedScene* prepared);
 }  // namespace
 
 Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int height,
                                         const ReferenceOptions& options) {
     return out_of_memory_is_an_error("reference of scene '" + echo(scene.name) + "'",
-                                     [&] { return render_reference_checked(scene, width, height, options); });
+                                     [&] { return render_reference_checked(scene, width, height, options, nullptr); });
+}
+
+Result<ReferenceImage> render_reference(const PreparedScene& scene, int width, int height,
+                                        const ReferenceOptions& options) {
+    if (options.images.power_of_two_textures != scene.options.images.power_of_two_textures)
+        return make_error("reference: scene '" + echo(scene.desc.name) +
+                          "' was prepared with other texture sizes than ReferenceOptions::images asks for");
+    return out_of_memory_is_an_error("reference of scene '" + echo(scene.desc.name) + "'", [&] {
+        return render_reference_checked(scene.desc, width, height, options, &scene);
+    });
 }
 
 namespace {
 
 Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int width, int height,
-                                                const ReferenceOptions& options) {
+                                                const ReferenceOptions& options, const PreparedScene* prepared) {
     if (width < 1 || height < 1)
         return make_error("reference: image size " + std::to_string(width) + "x" + std::to_string(height) +
                           " is empty");
     if (options.shadow == ShadowMode::soft && options.soft_samples < 1)
         return make_error("reference: soft_samples must be at least 1, got " + std::to_string(options.soft_samples));
-    Status valid = validate_scene(scene);
-    if (!valid) return valid.error();
-    Status resources = check_scene_resources(scene, true);
-    if (!resources) return resources.error();
+    if (!prepared) {  // a prepared scene was validated when it was prepared
+        Status valid = validate_scene(scene);
+        if (!valid) return valid.error();
+        Status resources = check_scene_resources(scene, true);
+        if (!resources) return resources.error();
+    }
     for (const ObjectDesc& o : scene.objects)
         if (o.mesh.kind != MeshKind::plane)
             return make_error("reference: object '" + o.name + "' is a " + mesh_kind_name(o.mesh.kind) +
@@ -438,9 +450,13 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         MaterialData& m = materials[mi];
         if (!built[mi]) {
             const MaterialDesc& desc = scene.materials[mi];
-            Result<MaterialImages> images = build_material_images(desc, scene.base_dir, options.images);
-            if (!images) return images.error();
-            m.images = std::move(*images);
+            if (prepared) {
+                m.images = prepared->materials[mi]->images;
+            } else {
+                Result<MaterialImages> images = build_material_images(desc, scene.base_dir, options.images);
+                if (!images) return images.error();
+                m.images = std::move(*images);
+            }
             m.traced = m.images.traced;
             m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
             m.uv_matrix = desc.uv.matrix<double>();

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "parallaxes/scene/material_images.h"
+#include "parallaxes/scene/prepared_scene.h"
 
 #include <vector>
 
@@ -100,6 +101,11 @@ struct ReferenceImage {
 // relief's hit is never nearer than where the ray meets its highest texel.
 // The pixel is shaded as without the option, from the winner's polygon point.
 Result<ReferenceImage> render_reference(const SceneDesc& scene, int width, int height,
+                                        const ReferenceOptions& options = {});
+// The same from a prepared scene (scene/prepared_scene.h): nothing is
+// validated or built again, the images are the ones the renderer uploaded
+// (options.images is then the preparation's, and must not ask otherwise).
+Result<ReferenceImage> render_reference(const PreparedScene& scene, int width, int height,
                                         const ReferenceOptions& options = {});
 
 }  // namespace px::reference
