@@ -107,11 +107,8 @@ HostPicture draw_as_host(bool depth_write) {
     glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-    HostFrame frame(rt);
-    frame.viewport = out.viewport;
-    const PlanView camera = PlanView::from_camera(scene.camera, out.viewport.width, out.viewport.height);
-    frame.view = camera.view;
-    frame.projection = camera.projection;
+    // The scene's camera for the viewport's aspect: the reference's view.
+    const HostFrame frame = HostFrame::from_camera(scene.camera, rt, out.viewport);
 
     // The host's own draw, its own program and buffer.
     const ObjectDesc quad = host_quad_object();

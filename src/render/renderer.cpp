@@ -438,10 +438,13 @@ std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_s
 
 }  // namespace
 
-HostFrame HostFrame::from_camera(const CameraDesc& camera, const RenderTarget& target) {
+HostFrame HostFrame::from_camera(const CameraDesc& camera, const RenderTarget& target, const Viewport& viewport) {
     HostFrame f;
     f.target = target;
-    const PlanView v = PlanView::from_camera(camera, target.width, target.height);
+    f.viewport = viewport;
+    const bool whole = viewport.width == 0 && viewport.height == 0;
+    const PlanView v = PlanView::from_camera(camera, whole ? target.width : viewport.width,
+                                             whole ? target.height : viewport.height);
     f.view = v.view;
     f.projection = v.projection;
     return f;

@@ -123,9 +123,9 @@ struct HostFrame {
     bool clear_depth = false;
     std::uint8_t debug_output = 0;  // VariantKey::debug_output (render/surface_capture.h)
 
-    // A camera description as view and projection matrices, for a viewport
-    // of this size (its aspect ratio).
-    static HostFrame from_camera(const CameraDesc& camera, const RenderTarget& target);
+    // A camera description as view and projection matrices, for this
+    // viewport of the target (empty: the whole target; its aspect ratio).
+    static HostFrame from_camera(const CameraDesc& camera, const RenderTarget& target, const Viewport& viewport = {});
 };
 
 // How the library reached the current frame: counts since create().
