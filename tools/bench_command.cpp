@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "parallaxes/core/counters.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/profiling/bench.h"
 #include "parallaxes/profiling/planner_table.h"
@@ -35,6 +36,7 @@ struct BenchArgs {
     std::string size = "256x256";
     int frames = 0;
     bool quick = false;
+    bool stats = false;
     int segments = 64;
     bool per_vertex_view = false;
     std::string out = "out/bench";
@@ -165,6 +167,7 @@ int run(BenchArgs a) {
     if (!context) return fail(context.error().message);
     auto target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
+    const PipelineCounters counters_before = pipeline_counters();
     auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
                                        [](int done, int total, const std::string& what) {
                                            show_progress("bench", done, total, what);
@@ -180,6 +183,14 @@ int run(BenchArgs a) {
     }
     std::printf("bench: %zu settings measured on %s; wrote %sresults.csv, results.json, pareto.svg, report.md\n",
                 result->rows.size(), result->gl_renderer.c_str(), base.c_str());
+    if (a.stats) {
+        const PipelineCounters c = pipeline_counters() - counters_before;
+        std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
+                    "%llu object plan(s), %llu program(s) built, for %zu setting(s)\n",
+                    static_cast<unsigned long long>(c.validations), static_cast<unsigned long long>(c.image_builds),
+                    static_cast<unsigned long long>(c.mesh_builds), static_cast<unsigned long long>(c.object_plans),
+                    static_cast<unsigned long long>(c.programs_built), result->rows.size());
+    }
     return 0;
 }
 
@@ -199,6 +210,8 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--size", args->size, "Image size")->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed rounds per setting (default 7; --quick 3)");
     cmd->add_flag("--quick", args->quick, "A small grid that finishes in under 2 minutes");
+    cmd->add_flag("--stats", args->stats,
+                  "Print how often the sweep validated, built images and meshes, planned and built programs");
     cmd->add_option("--segments", args->segments, "Quads per side of each bench plane")->capture_default_str();
     cmd->add_flag("--per-vertex-view", args->per_vertex_view,
                   "Every technique with the view vector normalised per vertex (\"exact_view\": false) "
