@@ -415,3 +415,21 @@ TEST(HostFrame, FramebufferProblemsAreNamed) {
 
 }  // namespace
 }  // namespace px::test
+
+namespace px::test {
+namespace {
+
+TEST(HostFrame, EffectsWithoutThePlannerAreRefusedAtLoad) {
+    Result<SceneDesc> showcase = builtin_scene("showcase");  // every material declares effects
+    ASSERT_TRUE(showcase.ok());
+    auto renderer = Renderer::create({platform::HeadlessContext::proc_loader()});  // no effect_planner
+    ASSERT_TRUE(renderer.ok());
+    Status loaded = (*renderer)->load(*showcase);
+    ASSERT_FALSE(loaded.ok()) << "a scene that declares effects loaded without a planner";
+    EXPECT_NE(loaded.error().message.find("RendererOptions::effect_planner"), std::string::npos)
+        << loaded.error().message;
+    EXPECT_EQ((*renderer)->program_count(), 0u);
+}
+
+}  // namespace
+}  // namespace px::test

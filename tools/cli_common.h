@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <string>
+#include "parallaxes/core/counters.h"
 
 namespace px::tools {
 

@@ -584,6 +584,13 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     gpu->programs = ProgramCache(shader_transform_, program_binaries_, binary_support_);
     const SceneDesc& desc = prepared->desc;
 
+    if (!effect_planner_)  // refused before anything is uploaded
+        for (size_t i = 0; i < desc.materials.size(); ++i)
+            if (desc.materials[i].effects)
+                return make_error("material '" + echo(desc.materials[i].name) + "' (materials[" + std::to_string(i) +
+                                  "].effects) declares effects, and this renderer has no effect planner: link "
+                                  "ParallaxES::planner and set RendererOptions::effect_planner = px::effect_planner, "
+                                  "or name a technique");
     std::vector<TextureUpload> uploads;
     std::vector<std::string> notes;
     for (size_t i = 0; i < desc.materials.size(); ++i) {
@@ -596,13 +603,6 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
         Result<std::unique_ptr<FramePlanner>> planner = effect_planner_(*prepared, caps_, planner_options_, {});
         if (!planner) return planner.error();
         gpu->planner = std::move(*planner);
-    } else {
-        for (size_t i = 0; i < desc.materials.size(); ++i)
-            if (desc.materials[i].effects)
-                return make_error("material '" + echo(desc.materials[i].name) + "' (materials[" + std::to_string(i) +
-                                  "].effects) declares effects, and this renderer has no effect planner: link "
-                                  "ParallaxES::planner and set RendererOptions::effect_planner = px::effect_planner, "
-                                  "or name a technique");
     }
     gpu->camera = desc.camera;
     for (size_t i = 0; i < desc.objects.size(); ++i) {
@@ -772,7 +772,7 @@ Status Renderer::prepare(const std::vector<VariantKey>& keys) {
 }
 
 HostFrame Renderer::scene_frame(const RenderTarget& target, std::uint8_t debug_output) const {
-    HostFrame f = HostFrame::from_camera(scene_ ? scene_->camera : (prepared_ ? prepared_->desc.camera : CameraDesc{}), target);
+    HostFrame f = HostFrame::from_camera(scene_ ? scene_->camera : CameraDesc{}, target);
     f.clear_color = true;
     f.clear_depth = true;
     f.debug_output = debug_output;
