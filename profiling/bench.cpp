@@ -75,6 +75,7 @@ std::string now_iso8601() {
 Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene, const RendererOptions& given = {}) {
     RendererOptions options = given;
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     Result<std::unique_ptr<Renderer>> r = Renderer::create(options);
     if (!r) return r.error();
     Status loaded = (*r)->load(scene);

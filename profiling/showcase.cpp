@@ -77,6 +77,7 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
     const SceneDesc all_scene = all_effects_scene(scene);
     RendererOptions options = given_options;
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     Result<std::unique_ptr<Renderer>> planned = Renderer::create(options);
     if (!planned) return planned.error();
     Status loaded = (*planned)->load(scene);

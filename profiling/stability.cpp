@@ -508,6 +508,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
         if (it != renderers.end()) return it->second.get();
         RendererOptions ro;
         ro.effect_planner = effect_planner;
+        ro.texture_files = texture_files();
         if (options.renderer_options) {
             Result<RendererOptions> made = options.renderer_options(run.precision, run.variant_es);
             if (!made) return made.error();

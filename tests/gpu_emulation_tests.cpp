@@ -143,6 +143,7 @@ struct Capture {
 Capture capture(const SceneDesc& scene, bool es2, const ShaderTransform& transform) {
     RendererOptions options;
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     options.get_proc_address = platform::HeadlessContext::proc_loader();
     options.emulate_es2 = es2;
     options.shader_transform = transform;
@@ -238,6 +239,7 @@ TEST(Emulation, TransformErrorsNameTheVariant) {
     if (test_es_major() < 3) GTEST_SKIP() << "the emitted shaders are GLSL ES 3.00; this run is ES 2.0";
     RendererOptions options;
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     options.shader_transform = [](const std::string&, ShaderStage) -> Result<std::string> {
         return make_error("refused for the test");
     };

@@ -66,6 +66,7 @@ Rendered render(const SceneDesc& scene, int size) {
     RendererOptions options;
     options.get_proc_address = platform::HeadlessContext::proc_loader();
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     auto renderer = Renderer::create(options);
     EXPECT_TRUE(renderer.ok()) << renderer.error().message;
     if (!renderer) return out;

@@ -18,6 +18,15 @@
 
 namespace px::test {
 
+// A renderer's options for scenes that read files: the headless loader and
+// every texture file reader.
+inline RendererOptions reading_files() {
+    RendererOptions o;
+    o.get_proc_address = platform::HeadlessContext::proc_loader();
+    o.texture_files = texture_files();
+    return o;
+}
+
 inline int test_es_major() {
     const char* es = std::getenv("PX_TEST_ES");
     return es && std::string(es) == "2" ? 2 : 3;

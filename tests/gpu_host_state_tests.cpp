@@ -381,6 +381,7 @@ TEST(DebugOutput, PackingWithoutFragmentHighpIsDecodedAsSuch) {
     auto capture = [&](bool emulate, VariantKey& key) {
         RendererOptions options;
         options.effect_planner = effect_planner;
+        options.texture_files = texture_files();
         options.emulate_no_fragment_highp = emulate;
         auto renderer = Renderer::create(options);
         EXPECT_TRUE(renderer.ok());

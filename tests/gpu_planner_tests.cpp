@@ -133,6 +133,7 @@ TEST(PlannerRender, PlansFollowTheCameraAndPreparedPathsDrawAtOnce) {
     ASSERT_TRUE(scene.ok());
     RendererOptions options;
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     auto renderer = Renderer::create(options);
     ASSERT_TRUE(renderer.ok()) << renderer.error().message;
     ASSERT_TRUE((*renderer)->load(*scene).ok());

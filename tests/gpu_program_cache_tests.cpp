@@ -48,6 +48,7 @@ CachedRender render_cached(const SceneDesc& scene, MemoryStore& store) {
     CachedRender out;
     RendererOptions options;
     options.effect_planner = effect_planner;
+    options.texture_files = texture_files();
     options.get_proc_address = platform::HeadlessContext::proc_loader();
     options.program_binaries = store.callbacks();
     auto renderer = Renderer::create(options);

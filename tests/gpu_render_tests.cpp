@@ -484,7 +484,7 @@ TEST(Errors, IncompleteTargetIsReportedNotDrawn) {
 }
 
 TEST(Errors, MissingTextureFileNamesTheFileAndMaterial) {
-    auto renderer = Renderer::create();
+    auto renderer = Renderer::create(reading_files());
     ASSERT_TRUE(renderer.ok());
     SceneDesc scene = bricks_scene().build();
     scene.materials[0].albedo.kind = TextureSource::Kind::file;
@@ -493,6 +493,22 @@ TEST(Errors, MissingTextureFileNamesTheFileAndMaterial) {
     ASSERT_FALSE(s.ok());
     EXPECT_NE(s.error().message.find("/nonexistent/albedo.png"), std::string::npos) << s.error().message;
     EXPECT_NE(s.error().message.find("surface"), std::string::npos) << s.error().message;
+}
+
+// Without RendererOptions::texture_files a scene that names a file is
+// refused before anything is read or uploaded, naming the JSON path, the
+// material and the file, and saying what to set.
+TEST(Errors, FilesWithoutReadersAreRefusedNamingTheFile) {
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok());
+    SceneDesc scene = bricks_scene().build();
+    scene.materials[0].height.kind = TextureSource::Kind::file;
+    scene.materials[0].height.path = "relief.ktx";
+    Status s = (*renderer)->load(scene);
+    ASSERT_FALSE(s.ok());
+    for (const char* part : {"materials[0].height", "surface", "relief.ktx", "texture_files"})
+        EXPECT_NE(s.error().message.find(part), std::string::npos) << part << ": " << s.error().message;
+    EXPECT_EQ((*renderer)->prepared(), nullptr);
 }
 
 // A shader that fails to compile reports the stage, the driver's log, the

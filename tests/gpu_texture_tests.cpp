@@ -153,7 +153,8 @@ TEST(Textures, CpuDecodersMatchMesaOnEverySampledFormat) {
         Result<Image> cpu = decode_rgba8(data);
         ASSERT_TRUE(cpu.ok()) << f.name << ": " << cpu.error().message;
         TextureUpload report;
-        Result<Texture> gpu_texture = upload_texture_data(data, caps, f.name, false, false, &report);
+        Result<Texture> gpu_texture = upload_texture_data(data, caps, f.name, false, false, &report,
+                                                        [](const TextureData& d, size_t l) { return decode_rgba8(d, l); });
         ASSERT_TRUE(gpu_texture.ok()) << f.name << ": " << gpu_texture.error().message;
         EXPECT_TRUE(report.direct) << f.name;
         const Image gpu = gpu_texels(gpu_texture->handle.get(), w, h);
@@ -226,7 +227,7 @@ TEST(Textures, CompressedVariantsDrawTheUncompressedImage) {
     for (auto [variant, bound] : variants) {
         const Converted c = convert(scene, variant, root + "/" + variant);
         ASSERT_EQ(c.files.size(), 3u) << variant;  // height, normal, albedo
-        auto renderer = Renderer::create({platform::HeadlessContext::proc_loader()});
+        auto renderer = Renderer::create(reading_files());
         ASSERT_TRUE(renderer.ok());
         auto target = OffscreenTarget::create(128, 128);
         ASSERT_TRUE(target.ok());
@@ -261,7 +262,7 @@ TEST(Textures, PvrtcRendersThroughTheCpuFallbackAndSaysSo) {
     const SceneDesc scene = textured_plane();
     const std::string root = test_folder("pvrtc");
     const Converted c = convert(scene, "pvrtc", root);
-    auto renderer = Renderer::create({platform::HeadlessContext::proc_loader()});
+    auto renderer = Renderer::create(reading_files());
     ASSERT_TRUE(renderer.ok());
     if ((*renderer)->caps().has("GL_IMG_texture_compression_pvrtc")) GTEST_SKIP() << "this context samples PVRTC";
     ASSERT_TRUE((*renderer)->load(c.scene).ok());
@@ -287,6 +288,7 @@ TEST(Textures, PvrtcRendersThroughTheCpuFallbackAndSaysSo) {
     const Rendered direct = render(etc1.scene, 128);
     RendererOptions forced;
     forced.effect_planner = effect_planner;
+    forced.texture_files = texture_files();
     forced.get_proc_address = platform::HeadlessContext::proc_loader();
     forced.force_texture_decode = true;
     auto decoding = Renderer::create(forced);
@@ -323,7 +325,7 @@ TEST(Textures, MaxmipIsExactOnAnElevenBitEacHeightMap) {
             EXPECT_GT(off_grid, 0);
             auto truth = reference::render_reference(s, 96, 96);
             ASSERT_TRUE(truth.ok()) << truth.error().message;
-            auto renderer = Renderer::create();
+            auto renderer = Renderer::create(reading_files());
             ASSERT_TRUE(renderer.ok());
             ASSERT_TRUE((*renderer)->load(s).ok());
             ASSERT_TRUE((*renderer)->set_view(s.camera, 96, 96).ok());
@@ -368,7 +370,7 @@ TEST(Textures, NonPowerOfTwoHeightMapsWorkWithEveryTechnique) {
         scene.materials[0].height.kind = TextureSource::Kind::file;
         scene.materials[0].height.path = path;
         scene.materials[0].technique.technique = info.id;
-        auto renderer = Renderer::create({platform::HeadlessContext::proc_loader()});
+        auto renderer = Renderer::create(reading_files());
         ASSERT_TRUE(renderer.ok());
         Status loaded = (*renderer)->load(scene);
         ASSERT_TRUE(loaded.ok()) << info.name << ": " << loaded.error().message;
@@ -399,6 +401,7 @@ TEST(Textures, EsTwoWithoutNpotResamplesAndSaysSo) {
     const Rendered with_npot = render(scene, 96);
     RendererOptions o;
     o.effect_planner = effect_planner;
+    o.texture_files = texture_files();
     o.get_proc_address = platform::HeadlessContext::proc_loader();
     o.emulate_no_texture_npot = true;
     auto renderer = Renderer::create(o);

@@ -392,7 +392,7 @@ TEST(Planner, CalibrationReplacesTheGenericTable) {
     PlannerOptions options;
     const CostTable generic = small_table();
     options.table = &generic;
-    options.calibrations = {calibration};
+    options.calibrations = std::make_shared<const std::vector<CostTable>>(std::vector<CostTable>{calibration});
     Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
     ASSERT_TRUE(planner.ok()) << planner.error().message;
     Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 256, 256);
@@ -419,7 +419,7 @@ TEST(Planner, ACalibrationWithNothingToChooseFromIsAnErrorNotACrash) {
     PlannerOptions options;
     const CostTable generic = small_table();
     options.table = &generic;
-    options.calibrations = {calibration};
+    options.calibrations = std::make_shared<const std::vector<CostTable>>(std::vector<CostTable>{calibration});
     Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
     ASSERT_TRUE(planner.ok());
     Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 128, 128);

@@ -59,6 +59,7 @@ int calibrate(const PlanArgs& a, const SceneDesc& scene, const std::string& dir,
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
     renderer_options.effect_planner = effect_planner;
+    renderer_options.texture_files = texture_files();
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
@@ -123,8 +124,9 @@ int run_plan(const PlanArgs& a) {
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
     renderer_options.effect_planner = effect_planner;
+    renderer_options.texture_files = texture_files();
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
-    renderer_options.planner.calibrations = load_calibrations(dir);
+    renderer_options.planner.calibrations = std::make_shared<const std::vector<CostTable>>(load_calibrations(dir));
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(*scene);

@@ -125,11 +125,12 @@ int run_render(const RenderArgs& a) {
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options;
     renderer_options.effect_planner = effect_planner;
+    renderer_options.texture_files = texture_files();
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     renderer_options.force_texture_decode = a.decode_textures;
     renderer_options.preserve_host_state = !a.no_state_restore;
-    renderer_options.planner.calibrations =
-        load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
+    renderer_options.planner.calibrations = std::make_shared<const std::vector<CostTable>>(
+        load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache));
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
     if (!cache_dir.empty() && cache_dir != "off") renderer_options.program_binaries = file_program_store(cache_dir);
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);
@@ -157,8 +158,8 @@ int run_render(const RenderArgs& a) {
             if (!plans) return fail(in_scene_file(scene->source, "frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " + plans.error().message));
             frames.push_back(std::move(*plans));
         }
-        Status prepared = (*renderer)->prepare(frames, target->target());
-        if (!prepared) return fail(prepared.error().message);
+        Status compiled = (*renderer)->prepare(frames, target->target());
+        if (!compiled) return fail(compiled.error().message);
         Result<int> first = (*renderer)->set_view(cameras.front(), width, height);
         if (!first) return fail(in_scene_file(scene->source, first.error().message));
         first_reports = (*renderer)->reports();

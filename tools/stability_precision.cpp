@@ -12,6 +12,7 @@ profiling::RendererFactory make_renderer_factory(GetProcAddress get_proc_address
     return [get_proc_address](const std::string& precision, int variant_es) -> Result<RendererOptions> {
         RendererOptions o;
         o.effect_planner = effect_planner;
+        o.texture_files = texture_files();
         o.get_proc_address = get_proc_address;
         if (precision == "native") return o;
         Result<emulation::PrecisionProfile> profile = emulation::parse_profile(precision);

@@ -80,6 +80,7 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
         // below in interleaved rounds.
         RendererOptions ro;
         ro.effect_planner = effect_planner;
+        ro.texture_files = texture_files();
         ro.get_proc_address = platform::HeadlessContext::proc_loader();
         auto renderer = Renderer::create(ro);
         if (!renderer) return fail(renderer.error().message);

@@ -5,7 +5,8 @@
 #include "parallaxes/core/numeric.h"
 #include "parallaxes/gl/errors.h"
 #include "parallaxes/gl/state.h"
-#include "parallaxes/texture/decode.h"
+#include "parallaxes/texture/format.h"
+#include "parallaxes/texture/texture_data.h"
 
 namespace px {
 
@@ -89,7 +90,7 @@ Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, co
 }
 
 Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
-                                    bool mipmaps, bool force_decode, TextureUpload* report) {
+                                    bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode) {
     if (data.levels.empty() || data.width < 1 || data.height < 1) return make_error(what + ": empty texture");
     const std::string size = std::to_string(data.width) + "x" + std::to_string(data.height);
     if (data.width > static_cast<std::uint32_t>(caps.max_texture_size) ||
@@ -105,6 +106,9 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
     const bool direct = !force_decode && context_samples(caps, data.format) &&
                         // ES 2.0 has no RG textures without GL_EXT_texture_rg: expand on the CPU.
                         !(data.format == TextureFormat::rg8 && !caps.context_es3() && !caps.has("GL_EXT_texture_rg"));
+    if (!direct && !decode)
+        return make_error(what + ": " + format_name(data.format) +
+                          " must be decoded on the CPU for this context, and no decoder was given");
     const int chain = full_mip_count(data.width, data.height);
     const int given = static_cast<int>(data.levels.size());
     // ES 2.0 has no GL_TEXTURE_MAX_LEVEL: a partial chain is incomplete there.
@@ -146,7 +150,7 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
                          data.image(static_cast<size_t>(level)));
             gpu_bytes += l.image_bytes;
         } else {
-            Result<Image> rgba = decode_rgba8(data, static_cast<size_t>(level));
+            Result<Image> rgba = decode(data, static_cast<size_t>(level));
             if (!rgba) return with_context(what + " level " + std::to_string(level), rgba.error());
             glTexImage2D(GL_TEXTURE_2D, level, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba->pixels.data());
             gpu_bytes += rgba->pixels.size();

@@ -47,8 +47,12 @@ struct TextureUpload {
 // sampled without mipmaps). mipmaps = false: the base level only,
 // GL_LINEAR. Errors: an empty or oversized texture, a non-power-of-two size
 // on an ES 2.0 context without GL_OES_texture_npot, a GL error.
+// `decode`: the CPU decoder for a format the context does not sample
+// (texture/decode.h decode_rgba8 of one level); null: such a texture is an
+// error that names its format and what the context lacks.
+using DecodeLevel = Result<Image> (*)(const TextureData& data, std::size_t level);
 Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
-                                    bool mipmaps, bool force_decode, TextureUpload* report);
+                                    bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode);
 
 // The maximum mip-map pyramid (assets/max_mipmap.h): every level uploaded
 // as it is (never glGenerateMipmap, which averages), GL_R8, nearest

@@ -93,7 +93,9 @@ struct PlannerOptions {
     // Tables measured on single materials' reliefs (`parallax plan
     // --calibrate`): a material whose relief's hash and depth match one is
     // predicted from it instead of the generic table.
-    std::vector<CostTable> calibrations;
+    // Shared and immutable, so that copying options (RendererOptions is
+    // copied into each renderer) copies no table.
+    std::shared_ptr<const std::vector<CostTable>> calibrations;
 };
 
 // What the planner plans for: one frame as the host draws it. The view and

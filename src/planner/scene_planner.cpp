@@ -335,7 +335,7 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
         m.generic = **builtin;
     }
     m.generic_curves = curves_of(m.generic);
-    m.calibrations = std::move(options.calibrations);
+    if (options.calibrations) m.calibrations = *options.calibrations;
     for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         if (!meshes.empty()) {
@@ -508,8 +508,8 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const PlanView& frame,
         t = t - n * glm::dot(n, t);
         t = glm::length(t) > 0.0f ? glm::normalize(t) : glm::vec3(1.0f, 0.0f, 0.0f);
         const glm::vec3 b = glm::cross(n, t);
-        auto frame = [&](const glm::vec3& v) { return glm::dvec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); };
-        const glm::dvec3 exact = glm::normalize(frame(to_eye));
+        auto in_frame = [&](const glm::vec3& v) { return glm::dvec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); };
+        const glm::dvec3 exact = glm::normalize(in_frame(to_eye));
         // The frame is orthonormal: interpolate the corners' unit vectors
         // in the world, then express the result in it.
         const glm::dvec3 mixed = static_cast<double>(sp.bary.x) * corner_to_eye[0] +

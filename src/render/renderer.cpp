@@ -316,11 +316,20 @@ std::string normal_label(const MaterialDesc& m, bool packed) {
 
 // One texture slot from its texture file (every level as given) or from the
 // CPU image (RGBA8, mipmapped by the GPU); what happened goes to `uploads`.
+struct FileUpload {
+    const TextureFileSupport* files;
+    DecodeLevel decode;
+};
+
 Result<Texture> upload_slot(const std::optional<TextureData>& file, const Image& image, const std::string& label,
-                            bool mipmaps, const Caps& caps, bool force_decode, std::vector<TextureUpload>& uploads) {
+                            bool mipmaps, const Caps& caps, bool force_decode, std::vector<TextureUpload>& uploads,
+                            const FileUpload& files) {
     TextureUpload report;
     if (file) {
-        Result<Texture> t = upload_texture_data(*file, caps, label, mipmaps, force_decode, &report);
+        if (!files.files || !files.files->upload)
+            return make_error(label + ": the scene was prepared with texture files, and this renderer uploads none: "
+                                      "set RendererOptions::texture_files = px::texture_files()");
+        Result<Texture> t = files.files->upload(*file, caps, label, mipmaps, force_decode, &report, files.decode);
         if (t) uploads.push_back(report);
         return t;
     }
@@ -345,7 +354,7 @@ Result<Texture> upload_slot(const std::optional<TextureData>& file, const Image&
 // technique, the variant the context draws of it.
 Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages& images, const Caps& caps,
                                     bool force_decode, std::vector<TextureUpload>& uploads,
-                                    std::vector<std::string>& notes) {
+                                    std::vector<std::string>& notes, const TextureFileSupport* files) {
     GpuMaterial g;
     g.desc = &m;
     const std::string what = "material '" + echo(m.name) + "'";
@@ -367,13 +376,15 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
         pyramid = (technique_info(g.plan.key.technique).options & kOptSteps) != 0;
     }
+    const FileUpload file_upload{files, images.decode};
     Result<Texture> albedo = upload_slot(images.albedo_texture, images.albedo,
-                                         what + " albedo (" + source_label(m.albedo) + ")", true, caps, force_decode, uploads);
+                                         what + " albedo (" + source_label(m.albedo) + ")", true, caps, force_decode, uploads, file_upload);
     if (!albedo) return albedo.error();
     g.albedo = std::move(*albedo);
     Result<Texture> normal =
         upload_slot(images.normal_texture, images.normal,
-                    what + " normal map (" + normal_label(m, images.layout.packed_height) + ")", true, caps, force_decode, uploads);
+                    what + " normal map (" + normal_label(m, images.layout.packed_height) + ")", true, caps, force_decode, uploads,
+                    file_upload);
     if (!normal) return normal.error();
     g.normal = std::move(*normal);
     const bool base_level_trace = traced && caps.es_major < 3;
@@ -384,8 +395,9 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
                                   (base_level_trace ? ", base level for the trace" : "");
         Result<Texture> height =
             separate ? upload_slot(images.height_texture, images.height ? *images.height : images.normal, label,
-                                   !base_level_trace, caps, force_decode, uploads)
-                     : upload_slot(images.normal_texture, images.normal, label, false, caps, force_decode, uploads);
+                                   !base_level_trace, caps, force_decode, uploads, file_upload)
+                     : upload_slot(images.normal_texture, images.normal, label, false, caps, force_decode, uploads,
+                                   file_upload);
         if (!height) return height.error();
         g.height = std::move(*height);
     }
@@ -475,6 +487,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     r->force_texture_decode_ = options.force_texture_decode;
     r->planner_options_ = options.planner;
     r->effect_planner_ = options.effect_planner;
+    r->texture_files_ = options.texture_files;
     r->preserve_host_state_ = options.preserve_host_state;
     // Which context is current: the host's function, or EGL's through the
     // loader (EGL 1.5 and EGL_KHR_get_all_proc_addresses return core EGL
@@ -510,6 +523,7 @@ Status Renderer::check_context(const char* what) const {
 MaterialImageOptions Renderer::material_image_options() const {
     MaterialImageOptions o;
     o.power_of_two_textures = !caps_.npot_mipmaps();
+    o.files = texture_files_ ? texture_files_->readers : nullptr;
     return o;
 }
 
@@ -595,7 +609,7 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     std::vector<std::string> notes;
     for (size_t i = 0; i < desc.materials.size(); ++i) {
         Result<GpuMaterial> g = upload_material(desc.materials[i], prepared->materials[i]->images, caps_,
-                                                force_texture_decode_, uploads, notes);
+                                                force_texture_decode_, uploads, notes, texture_files_);
         if (!g) return g.error();
         gpu->materials.push_back(std::move(*g));
     }
@@ -650,7 +664,7 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         std::vector<TextureUpload> uploads;
         std::vector<std::string> notes;
         Result<GpuMaterial> g = upload_material(p.desc.materials[mi], p.materials[mi]->images, caps_,
-                                                force_texture_decode_, uploads, notes);
+                                                force_texture_decode_, uploads, notes, texture_files_);
         if (!g) return g.error();
         // Meshes displaced from the new relief, before anything is replaced.
         std::vector<std::pair<size_t, GpuMesh>> meshes;

@@ -24,6 +24,19 @@
 
 namespace px {
 
+// Texture files for the renderer: the readers that prepare them
+// (scene/material_images.h) and the upload that hands them to GL as they
+// are, or decoded where the context cannot sample their format.
+struct TextureFileSupport {
+    const TextureFileReaders* readers = nullptr;
+    Result<Texture> (*upload)(const TextureData& data, const Caps& caps, const std::string& what, bool mipmaps,
+                              bool force_decode, TextureUpload* report, DecodeLevel decode) = nullptr;
+};
+
+// Every file the library reads (render/texture_files.cpp): set
+// RendererOptions::texture_files to it where scenes name files.
+const TextureFileSupport* texture_files();
+
 struct RendererOptions {
     // Entry points for extensions (KHR_debug); nullptr: no debug messages.
     GetProcAddress get_proc_address = nullptr;
@@ -49,6 +62,12 @@ struct RendererOptions {
     // renderer then links none of the planner, its cost table or its JSON
     // parser.
     EffectPlannerFactory effect_planner = nullptr;
+    // How scene files are read and uploaded (images, KTX 1.1, KTX 2.0 and
+    // PVR v3 containers, the CPU decoders): px::texture_files(). Null (the
+    // default): textures are procedural or colours, a scene that names a
+    // file is refused at load naming the file, and the renderer links no
+    // image or container reader, codec, libjpeg, libzstd or libastcenc.
+    const TextureFileSupport* texture_files = nullptr;
     // The effect planner's cost table and calibrations; default: the table
     // built into the library.
     PlannerOptions planner;
@@ -238,6 +257,7 @@ private:
     std::function<VariantKey(const VariantKey&)> variant_transform_;
     PlannerOptions planner_options_;
     EffectPlannerFactory effect_planner_ = nullptr;
+    const TextureFileSupport* texture_files_ = nullptr;
     ProgramBinaryStore program_binaries_;
     ProgramBinarySupport binary_support_;
     std::unique_ptr<GpuScene> scene_;

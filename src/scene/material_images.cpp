@@ -5,8 +5,6 @@
 #include "parallaxes/core/limits.h"
 #include "parallaxes/core/numeric.h"
 #include "parallaxes/scene/scene_format.h"
-#include "parallaxes/texture/containers.h"
-#include "parallaxes/texture/decode.h"
 
 #include <algorithm>
 #include <cctype>
@@ -23,7 +21,8 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
 
 }  // namespace
 
-Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir);
+Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir,
+                                                       const TextureFileReaders* files);
 
 bool is_texture_file(const std::string& path) {
     auto ends = [&](const char* suffix) {
@@ -38,7 +37,13 @@ bool is_texture_file(const std::string& path) {
 
 namespace {
 
-Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir) {
+Status no_readers(const TextureSource& s) {
+    return make_error("'" + echo_path(s.path) +
+                      "' is a file, and no file readers were given: pass px::texture_file_readers() "
+                      "(RendererOptions::texture_files, or MaterialImageOptions::files)");
+}
+
+Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir, const TextureFileReaders* files) {
     const TextureSource& s = m.height;
     switch (s.kind) {
         case TextureSource::Kind::none: {
@@ -51,7 +56,8 @@ Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_d
         case TextureSource::Kind::procedural: return make_height_field(s.field);
         case TextureSource::Kind::file: {
             if (is_texture_file(s.path)) return make_error("internal: a texture file is loaded by build_material_images");
-            Result<Image> image = load_image(resolve(base_dir, s.path), 1);
+            if (!files) return no_readers(s).error();
+            Result<Image> image = files->load_image(resolve(base_dir, s.path), 1);
             if (!image) return image.error();
             return height_field_from_image(*image, s.convention);
         }
@@ -67,15 +73,15 @@ Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_d
 }
 
 // Texels per side of a source; 0 x 0 for a file whose header is not read.
-Result<ImageInfo> source_size(const TextureSource& s, const std::string& base_dir, bool read_file_headers) {
+Result<ImageInfo> source_size(const TextureSource& s, const std::string& base_dir, const TextureFileReaders* files) {
     switch (s.kind) {
         case TextureSource::Kind::none:
         case TextureSource::Kind::color: return ImageInfo{4, 4};
         case TextureSource::Kind::procedural: return ImageInfo{s.field.size, s.field.size};
         case TextureSource::Kind::file: {
-            if (!read_file_headers) return ImageInfo{0, 0};
-            if (!is_texture_file(s.path)) return read_image_info(resolve(base_dir, s.path));
-            Result<TextureData> t = read_texture_file(resolve(base_dir, s.path));
+            if (!files) return ImageInfo{0, 0};
+            if (!is_texture_file(s.path)) return files->read_image_info(resolve(base_dir, s.path));
+            Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
             if (!t) return t.error();
             return ImageInfo{static_cast<int>(t->width), static_cast<int>(t->height)};
         }
@@ -89,7 +95,20 @@ std::string count_text(std::int64_t n) {
 
 }  // namespace
 
-Status check_scene_resources(const SceneDesc& scene, bool read_file_headers) {
+std::string first_file_source(const SceneDesc& scene) {
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+        const MaterialDesc& m = scene.materials[i];
+        const std::pair<const TextureSource*, const char*> slots[] = {
+            {&m.albedo, "albedo"}, {&m.height, "height"}, {&m.normal, "normal"}};
+        for (auto [source, slot] : slots)
+            if (source->kind == TextureSource::Kind::file)
+                return scene_format::index_path("materials", i) + "." + slot + " (material '" + echo(m.name) + "', file '" +
+                       echo_path(source->path) + "')";
+    }
+    return {};
+}
+
+Status check_scene_resources_with(const SceneDesc& scene, const TextureFileReaders* files) {
     using scene_format::index_path;
     std::int64_t texels = 0;
     std::vector<ImageInfo> traced(scene.materials.size());
@@ -99,7 +118,7 @@ Status check_scene_resources(const SceneDesc& scene, bool read_file_headers) {
             {&m.albedo, "albedo"}, {&m.height, "height"}, {&m.normal, "normal"}};
         for (auto [source, slot] : slots) {
             const std::string path = index_path("materials", i) + "." + slot + " (material '" + echo(m.name) + "')";
-            Result<ImageInfo> size = source_size(*source, scene.base_dir, read_file_headers);
+            Result<ImageInfo> size = source_size(*source, scene.base_dir, files);
             if (!size) return with_context(path, size.error());
             if (source == &m.height) traced[i] = *size;
             // Each side is at most kMaxTextureSize: no overflow in 64 bits.
@@ -187,10 +206,10 @@ std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_s
 
 }  // namespace
 
-Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::string& base_dir,
-                                             const MaterialImageOptions& options) {
+Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const std::string& base_dir,
+                                                  const MaterialImageOptions& options) {
     counters::count(counters::Step::image_build);
-    Result<MaterialImages> built = build_material_images_as_given(m, base_dir);
+    Result<MaterialImages> built = build_material_images_as_given(m, base_dir, options.files);
     if (!built) return built;
     MaterialImages& out = *built;
     // maxmip (explicit, or possible under effects) on a non-power-of-two field.
@@ -237,14 +256,21 @@ Result<MaterialImages> build_material_images(const MaterialDesc& m, const std::s
     return built;
 }
 
-Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir) {
+Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir,
+                                                       const TextureFileReaders* files) {
     const std::string where = "material '" + echo(m.name) + "'";
+    if (!files) {
+        const std::pair<const TextureSource*, const char*> slots[] = {
+            {&m.height, "height"}, {&m.normal, "normal"}, {&m.albedo, "albedo"}};
+        for (auto [source, slot] : slots)
+            if (source->kind == TextureSource::Kind::file) return with_context(where + " " + slot, no_readers(*source).error());
+    }
     MaterialImages out;
     const auto texture_file = [&](const TextureSource& s) {
         return s.kind == TextureSource::Kind::file && is_texture_file(s.path);
     };
     const auto read_texture_source = [&](const TextureSource& s, const char* slot) -> Result<TextureData> {
-        Result<TextureData> t = read_texture_file(resolve(base_dir, s.path));
+        Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
         if (!t) return with_context(where + " " + slot, t.error());
         if (t->layers != 1 || t->faces != 1)
             return make_error(where + " " + slot + ": '" + echo_path(s.path) + "' holds " + std::to_string(t->layers) +
@@ -264,14 +290,14 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
                               "high); convert depth maps with `parallax convert --depth`");
         Result<TextureData> t = read_texture_source(m.height, "height");
         if (!t) return t.error();
-        Result<HeightField> f = height_field_from_texture(*t, HeightConvention::height);
+        Result<HeightField> f = files->height_field(*t);
         if (!f) return with_context(where + " height '" + echo_path(m.height.path) + "'", f.error());
         out.field = std::move(*f);
         out.traced = out.field;
-        out.layout.height_11bit = height_bits(t->format) == 11;
+        out.layout.height_11bit = files->height_bits(t->format) == 11;
         out.height_texture = std::move(*t);
     } else {
-        Result<HeightField> field = load_height(m, base_dir);
+        Result<HeightField> field = load_height(m, base_dir, files);
         if (!field) return with_context(where + " height", field.error());
         out.field = std::move(*field);
         out.traced = quantized_8bit(out.field);
@@ -279,16 +305,16 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
     if (texture_file(m.normal)) {
         Result<TextureData> t = read_texture_source(m.normal, "normal");
         if (!t) return t.error();
-        Result<Image> level0 = decode_rgba8(*t);
+        Result<Image> level0 = files->decode_level(*t, 0);
         if (!level0) return with_context(where + " normal '" + echo_path(m.normal.path) + "'", level0.error());
-        out.layout.normal_rg = format_info(t->format).channels == 2;
+        out.layout.normal_rg = files->channels(t->format) == 2;
         out.normal = std::move(*level0);
         out.normal_texture = std::move(*t);
     }
     if (texture_file(m.albedo)) {
         Result<TextureData> t = read_texture_source(m.albedo, "albedo");
         if (!t) return t.error();
-        Result<Image> level0 = decode_rgba8(*t);
+        Result<Image> level0 = files->decode_level(*t, 0);
         if (!level0) return with_context(where + " albedo '" + echo_path(m.albedo.path) + "'", level0.error());
         out.albedo = std::move(*level0);
         out.albedo_texture = std::move(*t);
@@ -299,7 +325,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
     if (out.normal_texture) {
         // read above
     } else if (m.normal.kind == TextureSource::Kind::file) {
-        Result<Image> normal = load_image(resolve(base_dir, m.normal.path), 4);
+        Result<Image> normal = files->load_image(resolve(base_dir, m.normal.path), 4);
         if (!normal) return with_context(where + " normal", normal.error());
         if (packed) {
             if (normal->width != out.field.width || normal->height != out.field.height)
@@ -327,6 +353,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         out.normal = derive_normal_map(out.field, m.height_scale, packed);
     }
     if (!packed) out.height = height_image(out.field);
+    if (files && (out.height_texture || out.normal_texture || out.albedo_texture)) out.decode = files->decode_level;
 
     if (!out.albedo_texture) switch (m.albedo.kind) {
         case TextureSource::Kind::none:
@@ -337,7 +364,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
                                           to_unorm8(m.albedo.color.b));
             break;
         case TextureSource::Kind::file: {
-            Result<Image> albedo = load_image(resolve(base_dir, m.albedo.path), 4);
+            Result<Image> albedo = files->load_image(resolve(base_dir, m.albedo.path), 4);
             if (!albedo) return with_context(where + " albedo", albedo.error());
             out.albedo = std::move(*albedo);
             break;

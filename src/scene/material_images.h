@@ -27,11 +27,34 @@ struct MaterialImages {
     // uploaded as they are (or decoded on the CPU where the context cannot
     // sample their format). Empty: the slot uploads the Image above.
     std::optional<TextureData> albedo_texture, normal_texture, height_texture;
+    // The CPU decoder of the files above (TextureFileReaders::decode_level),
+    // for a context that cannot sample their format; null without files.
+    Result<Image> (*decode)(const TextureData& data, std::size_t level) = nullptr;
     TextureLayout layout;         // how the textures hold what the shaders read
     // What was resampled on the way, and why ("height 200x120 resampled to
     // 256x128 (bilinear): maxmip's max pyramid halves every level exactly").
     std::vector<std::string> notes;
 };
+
+// How a material's files are read: images (PNG, JPEG, TGA), texture
+// containers (KTX 1.1, KTX 2.0, PVR v3) and their CPU decoders. A table of
+// functions, so that a renderer that draws procedural textures alone links
+// none of them (no codecs, no libjpeg, libzstd or libastcenc): pass
+// texture_file_readers() where files are wanted.
+struct TextureFileReaders {
+    Result<Image> (*load_image)(const std::string& path, int channels);
+    Result<ImageInfo> (*read_image_info)(const std::string& path);
+    Result<TextureData> (*read_texture_file)(const std::string& path);
+    Result<Image> (*decode_level)(const TextureData& data, std::size_t level);  // RGBA8
+    // A height map's level 0 as the GPU samples it (texture/decode.h), and
+    // the bits of height its format holds (8 or 11).
+    Result<HeightField> (*height_field)(const TextureData& data);
+    int (*height_bits)(TextureFormat format);
+    int (*channels)(TextureFormat format);
+};
+
+// Every reader this library has (scene/texture_files.cpp).
+const TextureFileReaders* texture_file_readers();
 
 // What the context asks of sizes; the same for the renderer and the exact
 // reference, so that both see the same textures.
@@ -40,6 +63,9 @@ struct MaterialImageOptions {
     // (bilinear; files decoded first): an ES 2.0 context without
     // GL_OES_texture_npot can neither repeat nor mipmap it.
     bool power_of_two_textures = false;
+    // The file readers. build_material_images: null means every reader;
+    // build_material_images_from: null means a file source is an error.
+    const TextureFileReaders* files = nullptr;
 };
 
 // Errors name the material and the source (file path or field). A file is
@@ -51,6 +77,10 @@ struct MaterialImageOptions {
 // pyramid halves every level exactly. Both resamplings are in `notes`.
 Result<MaterialImages> build_material_images(const MaterialDesc& material, const std::string& base_dir,
                                              const MaterialImageOptions& options = {});
+// The same with exactly the readers in options.files (none: a material that
+// reads a file is refused, naming the file): what prepare_scene calls.
+Result<MaterialImages> build_material_images_from(const MaterialDesc& material, const std::string& base_dir,
+                                                  const MaterialImageOptions& options);
 
 // Whether a source file is read as a texture container (by its extension:
 // .ktx, .ktx2, .pvr, any case) rather than as an image.
@@ -64,5 +94,11 @@ bool is_texture_file(const std::string& path);
 // against kMaxSceneVertices. Errors name the JSON path of the source or
 // object that passes the limit.
 Status check_scene_resources(const SceneDesc& scene, bool read_file_headers);
+// The same, reading file headers with `files` (null: headers not read).
+Status check_scene_resources_with(const SceneDesc& scene, const TextureFileReaders* files);
+
+// The first file source of the scene, as "materials[i].slot" with the file's
+// name, or "" when the scene reads no files.
+std::string first_file_source(const SceneDesc& scene);
 
 }  // namespace px

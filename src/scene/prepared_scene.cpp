@@ -12,7 +12,7 @@ std::string scene_label(const SceneDesc& scene) {
 
 Result<std::shared_ptr<const PreparedMaterial>> prepare_material(const MaterialDesc& m, const SceneDesc& scene,
                                                                  const PrepareOptions& options) {
-    Result<MaterialImages> images = build_material_images(m, scene.base_dir, options.images);
+    Result<MaterialImages> images = build_material_images_from(m, scene.base_dir, options.images);
     if (!images) return images.error();
     auto prepared = std::make_shared<PreparedMaterial>();
     prepared->images = std::move(*images);
@@ -39,9 +39,21 @@ Result<std::shared_ptr<const PreparedObject>> prepare_object(const ObjectDesc& o
     return std::shared_ptr<const PreparedObject>(std::move(prepared));
 }
 
+// A scene that reads files, prepared without file readers: refused before
+// anything is built, naming the first file.
+Status check_files_readable(const SceneDesc& scene, const PrepareOptions& options) {
+    if (options.images.files) return {};
+    const std::string first = first_file_source(scene);
+    if (first.empty()) return {};
+    return make_error(first + ": the scene reads files, and this preparation has no file readers: set "
+                              "RendererOptions::texture_files = px::texture_file_readers() (or "
+                              "PrepareOptions::images.files)");
+}
+
 Result<std::shared_ptr<const PreparedScene>> prepare_checked(const SceneDesc& scene, const PrepareOptions& options) {
     if (Status s = validate_scene(scene); !s) return s.error();
-    if (Status s = check_scene_resources(scene, true); !s) return s.error();
+    if (Status s = check_files_readable(scene, options); !s) return s.error();
+    if (Status s = check_scene_resources_with(scene, options.images.files); !s) return s.error();
     auto prepared = std::make_shared<PreparedScene>();
     prepared->desc = scene;
     prepared->options = options;
@@ -78,7 +90,8 @@ Result<std::shared_ptr<const PreparedScene>> replace_material(const PreparedScen
         auto next = std::make_shared<PreparedScene>(scene);
         next->desc.materials[mi] = material;
         if (Status s = validate_scene(next->desc); !s) return s.error();
-        if (Status s = check_scene_resources(next->desc, true); !s) return s.error();
+        if (Status s = check_files_readable(next->desc, scene.options); !s) return s.error();
+        if (Status s = check_scene_resources_with(next->desc, scene.options.images.files); !s) return s.error();
         Result<std::shared_ptr<const PreparedMaterial>> prepared = prepare_material(material, next->desc, scene.options);
         if (!prepared) return prepared.error();
         next->materials[mi] = std::move(*prepared);

@@ -30,6 +30,8 @@ struct PreparedObject {
 struct PrepareOptions {
     // What the context asks of texture sizes (Renderer::prepare_options()
     // gives the right ones for a context; the reference must see the same).
+    // images.files: the file readers; null (the default) refuses a scene
+    // that reads files, naming the first one.
     MaterialImageOptions images;
 };
 

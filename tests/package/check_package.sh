@@ -68,15 +68,24 @@ app="$work/host/host_app"
 # What a host app pulls in: the renderer, none of the rest.
 symbols=$(nm -C "$app")
 grep -q "px::Renderer::draw" <<<"$symbols" || { echo "FAIL: no px::Renderer::draw in host_app (nm read nothing?)"; exit 1; }
-# nlohmann's parser is not in the list yet: the planner's cost table is
-# still parsed from JSON at run time and the planner is still linked into
-# every renderer (issue 19's footprint part, not done: see CHANGELOG.md).
+# The app names no file and no effect, so it links no JSON parser, no effect
+# planner or cost table, and no image or container reader or codec: those
+# come in with RendererOptions::effect_planner and ::texture_files.
 # (No pipe into head under pipefail: a grep killed by SIGPIPE on a long
-# list would read as "nothing found".)
-leaked=$(grep -E "${PX_LEAK_PATTERN:-px::reference::|px::profiling::|px::tools::|CLI::}" <<<"$symbols" || true)
+# list would read as "nothing found". PX_LEAK_PATTERN replaces the pattern:
+# set it to a symbol the app has, say px::Renderer::draw, to see this fail.)
+default_leaks='px::reference::|px::profiling::|px::tools::|CLI::|nlohmann|px::ScenePlanner|px::CostTable|px::measure_relief'
+default_leaks+='|px::effect_planner|px::decode_(etc|astc|bc|pvrtc|rgba8)|px::read_(ktx1|ktx2|pvr3|texture)|px::load_image'
+default_leaks+='|px::write_png|stbi_|jpeg_|ZSTD_|astcenc_'
+leaked=$(grep -E "${PX_LEAK_PATTERN:-$default_leaks}" <<<"$symbols" || true)
 if [ -n "$leaked" ]; then
     echo "FAIL: host_app pulls in code a host does not need ($(wc -l <<<"$leaked") symbols), first:"
     sed -n 1,5p <<<"$leaked"; exit 1
+fi
+# Nor the libraries only files need, at run time.
+needed=$(readelf -d "$app" | grep NEEDED || true)
+if grep -qE "libjpeg|libzstd|libastcenc" <<<"$needed"; then
+    echo "FAIL: host_app needs a file library at run time:"; echo "$needed"; exit 1
 fi
 strip -o "$work/host_app.stripped" "$app"
 echo "ok: host_app built with find_package, $(stat -c %s "$work/host_app.stripped") bytes stripped"
@@ -85,6 +94,6 @@ echo "ok: host_app built with find_package, $(stat -c %s "$work/host_app.strippe
 export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
 flags=$(pkg-config --cflags --libs parallaxes) || { echo "FAIL: pkg-config cannot read parallaxes.pc"; exit 1; }
 # shellcheck disable=SC2086
-c++ -std=c++17 -O1 "$source_dir/examples/host_app/main.cpp" -o "$work/host_app_pc" $flags -lEGL -Wl,--gc-sections
+c++ -std=c++17 -O1 "$source_dir/examples/host_app/main.cpp" -o "$work/host_app_pc" $flags -lEGL -Wl,--gc-sections -Wl,--as-needed
 "$work/host_app_pc" --es 3
 echo "ok: host_app built with pkg-config ($flags)"

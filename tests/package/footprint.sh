@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The footprint a mobile app sees, built as the README's "Using it in your
+# app" section says for a size-conscious build: the library configured
+# MinSizeRel (-Os), installed, and examples/host_app linked against it with
+# --gc-sections, then stripped. Fails past PX_FOOTPRINT_LIMIT bytes (default
+# 400000) or when the app links the JSON parser, the effect planner, or any
+# file reader or codec. Not part of `make test` (it builds the library a
+# second time, about three minutes on two cores): .ci/run calls it.
+#   tests/package/footprint.sh [SOURCE_DIR]
+set -euo pipefail
+source_dir=$(cd "${1:-$(dirname "$0")/../..}" && pwd)
+limit=${PX_FOOTPRINT_LIMIT:-400000}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+cmake -S "$source_dir" -B "$work/build" -DCMAKE_BUILD_TYPE=MinSizeRel -DPX_BUILD_TESTS=OFF >"$work/configure.log" ||
+    { cat "$work/configure.log"; exit 1; }
+cmake --build "$work/build" -j "$(nproc)" --target parallax_core parallax_gl parallax_render parallax_platform \
+    >"$work/build.log" 2>&1 || { tail -30 "$work/build.log"; exit 1; }
+# Only the library is built: install its component without the tools.
+cmake --install "$work/build" --prefix "$work/prefix" >"$work/install.log" 2>&1 || { cat "$work/install.log"; exit 1; }
+cmake -S "$source_dir/examples/host_app" -B "$work/host" -DCMAKE_PREFIX_PATH="$work/prefix" \
+    -DCMAKE_BUILD_TYPE=MinSizeRel >"$work/host.log" 2>&1 || { cat "$work/host.log"; exit 1; }
+cmake --build "$work/host" >>"$work/host.log" 2>&1 || { cat "$work/host.log"; exit 1; }
+app="$work/host/host_app"
+"$app" --es 3 --frames 2
+
+symbols=$(nm -C "$app")
+grep -q "px::Renderer::draw" <<<"$symbols" || { echo "FAIL: no px::Renderer::draw in host_app (nm read nothing?)"; exit 1; }
+leaks='nlohmann|px::ScenePlanner|px::CostTable|px::measure_relief|px::effect_planner|px::decode_(etc|astc|bc|pvrtc|rgba8)'
+leaks+='|px::read_(ktx1|ktx2|pvr3|texture)|px::load_image|stbi_|jpeg_|ZSTD_|astcenc_'
+leaked=$(grep -E "${PX_LEAK_PATTERN:-$leaks}" <<<"$symbols" || true)
+if [ -n "$leaked" ]; then
+    echo "FAIL: host_app links code it does not use ($(wc -l <<<"$leaked") symbols), first:"
+    sed -n 1,5p <<<"$leaked"; exit 1
+fi
+strip -o "$work/host_app.stripped" "$app"
+bytes=$(stat -c %s "$work/host_app.stripped")
+if [ "$bytes" -gt "$limit" ]; then
+    echo "FAIL: host_app is $bytes bytes stripped (MinSizeRel), past the limit of $limit"; exit 1
+fi
+echo "ok: host_app $bytes bytes stripped (library MinSizeRel, --gc-sections), limit $limit; no parser, planner or codec symbols"
