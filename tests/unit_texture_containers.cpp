@@ -23,6 +23,7 @@ using px::ContainerKind;
 using px::Result;
 using px::TextureData;
 using px::TextureFormat;
+using px::RowOrder;
 using Bytes = std::vector<std::uint8_t>;
 
 // A texture with every byte set from a position hash (or a repeating
@@ -141,7 +142,8 @@ TEST(Ktx1RoundTrip, FormatsWithFullChainsOfNonPowerOfTwoSizes) {
         EXPECT_TRUE(back->supercompression.empty());
         expect_same(t, *back);
         EXPECT_TRUE(ktx1(*back) == file);
-        EXPECT_TRUE(contains(file, std::string("KTXorientation\0S=r,T=u", 22)));
+        EXPECT_TRUE(contains(file, std::string("KTXorientation\0S=r,T=d", 22)));
+        EXPECT_EQ(back->rows, RowOrder::top_first);
     }
 }
 
@@ -206,7 +208,8 @@ TEST(Ktx2RoundTrip, FormatsWithFullChainsOfNonPowerOfTwoSizes) {
         EXPECT_EQ(back->supercompression, "none");
         expect_same(t, *back);
         EXPECT_TRUE(ktx2(*back) == file);
-        EXPECT_TRUE(contains(file, std::string("KTXorientation\0ru", 17)));
+        EXPECT_TRUE(contains(file, std::string("KTXorientation\0rd", 17)));
+        EXPECT_EQ(back->rows, RowOrder::top_first);
         // Levels are stored smallest first, each aligned to lcm(block bytes, 4).
         const std::size_t n = t.levels.size();
         EXPECT_LT(get64(file, 80 + 24 * (n - 1)), get64(file, 80));
@@ -272,7 +275,7 @@ TEST(PvrRoundTrip, FormatsArraysAndCubeMaps) {
         SCOPED_TRACE(px::format_name(f));
         const TextureData t = make_texture(f, 37, 20);
         const Bytes file = pvr(t);
-        EXPECT_EQ(file.size(), 52 + t.bytes.size());
+        EXPECT_EQ(file.size(), 52 + 15 + t.bytes.size());  // the orientation metadata block
         Result<TextureData> back = rdp(file);
         ASSERT_TRUE(back.ok()) << back.error().message;
         EXPECT_EQ(back->container, ContainerKind::pvr3);
@@ -296,10 +299,113 @@ TEST(PvrRoundTrip, SkipsMetadata) {
     Bytes file = pvr(t);
     const Bytes meta = {'P', 'V', 'R', 3, 1, 0, 0, 0, 4, 0, 0, 0, 9, 9, 9, 9};
     file.insert(file.begin() + 52, meta.begin(), meta.end());
-    file = patch32(file, 48, static_cast<std::uint32_t>(meta.size()));
+    file = patch32(file, 48, static_cast<std::uint32_t>(meta.size() + 15));
     Result<TextureData> back = rdp(file);
     ASSERT_TRUE(back.ok()) << back.error().message;
     expect_same(t, *back);
+}
+
+// ------------------------------------------------------------ orientation
+
+// A key/value block of one pair, as KTX 1.1 and 2.0 lay it out.
+Bytes one_key_value(const std::string& key, const std::string& value) {
+    Bytes kv;
+    const std::uint32_t n = static_cast<std::uint32_t>(key.size() + 1 + value.size() + 1);
+    for (int i = 0; i < 4; ++i) kv.push_back(static_cast<std::uint8_t>(n >> (8 * i)));
+    kv.insert(kv.end(), key.begin(), key.end());
+    kv.push_back(0);
+    kv.insert(kv.end(), value.begin(), value.end());
+    kv.push_back(0);
+    while (kv.size() % 4) kv.push_back(0);
+    return kv;
+}
+
+// The KTX 1.1 file of `t` with its key/value data replaced by `kv`.
+Bytes ktx1_with_key_values(const TextureData& t, const Bytes& kv) {
+    Bytes file = ktx1(t);
+    const std::uint32_t old = get32(file, 60);
+    file.erase(file.begin() + 64, file.begin() + 64 + old);
+    file.insert(file.begin() + 64, kv.begin(), kv.end());
+    return patch32(file, 60, static_cast<std::uint32_t>(kv.size()));
+}
+
+TEST(Orientation, WritersDeclareTheRowOrderAndReadersReadItBack) {
+    for (RowOrder rows : {RowOrder::top_first, RowOrder::bottom_first}) {
+        TextureData t = make_texture(TextureFormat::etc2_rgb8, 16, 8);
+        t.rows = rows;
+        const bool top = rows == RowOrder::top_first;
+        const Bytes k1 = ktx1(t), k2 = ktx2(t), p = pvr(t);
+        EXPECT_TRUE(contains(k1, std::string("KTXorientation\0S=r,T=", 21) + (top ? "d" : "u")));
+        EXPECT_TRUE(contains(k2, std::string("KTXorientation\0r", 16) + (top ? "d" : "u")));
+        EXPECT_EQ(p[52 + 12 + 1], top ? 0 : 2);  // PVR v3 orientation metadata: y down (0) or up
+        for (const Result<TextureData>& back : {rd1(k1), rd2(k2), rdp(p)}) {
+            ASSERT_TRUE(back.ok()) << back.error().message;
+            EXPECT_EQ(back->rows, rows) << back->rows_source;
+        }
+    }
+}
+
+TEST(Orientation, KeysAsTheToolsSpellThemAndTheDefaults) {
+    const TextureData t = make_texture(TextureFormat::etc2_rgb8, 8, 8, 1);
+    // PVRTexToolCLI 4.17 writes "KTXOrientation" with a capital O, and an R= part.
+    Result<TextureData> ptt = rd1(ktx1_with_key_values(t, one_key_value("KTXOrientation", "S=r,T=u,R=i")));
+    ASSERT_TRUE(ptt.ok()) << ptt.error().message;
+    EXPECT_EQ(ptt->rows, RowOrder::bottom_first);
+    EXPECT_NE(ptt->rows_source.find("KTXOrientation \"S=r,T=u,R=i\""), std::string::npos) << ptt->rows_source;
+    // No key (astcenc, basisu): top row first, and the source says why.
+    Result<TextureData> none = rd1(ktx1_with_key_values(t, {}));
+    ASSERT_TRUE(none.ok()) << none.error().message;
+    EXPECT_EQ(none->rows, RowOrder::top_first);
+    EXPECT_NE(none->rows_source.find("no KTXorientation"), std::string::npos) << none->rows_source;
+    // Other keys leave the default alone.
+    Result<TextureData> other = rd1(ktx1_with_key_values(t, one_key_value("KTXwriter", "S=r,T=u")));
+    ASSERT_TRUE(other.ok());
+    EXPECT_EQ(other->rows, RowOrder::top_first);
+    // A value that says nothing usable is refused by name.
+    EXPECT_TRUE(fails_with(rd1(ktx1_with_key_values(t, one_key_value("KTXorientation", "S=r,T=x"))),
+                           "KTXorientation \"S=r,T=x\""));
+    // PVR v3 without metadata: top row first (PVRTexTool's default).
+    Bytes p = pvr(t);
+    p.erase(p.begin() + 52, p.begin() + 52 + 15);
+    p = patch32(p, 48, 0);
+    Result<TextureData> bare = rdp(p);
+    ASSERT_TRUE(bare.ok()) << bare.error().message;
+    EXPECT_EQ(bare->rows, RowOrder::top_first);
+    EXPECT_NE(bare->rows_source.find("no PVR v3 orientation"), std::string::npos);
+    // A metadata block whose dataSize passes the metadata's end is refused.
+    Bytes bad = pvr(t);
+    bad = patch32(bad, 52 + 8, 1000);
+    EXPECT_TRUE(fails_with(rdp(bad), "dataSize 1000"));
+}
+
+// ------------------------------------------------------------ .astc
+
+Bytes astc_file(int bx, int by, std::uint32_t w, std::uint32_t h, std::size_t block_count) {
+    Bytes f = {0x13, 0xAB, 0xA1, 0x5C, static_cast<std::uint8_t>(bx), static_cast<std::uint8_t>(by), 1};
+    for (std::uint32_t v : {w, h, 1u})
+        for (int i = 0; i < 3; ++i) f.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+    f.resize(f.size() + 16 * block_count, 0x5A);
+    return f;
+}
+
+TEST(AstcFile, ReadsAstcencsContainerAndRefusesWhatDoesNotFit) {
+    Result<TextureData> t = px::read_texture(astc_file(6, 6, 64, 40, 11 * 7).data(), 16 + 16 * 77);
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_EQ(t->container, ContainerKind::astc);
+    EXPECT_EQ(t->format, TextureFormat::astc_6x6);
+    EXPECT_EQ(t->width, 64u);
+    EXPECT_EQ(t->height, 40u);
+    EXPECT_EQ(t->levels.size(), 1u);
+    EXPECT_EQ(t->rows, RowOrder::top_first);
+    const Bytes short_file = astc_file(6, 6, 64, 40, 76);
+    EXPECT_TRUE(fails_with(px::read_astc(short_file.data(), short_file.size()), "takes 1232 bytes"));
+    const Bytes odd_block = astc_file(7, 7, 64, 64, 100);
+    EXPECT_TRUE(fails_with(px::read_astc(odd_block.data(), odd_block.size()), "block size 7x7"));
+    const Bytes volume = {0x13, 0xAB, 0xA1, 0x5C, 4, 4, 4, 4, 0, 0, 4, 0, 0, 4, 0, 0};
+    EXPECT_TRUE(fails_with(px::read_astc(volume.data(), volume.size()), "3D texture"));
+    const Bytes huge = astc_file(4, 4, 0xFFFFFF, 4, 0);
+    EXPECT_TRUE(fails_with(px::read_astc(huge.data(), huge.size()), "width 16777215"));
+    EXPECT_TRUE(fails_with(px::read_astc(huge.data(), 10), "shorter than its 16-byte header"));
 }
 
 TEST(Ktx1RoundTrip, WritersRefuseAnInconsistentTexture) {

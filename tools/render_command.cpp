@@ -241,6 +241,7 @@ int run_render(const RenderArgs& a) {
         std::printf("texture    %s: %s %s %ux%u, %d level(s), %llu bytes on the GPU: %s\n", u.what.c_str(),
                     u.container.c_str(), format_name(u.format), u.width, u.height, u.levels,
                     static_cast<unsigned long long>(u.gpu_bytes), u.path.c_str());
+        if (!u.rows.empty()) std::printf("             rows: %s\n", u.rows.c_str());
     }
     std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
     std::printf("frame      %.3f ms median of %d (min %.3f, max %.3f), %d program(s); wall clock around glFinish\n",

@@ -47,6 +47,32 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 #define PX_TRACE_GRADIENTS
 #define PX_TRACE_GRADIENT_ARGS
 #endif
+// A texture file stored top row first (KTXorientation T=d, PVR y down, the
+// tools' default) goes up as it is: its first row lands at t = 0, so it is
+// read at (u, 1 - v), which is the file's own image the right way up. Each
+// texture has its own flag (a PNG albedo with a KTX height map).
+#define px_flip_v(uv) vec2((uv).x, 1.0 - (uv).y)
+#define px_flip_dv(d) vec2((d).x, -(d).y)
+#ifdef PX_FLIP_ALBEDO_V
+#define PX_ALBEDO_UV(uv) px_flip_v(uv)
+#define PX_ALBEDO_D(d) px_flip_dv(d)
+#else
+#define PX_ALBEDO_UV(uv) (uv)
+#define PX_ALBEDO_D(d) (d)
+#endif
+#ifdef PX_FLIP_NORMAL_V
+#define PX_NORMAL_UV(uv) px_flip_v(uv)
+#define PX_NORMAL_D(d) px_flip_dv(d)
+#else
+#define PX_NORMAL_UV(uv) (uv)
+#define PX_NORMAL_D(d) (d)
+#endif
+#ifdef PX_FLIP_HEIGHT_V
+#define PX_HEIGHT_UV(uv) px_flip_v(uv)
+#else
+#define PX_HEIGHT_UV(uv) (uv)
+#endif
+
 // The height fetch, only where a technique reads height: an untraced
 // variant's source then names no height sampler at all.
 #ifdef PX_READS_HEIGHT
@@ -61,9 +87,9 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 #define PX_HEIGHT_CHANNEL r
 #endif
 #if PX_ES >= 3
-#define px_trace_height(uv) textureLod(PX_HEIGHT_SAMPLER, (uv), 0.0).PX_HEIGHT_CHANNEL
+#define px_trace_height(uv) textureLod(PX_HEIGHT_SAMPLER, PX_HEIGHT_UV(uv), 0.0).PX_HEIGHT_CHANNEL
 #else
-#define px_trace_height(uv) texture2D(PX_HEIGHT_SAMPLER, (uv)).PX_HEIGHT_CHANNEL
+#define px_trace_height(uv) texture2D(PX_HEIGHT_SAMPLER, PX_HEIGHT_UV(uv)).PX_HEIGHT_CHANNEL
 #endif
 #endif
 

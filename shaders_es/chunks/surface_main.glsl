@@ -40,14 +40,14 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     // The two dependent reads issued back to back, before any arithmetic on
     // them (PowerVR whitepaper 3.2.1: one wait instead of two).
 #if PX_ES >= 3
-    lowp vec4 albedo = textureGrad(u_albedo_map, uv, uv_dx, uv_dy);
+    lowp vec4 albedo = textureGrad(u_albedo_map, PX_ALBEDO_UV(uv), PX_ALBEDO_D(uv_dx), PX_ALBEDO_D(uv_dy));
 #ifdef PX_NORMAL_MAP
-    mediump vec4 normal_texel = textureGrad(u_normal_map, uv, uv_dx, uv_dy);
+    mediump vec4 normal_texel = textureGrad(u_normal_map, PX_NORMAL_UV(uv), PX_NORMAL_D(uv_dx), PX_NORMAL_D(uv_dy));
 #endif
 #else
-    lowp vec4 albedo = texture2D(u_albedo_map, uv);
+    lowp vec4 albedo = texture2D(u_albedo_map, PX_ALBEDO_UV(uv));
 #ifdef PX_NORMAL_MAP
-    mediump vec4 normal_texel = texture2D(u_normal_map, uv);
+    mediump vec4 normal_texel = texture2D(u_normal_map, PX_NORMAL_UV(uv));
 #endif
 #endif
 #if defined(PX_NORMAL_MAP) && defined(PX_NORMAL_RG)

@@ -57,6 +57,15 @@ PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
 
 // The max of `node` (integer, from the tile origin) at `level`; the index
 // wraps with a mask (sizes are powers of two, so this is GL_REPEAT).
+// One texel of the traced height map at level 0 (wrapped cell c of the
+// field). A file stored top row first is fetched at the mirrored row, as
+// px_trace_height reads it at 1 - v (surface_common.glsl).
+#ifdef PX_FLIP_HEIGHT_V
+#define px_height_texel(c) texelFetch(PX_HEIGHT_SAMPLER, ivec2((c).x, mask.y - (c).y), 0).PX_HEIGHT_CHANNEL
+#else
+#define px_height_texel(c) texelFetch(PX_HEIGHT_SAMPLER, (c), 0).PX_HEIGHT_CHANNEL
+#endif
+
 PX_HIGHP float px_node_max(int level, highp ivec2 node, highp ivec2 shift, highp ivec2 mask) {
 #ifdef PX_HEIGHT_11BIT
     mediump vec2 t = texelFetch(u_max_map, node & (mask >> shift), level).rg;
@@ -170,10 +179,10 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
             PX_HIGHP vec2 p1 = clamp(o + t_stop * dir - lo_rel, 0.0, 1.0);
             highp ivec2 c0 = cell & mask;
             highp ivec2 c1 = (cell + 1) & mask;
-            PX_HIGHP vec4 corners = vec4(px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, c0, 0).PX_HEIGHT_CHANNEL),
-                                         px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c1.x, c0.y), 0).PX_HEIGHT_CHANNEL),
-                                         px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, ivec2(c0.x, c1.y), 0).PX_HEIGHT_CHANNEL),
-                                         px_exact_height(texelFetch(PX_HEIGHT_SAMPLER, c1, 0).PX_HEIGHT_CHANNEL));
+            PX_HIGHP vec4 corners = vec4(px_exact_height(px_height_texel(c0)),
+                                         px_exact_height(px_height_texel(ivec2(c1.x, c0.y))),
+                                         px_exact_height(px_height_texel(ivec2(c0.x, c1.y))),
+                                         px_exact_height(px_height_texel(c1)));
             PX_HIGHP float s;
             if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, corners, s)) {
                 t = t + s * (t_stop - t);

@@ -21,6 +21,9 @@ VariantKey VariantKey::canonical() const {
     // Only the exact walk snaps heights to their texel grid.
     if (!has_option(k.technique, kOptSteps)) k.height_11bit = false;
     if (k.packed_height) k.height_11bit = false;
+    if (!(technique_info(k.technique).options & kOptNormals)) k.flip_v &= static_cast<std::uint8_t>(~kFlipNormal);
+    if (!has_option(k.technique, kOptHeight) || k.packed_height) k.flip_v &= static_cast<std::uint8_t>(~kFlipHeight);
+    k.flip_v &= kFlipAlbedo | kFlipNormal | kFlipHeight;
     if (technique_info(k.technique).always_exact_view) k.exact_view = true;
     if (!has_option(k.technique, kOptSamples) && !has_option(k.technique, kOptSteps)) k.max_samples = 0;
     if (!has_option(k.technique, kOptRefine)) k.refine_steps = 0;
@@ -36,6 +39,7 @@ VariantKey VariantKey::canonical() const {
         k.exact_view = false;
         k.normal_rg = false;
         k.lod = false;
+        k.flip_v = 0;
     }
     return k;
 }
@@ -59,6 +63,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.normal_rg) << 49;
     b |= static_cast<std::uint64_t>(k.height_11bit) << 50;
     b |= static_cast<std::uint64_t>(k.ladder_step & 0x7) << 51;  // 3 bits
+    b |= static_cast<std::uint64_t>(k.flip_v & 0x7) << 54;       // 3 bits
     return b;
 }
 
@@ -83,6 +88,7 @@ std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
     k.normal_rg = (b >> 49) & 1;
     k.height_11bit = (b >> 50) & 1;
     k.ladder_step = static_cast<std::uint8_t>((b >> 51) & 0x7);
+    k.flip_v = static_cast<std::uint8_t>((b >> 54) & 0x7);
     if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
     return k;
 }
@@ -111,6 +117,9 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
     if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
     if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
+    if (k.flip_v & kFlipAlbedo) d.push_back({"PX_FLIP_ALBEDO_V", ""});
+    if (k.flip_v & kFlipNormal) d.push_back({"PX_FLIP_NORMAL_V", ""});
+    if (k.flip_v & kFlipHeight) d.push_back({"PX_FLIP_HEIGHT_V", ""});
     return d;
 }
 
@@ -139,6 +148,9 @@ std::string VariantKey::describe() const {
     if (k.debug_output) s << " debug" << int(k.debug_output);
     if (k.no_fragment_highp) s << " no-fragment-highp";
     if (k.ladder_step) s << " ladder" << int(k.ladder_step);
+    if (k.flip_v & kFlipAlbedo) s << " flip-albedo";
+    if (k.flip_v & kFlipNormal) s << " flip-normal";
+    if (k.flip_v & kFlipHeight) s << " flip-height";
     return s.str();
 }
 
@@ -179,6 +191,9 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
         else if (word == "height-11bit") k.height_11bit = true;
         else if (word.rfind("debug", 0) == 0 && number(word.substr(5), 4, n) && n >= 1) k.debug_output = static_cast<std::uint8_t>(n);
         else if (word == "no-fragment-highp") k.no_fragment_highp = true;
+        else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
+        else if (word == "flip-normal") k.flip_v |= kFlipNormal;
+        else if (word == "flip-height") k.flip_v |= kFlipHeight;
         else if (word.rfind("ladder", 0) == 0 && number(word.substr(6), kLadderSteps, n) && n >= 1)
             k.ladder_step = static_cast<std::uint8_t>(n);
         else return make_error("variant '" + name + "': unknown word '" + word + "'");
@@ -223,6 +238,7 @@ VariantKey VariantKey::with_layout(const TextureLayout& layout) const {
     k.packed_height = layout.packed_height;
     k.normal_rg = layout.normal_rg;
     k.height_11bit = layout.height_11bit;
+    k.flip_v = layout.flip_v;
     return k;
 }
 

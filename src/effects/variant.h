@@ -26,7 +26,14 @@ struct TextureLayout {
     bool packed_height = true;  // height in the normal map's alpha (RGBA8 sources)
     bool normal_rg = false;     // normal x, y in R, G (EAC RG11, BC5); z = sqrt(1 - x^2 - y^2)
     bool height_11bit = false;  // traced height has 11-bit texels (EAC R11): the exact walk snaps to 1/2047
+    // Texture files stored top row first (texture_data.h RowOrder), uploaded
+    // as they are: the shaders read them at v' = 1 - v (kFlip* bits).
+    std::uint8_t flip_v = 0;
 };
+
+// VariantKey::flip_v and TextureLayout::flip_v bits: which textures are read
+// at 1 - v.
+inline constexpr std::uint8_t kFlipAlbedo = 1, kFlipNormal = 2, kFlipHeight = 4;
 
 struct VariantKey {
     Technique technique = Technique::normal;
@@ -51,6 +58,10 @@ struct VariantKey {
     // shaders_es/ladder/): 0 is the shipped shader; 1 the whitepaper's
     // baseline, and 2..6 each step it took, in its order (kLadderSteps).
     std::uint8_t ladder_step = 0;
+    // Textures read at v' = 1 - v (kFlipAlbedo | kFlipNormal | kFlipHeight):
+    // files stored top row first, uploaded without decoding
+    // (PX_FLIP_ALBEDO_V, PX_FLIP_NORMAL_V, PX_FLIP_HEIGHT_V).
+    std::uint8_t flip_v = 0;
 
     // The same variant with every field the technique does not use zeroed,
     // so that equal programs have equal keys.

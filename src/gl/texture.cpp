@@ -167,6 +167,7 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
     if (report) {
         report->what = what;
         report->container = container_name(data.container);
+        report->rows = std::string(row_order_name(data.rows)) + " (" + data.rows_source + ")";
         report->format = data.format;
         report->width = data.width;
         report->height = data.height;

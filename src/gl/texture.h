@@ -36,6 +36,7 @@ struct TextureUpload {
     std::string path;        // "direct (glCompressedTexImage2D)", "CPU decode to RGBA8 (needs ...)"
     std::uint64_t file_bytes = 0;  // the data as given, all levels
     std::uint64_t gpu_bytes = 0;   // what the upload handed the GPU, all levels
+    std::string rows;              // "top row first (KTXOrientation \"S=r,T=d,R=i\")"; empty for images
 };
 
 // A TextureData (texture/texture_data.h), level 0 of layer 0, face 0 and

@@ -32,7 +32,7 @@ bool is_texture_file(const std::string& path) {
             if (std::tolower(static_cast<unsigned char>(path[path.size() - s.size() + i])) != s[i]) return false;
         return true;
     };
-    return ends(".ktx") || ends(".ktx2") || ends(".pvr");
+    return ends(".ktx") || ends(".ktx2") || ends(".pvr") || ends(".astc");
 }
 
 namespace {
@@ -202,6 +202,25 @@ Image resample_image(const Image& img, int w, int h) {
 
 bool pot(int w, int h) { return is_power_of_two(w) && is_power_of_two(h); }
 
+// Row 0 of a HeightField and of an Image is the bottom of the uv square (v = 0,
+// where OpenGL samples a texture's first row): a file stored top row first
+// is mirrored into that order for the CPU (the reference, the mesh, the max
+// pyramid), while its texture goes up as it is and is read at 1 - v.
+void flip_rows(HeightField& f) {
+    for (int y = 0; y < f.height / 2; ++y)
+        for (int x = 0; x < f.width; ++x) std::swap(f.ref(x, y), f.ref(x, f.height - 1 - y));
+}
+
+void flip_rows(Image& img) {
+    const size_t row = static_cast<size_t>(img.width) * static_cast<size_t>(img.channels);
+    for (int y = 0; y < img.height / 2; ++y)
+        std::swap_ranges(img.pixels.begin() + static_cast<std::ptrdiff_t>(row * static_cast<size_t>(y)),
+                         img.pixels.begin() + static_cast<std::ptrdiff_t>(row * static_cast<size_t>(y + 1)),
+                         img.pixels.begin() + static_cast<std::ptrdiff_t>(row * static_cast<size_t>(img.height - 1 - y)));
+}
+
+bool top_first(const std::optional<TextureData>& t) { return t && t->rows == RowOrder::top_first; }
+
 std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 }  // namespace
@@ -253,6 +272,10 @@ Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const s
             slots[i].second->reset();
         }
     }
+    // Files uploaded as they are, stored top row first: read at 1 - v.
+    out.layout.flip_v = static_cast<std::uint8_t>((top_first(out.albedo_texture) ? kFlipAlbedo : 0) |
+                                                  (top_first(out.normal_texture) ? kFlipNormal : 0) |
+                                                  (top_first(out.height_texture) ? kFlipHeight : 0));
     return built;
 }
 
@@ -272,6 +295,12 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
     const auto read_texture_source = [&](const TextureSource& s, const char* slot) -> Result<TextureData> {
         Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
         if (!t) return with_context(where + " " + slot, t.error());
+        if (s.first_row != TextureSource::FirstRow::file) {
+            const bool top = s.first_row == TextureSource::FirstRow::top;
+            t->rows = top ? RowOrder::top_first : RowOrder::bottom_first;
+            t->rows_source = std::string("the scene's first_row \"") + (top ? "top" : "bottom") + "\" (the file says " +
+                             t->rows_source + ")";
+        }
         if (t->layers != 1 || t->faces != 1)
             return make_error(where + " " + slot + ": '" + echo_path(s.path) + "' holds " + std::to_string(t->layers) +
                               " layers and " + std::to_string(t->faces) +
@@ -293,6 +322,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         Result<HeightField> f = files->height_field(*t);
         if (!f) return with_context(where + " height '" + echo_path(m.height.path) + "'", f.error());
         out.field = std::move(*f);
+        if (t->rows == RowOrder::top_first) flip_rows(out.field);
         out.traced = out.field;
         out.layout.height_11bit = files->height_bits(t->format) == 11;
         out.height_texture = std::move(*t);
@@ -308,6 +338,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         Result<Image> level0 = files->decode_level(*t, 0);
         if (!level0) return with_context(where + " normal '" + echo_path(m.normal.path) + "'", level0.error());
         out.layout.normal_rg = files->channels(t->format) == 2;
+        if (t->rows == RowOrder::top_first) flip_rows(*level0);
         out.normal = std::move(*level0);
         out.normal_texture = std::move(*t);
     }
@@ -316,6 +347,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         if (!t) return t.error();
         Result<Image> level0 = files->decode_level(*t, 0);
         if (!level0) return with_context(where + " albedo '" + echo_path(m.albedo.path) + "'", level0.error());
+        if (t->rows == RowOrder::top_first) flip_rows(*level0);
         out.albedo = std::move(*level0);
         out.albedo_texture = std::move(*t);
     }

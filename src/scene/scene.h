@@ -47,6 +47,11 @@ struct TextureSource {
     FieldSpec field;                  // procedural
     glm::vec3 color{0.8f};            // color
     HeightConvention convention = HeightConvention::height;  // file height maps
+    // Which stored row of a texture container is the top of the image: as
+    // the file declares (KTXorientation, PVR v3 metadata, or the documented
+    // default), or the scene's word for an odd file ("first_row": "top" or
+    // "bottom"). PNG and JPEG files always store the top row first.
+    enum class FirstRow { file, top, bottom } first_row = FirstRow::file;
 };
 
 struct UvTransform {

@@ -394,6 +394,19 @@ void read_file_form(Reader& r, Fields& f, bool height_slot, TextureSource& out) 
     if (f.has("convention") && !height_slot)
         return r.fail(f.sub("convention"), "only a height map has a convention (height or depth)");
     f.read_named("convention", parse_convention, out.convention);
+    if (f.has("first_row")) {
+        std::string row;
+        f.read("first_row", row);
+        if (row == "top") out.first_row = TextureSource::FirstRow::top;
+        else if (row == "bottom") out.first_row = TextureSource::FirstRow::bottom;
+        else if (!r.failed())
+            return r.fail(f.sub("first_row"), "\"" + echo(row) + "\" is not \"top\" or \"bottom\" (which stored row of "
+                                              "the texture file is the top of the image)");
+        if (!r.failed() && !is_texture_file(out.path))
+            return r.fail(f.sub("first_row"), "'" + echo_path(out.path) +
+                                                  "' is an image file, which always stores the top row first; "
+                                                  "first_row applies to texture containers (.ktx, .ktx2, .pvr, .astc)");
+    }
 }
 
 void read_procedural_form(Fields& f, TextureSource& out) {
@@ -410,7 +423,7 @@ void read_procedural_form(Fields& f, TextureSource& out) {
 
 void read_color_form(Fields& f, TextureSource& out) { f.read("color", out.color); }
 
-// SOURCE: "path" | {"file", "convention"} | {"procedural", FieldSpec fields...} | {"color"}.
+// SOURCE: "path" | {"file", "convention", "first_row"} | {"procedural", FieldSpec fields...} | {"color"}.
 void read_source(Reader& r, const json& j, const std::string& path, bool height_slot, TextureSource& out) {
     if (r.failed()) return;
     out = TextureSource{};

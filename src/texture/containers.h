@@ -33,11 +33,17 @@ Result<TextureData> read_ktx2(const std::uint8_t* bytes, std::size_t size,
                               std::uint64_t max_bytes = kMaxTextureFileBytes);
 Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size,
                               std::uint64_t max_bytes = kMaxTextureFileBytes);
+// astcenc's .astc file: magic 0x5CA1AB13, block size (2D: z = 1), 24-bit
+// extents, then the blocks row by row, one level. It declares no
+// orientation: read top row first, as astcenc writes it from a PNG and
+// shows it decoded.
+Result<TextureData> read_astc(const std::uint8_t* bytes, std::size_t size,
+                              std::uint64_t max_bytes = kMaxTextureFileBytes);
 
 // Which container the bytes start with (KTX 1.1, KTX 2.0 or PVR v3
 // identifier), or nullopt-like ContainerKind::image for anything else.
 ContainerKind sniff_container(const std::uint8_t* bytes, std::size_t size);
-// Any of the three by its identifier; errors for anything else.
+// Any of the four by its identifier; errors for anything else.
 Result<TextureData> read_texture(const std::uint8_t* bytes, std::size_t size,
                                  std::uint64_t max_bytes = kMaxTextureFileBytes);
 // Reads a file (a regular file of at most kMaxImageFileBytes); errors are

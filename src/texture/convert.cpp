@@ -45,6 +45,18 @@ Status check_slot(TextureFormat format, std::uint32_t w, std::uint32_t h) {
     return {};
 }
 
+// The encoders write the top row first, as the field's tools do (and say so
+// in the container: texture_data.h RowOrder). Images and height fields
+// here keep row 0 at the bottom (v = 0), so their rows are reversed first.
+template <typename T>
+void reverse_rows(std::vector<T>& texels, std::uint32_t width, std::uint32_t height, std::uint32_t channels) {
+    const std::size_t row = static_cast<std::size_t>(width) * channels;
+    for (std::uint32_t y = 0; y < height / 2; ++y)
+        std::swap_ranges(texels.begin() + static_cast<std::ptrdiff_t>(row * y),
+                         texels.begin() + static_cast<std::ptrdiff_t>(row * (y + 1)),
+                         texels.begin() + static_cast<std::ptrdiff_t>(row * (height - 1 - y)));
+}
+
 // Lays out a chain and fills each level from `encode_level(level, w, h)`.
 template <typename EncodeLevel>
 Result<TextureData> build_chain(TextureFormat format, std::uint32_t w, std::uint32_t h, bool mipmaps,
@@ -55,6 +67,8 @@ Result<TextureData> build_chain(TextureFormat format, std::uint32_t w, std::uint
     Result<TextureData> t = allocate_texture(format, w, h, levels, 1, 1, std::uint64_t{1} << 31);
     if (!t) return t.error();
     t->container = ContainerKind::image;
+    t->rows = RowOrder::top_first;
+    t->rows_source = "written top row first";
     for (int i = 0; i < levels; ++i) {
         const TextureLevel& l = t->levels[static_cast<size_t>(i)];
         Result<std::vector<std::uint8_t>> bytes = encode_level(i, l.width, l.height);
@@ -174,6 +188,7 @@ Result<TextureData> encode_height_texture(const HeightField& field, TextureForma
         const double v = field.texels[i];
         base[i] = !(v > 0.0) ? 0 : static_cast<std::uint16_t>(std::lround(std::min(v, 1.0) * 65535.0));
     }
+    reverse_rows(base, w, h, 1);
     std::vector<std::uint16_t> level = base;
     std::uint32_t lw = w, lh = h;
     return build_chain(format, w, h, mipmaps, [&](int i, std::uint32_t nw, std::uint32_t nh) {
@@ -192,6 +207,7 @@ Result<TextureData> encode_normal_texture(const Image& normal, TextureFormat for
     if (normal.width < 1 || normal.height < 1 || normal.channels != 4) return make_error("encode: normal map must be RGBA8");
     const std::uint32_t w = static_cast<std::uint32_t>(normal.width), h = static_cast<std::uint32_t>(normal.height);
     std::vector<std::uint8_t> level = normal.pixels;
+    reverse_rows(level, w, h, 4);
     std::uint32_t lw = w, lh = h;
     const bool two = format_info(format).channels == 2;
     return build_chain(format, w, h, mipmaps, [&](int i, std::uint32_t nw, std::uint32_t nh) {
@@ -226,6 +242,7 @@ Result<TextureData> encode_color_texture(const Image& rgba, TextureFormat format
     if (rgba.width < 1 || rgba.height < 1 || rgba.channels != 4) return make_error("encode: colour image must be RGBA8");
     const std::uint32_t w = static_cast<std::uint32_t>(rgba.width), h = static_cast<std::uint32_t>(rgba.height);
     std::vector<std::uint8_t> level = rgba.pixels;
+    reverse_rows(level, w, h, 4);
     std::uint32_t lw = w, lh = h;
     return build_chain(format, w, h, mipmaps, [&](int i, std::uint32_t nw, std::uint32_t nh) {
         if (i > 0) {

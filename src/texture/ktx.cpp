@@ -21,10 +21,12 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <string>
 
 #include "parallaxes/core/limits.h"
+#include "parallaxes/core/text.h"
 #include "parallaxes/texture/containers.h"
 
 namespace px {
@@ -120,10 +122,37 @@ Status check_writable(const TextureData& t, const std::string& c) {
     return {};
 }
 
+// The row order a KTXorientation value declares: KTX 1.1 "S=r,T=d" (T=u:
+// bottom row first; an R= part for 3D textures may follow), KTX 2.0 "rd"
+// ("ru"; a third letter for 3D). Errors name the value.
+Result<RowOrder> orientation_rows(const std::string& c, const std::string& value, bool ktx2) {
+    const std::string shown = "KTXorientation \"" + echo(value) + "\"";
+    char t = 0;
+    if (ktx2) {
+        if (value.size() >= 2 && (value[0] == 'r' || value[0] == 'l')) t = value[1];
+    } else {
+        const std::size_t at = value.find("T=");
+        if (at != std::string::npos && at + 2 < value.size()) t = value[at + 2];
+    }
+    if (t == 'd') return RowOrder::top_first;
+    if (t == 'u') return RowOrder::bottom_first;
+    return make_error(c + shown + " is not an orientation this reader knows (" +
+                      (ktx2 ? "\"rd\" or \"ru\"" : "\"S=r,T=d\" or \"S=r,T=u\"") + ")");
+}
+
+bool same_key(const char* text, std::size_t length, const char* key) {
+    if (std::strlen(key) != length) return false;
+    for (std::size_t i = 0; i < length; ++i)
+        if (std::tolower(static_cast<unsigned char>(text[i])) != std::tolower(static_cast<unsigned char>(key[i])))
+            return false;
+    return true;
+}
+
 // One key/value block (KTX 1.1 and 2.0 lay it out alike: a uint32 length,
-// the NUL-terminated key and the value, padding to 4). The orientation is
-// parsed and not recorded: the data is used as given (row 0 = t = 0).
-Status read_key_values(const std::string& c, const std::uint8_t* kv, std::uint64_t length, std::uint64_t base) {
+// the NUL-terminated key and the value, padding to 4). KTXorientation, in
+// any case (PVRTexToolCLI writes "KTXOrientation"), sets `rows`.
+Status read_key_values(const std::string& c, const std::uint8_t* kv, std::uint64_t length, std::uint64_t base,
+                       bool ktx2, RowOrder& rows, std::string& rows_source) {
     std::uint64_t pos = 0;
     for (std::uint64_t index = 0; pos < length; ++index) {
         const std::string at = c + "key/value pair [" + num(index) + "] at byte " + num(base + pos);
@@ -139,11 +168,13 @@ Status read_key_values(const std::string& c, const std::uint8_t* kv, std::uint64
         const void* nul = std::memchr(text, 0, static_cast<std::size_t>(n));
         if (!nul) return make_error(at + ": the key has no NUL terminator within its " + num(n) + " bytes");
         const std::size_t key_len = static_cast<std::size_t>(static_cast<const char*>(nul) - text);
-        if (std::string(text, key_len) == "KTXorientation") {
-            // "S=r,T=u" (1.1) or "ru" (2.0): parsed, not applied.
+        if (same_key(text, key_len, "KTXorientation")) {
             std::string value(text + key_len + 1, static_cast<std::size_t>(n) - key_len - 1);
             while (!value.empty() && value.back() == '\0') value.pop_back();
-            (void)value;
+            Result<RowOrder> r = orientation_rows(at + ": ", value, ktx2);
+            if (!r) return r.error();
+            rows = *r;
+            rows_source = std::string(text, key_len) + " \"" + echo(value) + "\"";
         }
         // Padding to 4; the last pair's padding may be cut by the block end.
         pos = std::min(length, align4(pos + n));
@@ -225,7 +256,12 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
     if (kv_bytes > size - kKtx1HeaderBytes)
         return make_error(c + "bytesOfKeyValueData " + num(kv_bytes) + " passes the end of the " + num(size) +
                           "-byte file (" + num(size - kKtx1HeaderBytes) + " bytes follow the header)");
-    if (Status s = read_key_values(c, bytes + kKtx1HeaderBytes, kv_bytes, kKtx1HeaderBytes); !s) return s.error();
+    // Without the key: top row first, as astcenc and basisu write (and their
+    // decoders show) KTX 1.1 files that declare nothing.
+    RowOrder rows = RowOrder::top_first;
+    std::string rows_source = "no KTXorientation: top row first, as astcenc and basisu write";
+    if (Status s = read_key_values(c, bytes + kKtx1HeaderBytes, kv_bytes, kKtx1HeaderBytes, false, rows, rows_source); !s)
+        return s.error();
 
     // Walk the levels: sizes against the block arithmetic, data against the
     // file's end; remember where each level's first image starts.
@@ -268,6 +304,8 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
     if (!made) return make_error(c + made.error().message);
     TextureData t = std::move(made.value());
     t.container = ContainerKind::ktx1;
+    t.rows = rows;
+    t.rows_source = rows_source;
     const std::size_t tight_row_unit = static_cast<std::size_t>(info.block_bytes);
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
         const TextureLevel& l = t.levels[i];
@@ -295,7 +333,8 @@ Result<std::vector<std::uint8_t>> write_ktx1(const TextureData& t) {
     const FormatInfo& info = format_info(t.format);
     return out_of_memory_is_an_error(c + "writer", [&]() -> Result<std::vector<std::uint8_t>> {
         std::vector<std::uint8_t> out(kKtx1Identifier, kKtx1Identifier + sizeof kKtx1Identifier);
-        const std::vector<std::uint8_t> kv = key_value("KTXorientation", "S=r,T=u");
+        const std::vector<std::uint8_t> kv =
+            key_value("KTXorientation", t.rows == RowOrder::top_first ? "S=r,T=d" : "S=r,T=u");
         put32(out, 0x04030201u);
         put32(out, info.compressed() ? 0 : glenum::kUnsignedByte);
         put32(out, 1);
@@ -474,7 +513,11 @@ Result<TextureData> read_ktx2(const std::uint8_t* bytes, std::size_t size, std::
     if (!fits(kvd_offset, kvd_length, size))
         return make_error(c + "kvdByteOffset " + num(kvd_offset) + " + kvdByteLength " + num(kvd_length) +
                           " passes the end of " + file);
-    if (Status s = read_key_values(c, bytes + kvd_offset, kvd_length, kvd_offset); !s) return s.error();
+    // Without the key: "rd", the KTX 2.0 specification's default.
+    RowOrder rows = RowOrder::top_first;
+    std::string rows_source = "no KTXorientation: \"rd\", the KTX 2.0 default";
+    if (Status s = read_key_values(c, bytes + kvd_offset, kvd_length, kvd_offset, true, rows, rows_source); !s)
+        return s.error();
     if (!fits(sgd_offset, sgd_length, size))
         return make_error(c + "sgdByteOffset " + num(sgd_offset) + " + sgdByteLength " + num(sgd_length) +
                           " passes the end of " + file);
@@ -514,6 +557,8 @@ Result<TextureData> read_ktx2(const std::uint8_t* bytes, std::size_t size, std::
     TextureData t = std::move(made.value());
     t.container = ContainerKind::ktx2;
     t.supercompression = scheme == kSchemeZstd ? "zstd" : "none";
+    t.rows = rows;
+    t.rows_source = rows_source;
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
         const std::uint8_t* e = bytes + kKtx2HeaderBytes + 24 * i;
         const std::uint64_t offset = rd64(e), length = rd64(e + 8);
@@ -561,7 +606,7 @@ Result<std::vector<std::uint8_t>> write_ktx2(const TextureData& t, int zstd_leve
         const std::vector<std::uint8_t> dfd = basic_dfd(info, zstd);
         const std::size_t dfd_offset = out.size();
         out.insert(out.end(), dfd.begin(), dfd.end());
-        const std::vector<std::uint8_t> kv = key_value("KTXorientation", "ru");
+        const std::vector<std::uint8_t> kv = key_value("KTXorientation", t.rows == RowOrder::top_first ? "rd" : "ru");
         const std::size_t kvd_offset = out.size();
         out.insert(out.end(), kv.begin(), kv.end());
         set32(out, 48, static_cast<std::uint32_t>(dfd_offset));

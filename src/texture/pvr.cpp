@@ -92,6 +92,27 @@ Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size, std::
     if (meta_size > size - kHeaderBytes)
         return make_error(c + "metaDataSize " + num(meta_size) + " passes the end of the " + num(size) +
                           "-byte file (" + num(size - kHeaderBytes) + " bytes follow the header)");
+    // Metadata: blocks of FourCC, key, dataSize, data. Orientation is FourCC
+    // "PVR" 3, key 3, three bytes (x, y, z): y nonzero means y increases
+    // upwards (bottom row first). Without it, PVRTexToolCLI's default: top
+    // row first (x right, y down).
+    RowOrder rows = RowOrder::top_first;
+    std::string rows_source = "no PVR v3 orientation metadata: top row first, the PVRTexTool default";
+    for (std::uint64_t m = kHeaderBytes, end = kHeaderBytes + std::uint64_t{meta_size}; m < end;) {
+        const std::string at = c + "metadata block at byte " + num(m);
+        if (end - m < 12) return make_error(at + ": its 12-byte header passes the end of the metadata");
+        const std::uint32_t fourcc = rd32(bytes + m), key = rd32(bytes + m + 4), data_size = rd32(bytes + m + 8);
+        if (data_size > end - m - 12)
+            return make_error(at + ": dataSize " + num(data_size) + " passes the end of the " + num(meta_size) +
+                              "-byte metadata");
+        if (fourcc == kVersion && key == 3) {
+            if (data_size < 2) return make_error(at + ": orientation data of " + num(data_size) + " bytes (must be 3)");
+            const bool up = bytes[m + 12 + 1] != 0;
+            rows = up ? RowOrder::bottom_first : RowOrder::top_first;
+            rows_source = std::string("PVR v3 orientation metadata (y ") + (up ? "up" : "down") + ")";
+        }
+        m += 12 + std::uint64_t{data_size};
+    }
     std::uint64_t pos = kHeaderBytes + std::uint64_t{meta_size};
     const std::uint64_t images = std::uint64_t{surfaces} * faces;
     const std::uint64_t data_start = pos;
@@ -116,6 +137,8 @@ Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size, std::
     if (!made) return make_error(c + made.error().message);
     TextureData t = std::move(made.value());
     t.container = ContainerKind::pvr3;
+    t.rows = rows;
+    t.rows_source = rows_source;
     if (t.bytes.size() != pos - data_start) return make_error(c + "internal: level sizes disagree");
     std::memcpy(t.bytes.data(), bytes + data_start, t.bytes.size());
     return t;
@@ -144,7 +167,14 @@ Result<std::vector<std::uint8_t>> write_pvr3(const TextureData& t) {
         put32(out, t.layers);
         put32(out, t.faces);
         put32(out, static_cast<std::uint32_t>(t.levels.size()));
-        put32(out, 0);  // no metadata
+        // Orientation metadata: x right, y down or up, z in.
+        put32(out, 15);
+        put32(out, kVersion);
+        put32(out, 3);
+        put32(out, 3);
+        out.push_back(0);
+        out.push_back(t.rows == RowOrder::bottom_first ? 2 : 0);
+        out.push_back(0);
         out.insert(out.end(), t.bytes.begin(), t.bytes.end());
         return out;
     });

@@ -4,12 +4,17 @@
 
 namespace px {
 
+const char* row_order_name(RowOrder rows) {
+    return rows == RowOrder::top_first ? "top row first" : "bottom row first";
+}
+
 const char* container_name(ContainerKind kind) {
     switch (kind) {
     case ContainerKind::ktx1: return "KTX 1.1";
     case ContainerKind::ktx2: return "KTX 2.0";
     case ContainerKind::pvr3: return "PVR v3";
     case ContainerKind::image: return "image";
+    case ContainerKind::astc: return ".astc";
     }
     return "image";
 }

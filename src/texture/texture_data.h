@@ -17,9 +17,21 @@ namespace px {
 // Array layers a texture may have (allocate_texture, the readers, the writers).
 inline constexpr std::uint32_t kMaxTextureLayers = 2048;
 
-enum class ContainerKind : std::uint8_t { ktx1, ktx2, pvr3, image };
+// astc: astcenc's own .astc file (a 16-byte header, then the blocks).
+enum class ContainerKind : std::uint8_t { ktx1, ktx2, pvr3, image, astc };
 
-const char* container_name(ContainerKind kind);  // "KTX 1.1", "KTX 2.0", "PVR v3", "image"
+const char* container_name(ContainerKind kind);  // "KTX 1.1", "KTX 2.0", "PVR v3", "image", ".astc"
+
+// Which stored row is the top of the image. The field's tools store the top
+// row first (PVRTexToolCLI and crunch declare KTXorientation "S=r,T=d", KTX
+// 2.0 files "rd", PVR v3 metadata "y down"; astcenc and basisu declare
+// nothing, and their own decoders show the first row at the top), and so
+// does this library's writer. OpenGL samples the first stored row at t = 0,
+// the bottom of the uv square: the renderer flips v for top-first data
+// (docs/textures.md).
+enum class RowOrder : std::uint8_t { top_first, bottom_first };
+
+const char* row_order_name(RowOrder rows);  // "top row first", "bottom row first"
 
 struct TextureLevel {
     std::uint32_t width = 0;
@@ -36,6 +48,11 @@ struct TextureData {
     std::uint32_t layers = 1;  // array layers (1: not an array)
     std::uint32_t faces = 1;   // 6: a cube map
     std::string supercompression;  // KTX 2.0: "none" or "zstd"; empty elsewhere
+    RowOrder rows = RowOrder::top_first;
+    // Where `rows` came from: "KTXorientation \"S=r,T=d\"", "PVR v3 orientation
+    // metadata (y down)", "no KTXorientation: the tools' default", "the scene's
+    // first_row", ...
+    std::string rows_source = "default";
     std::vector<TextureLevel> levels;
     // Per level: layers * faces images of levels[i].image_bytes, layer-major
     // (layer 0 faces 0..5, layer 1 ...).

@@ -16,6 +16,7 @@ constexpr std::uint8_t kKtx1[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x31, 0x31, 0x
 constexpr std::uint8_t kKtx2[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr std::uint8_t kPvr[4] = {0x50, 0x56, 0x52, 0x03};         // 0x03525650 little-endian
 constexpr std::uint8_t kPvrSwapped[4] = {0x03, 0x52, 0x56, 0x50};  // the other byte order
+constexpr std::uint8_t kAstc[4] = {0x13, 0xAB, 0xA1, 0x5C};         // 0x5CA1AB13 little-endian
 
 bool starts_with(const std::uint8_t* bytes, std::size_t size, const std::uint8_t* id, std::size_t n) {
     return size >= n && std::memcmp(bytes, id, n) == 0;
@@ -50,6 +51,7 @@ ContainerKind sniff_container(const std::uint8_t* bytes, std::size_t size) {
     // Either byte order: the reader refuses the other one by name.
     if (starts_with(bytes, size, kPvr, sizeof kPvr) || starts_with(bytes, size, kPvrSwapped, sizeof kPvrSwapped))
         return ContainerKind::pvr3;
+    if (starts_with(bytes, size, kAstc, sizeof kAstc)) return ContainerKind::astc;
     return ContainerKind::image;
 }
 
@@ -59,11 +61,12 @@ Result<TextureData> read_texture(const std::uint8_t* bytes, std::size_t size, st
     case ContainerKind::ktx1: return read_ktx1(bytes, size, max_bytes);
     case ContainerKind::ktx2: return read_ktx2(bytes, size, max_bytes);
     case ContainerKind::pvr3: return read_pvr3(bytes, size, max_bytes);
+    case ContainerKind::astc: return read_astc(bytes, size, max_bytes);
     case ContainerKind::image: break;
     }
     return make_error("not a texture container: " + describe_start(bytes, size) +
-                      "; the containers read are KTX 1.1 (\\xABKTX 11\\xBB), KTX 2.0 (\\xABKTX 20\\xBB) and PVR v3 "
-                      "(PVR\\x03)");
+                      "; the containers read are KTX 1.1 (\\xABKTX 11\\xBB), KTX 2.0 (\\xABKTX 20\\xBB), PVR v3 "
+                      "(PVR\\x03) and astcenc's .astc (13 AB A1 5C)");
 }
 
 Result<TextureData> read_texture_file(const std::string& path, std::uint64_t max_bytes) {
