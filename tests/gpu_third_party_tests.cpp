@@ -77,7 +77,7 @@ const Case kAlbedoCases[] = {
     {"ptt_etc2_npot.ktx", 1.0},       {"ptt_etc1.pvr", 1.0},          {"ptt_etc1_flipped.pvr", 1.0},
     {"ptt_pvrtc4_mips.pvr", 1.0},     {"ptt_rgba8_flipped.pvr", 1.0}, {"astcenc_6x6.astc", 1.0},
     {"astcenc_4x4.ktx", 1.0},         {"astcenc_npot_5x5.astc", 1.0}, {"basisu_etc1_mips.ktx", 1.0},
-    {"basisu_bc1_mips.ktx", 1.0},
+    {"basisu_bc1_mips.ktx", 1.0},     {"basisu_pvrtc4_mips.ktx", 1.0},
 };
 
 TEST(ThirdParty, FilesDrawTheRightWayUpOnTheGpuAndThroughTheCpuDecoders) {

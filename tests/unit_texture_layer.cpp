@@ -290,3 +290,67 @@ TEST(TextureFilesInMaterials, NonPowerOfTwoResampling) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+const std::string kThirdParty = std::string(PX_SOURCE_DIR) + "/tests/fixtures/third_party/";
+
+// basisu 1.15 stores PVRTC1 levels under 8x8 as the one block they cover;
+// read, they are repeated to the 2x2 blocks GL takes, and decode as basisu's
+// own decoder shows them.
+TEST(ThirdPartyFiles, BasisuPvrtcSmallLevelsDecodeAsBasisuDoes) {
+    Result<TextureData> t = read_texture_file(kThirdParty + "basisu_pvrtc4_mips.ktx");
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    ASSERT_EQ(t->levels.size(), 7u);
+    EXPECT_EQ(t->notes.size(), 3u);
+    for (std::size_t level : {4u, 5u, 6u}) {
+        SCOPED_TRACE(level);
+        EXPECT_EQ(t->levels[level].image_bytes, 32u);
+        Result<Image> ours = decode_rgba8(*t, level);
+        ASSERT_TRUE(ours.ok()) << ours.error().message;
+        Result<Image> theirs = load_image(kThirdParty + "basisu_pvrtc4_mips.ktx.level" + std::to_string(level) +
+                                              ".decoded.png", 4);
+        ASSERT_TRUE(theirs.ok()) << theirs.error().message;
+        ASSERT_EQ(ours->width, theirs->width);
+        ASSERT_EQ(ours->height, theirs->height);
+        // decode_rgba8 keeps the stored order (top row first here);
+        // load_image puts the bottom row first.
+        double sum = 0;
+        for (int y = 0; y < ours->height; ++y)
+            for (int x = 0; x < ours->width; ++x)
+                for (int c = 0; c < 3; ++c)
+                    sum += std::abs(ours->texel(x, y)[c] - theirs->texel(x, theirs->height - 1 - y)[c]);
+        EXPECT_LE(sum / (3.0 * ours->width * ours->height), 1.0);
+    }
+}
+
+// A short PVRTC level that is neither size is refused, saying both sizes.
+TEST(ThirdPartyFiles, PvrtcLevelsOfAnyOtherSizeAreRefusedWithTheRule) {
+    Result<std::vector<std::uint8_t>> file = read_file_bounded(kThirdParty + "basisu_pvrtc4_mips.ktx", 1 << 20, "test");
+    ASSERT_TRUE(file.ok());
+    std::vector<std::uint8_t> bytes = *file;
+    // The 1x1 level is the last: 4 bytes of imageSize, 8 of data. Say 16.
+    const std::size_t at = bytes.size() - 12;
+    ASSERT_EQ(bytes[at], 8);
+    bytes[at] = 16;
+    bytes.insert(bytes.end(), 8, 0);
+    Result<TextureData> t = read_texture(bytes.data(), bytes.size());
+    ASSERT_FALSE(t.ok());
+    EXPECT_NE(t.error().message.find("imageSize 16"), std::string::npos) << t.error().message;
+    EXPECT_NE(t.error().message.find("at least 2x2 blocks"), std::string::npos) << t.error().message;
+}
+
+TEST(ThirdPartyFiles, UnsupportedFormatsAreNamed) {
+    Result<TextureData> bc7 = read_texture_file(kThirdParty + "basisu_bc7.ktx");
+    ASSERT_FALSE(bc7.ok());
+    EXPECT_NE(bc7.error().message.find("BC7 (GL_COMPRESSED_RGBA_BPTC_UNORM)"), std::string::npos)
+        << bc7.error().message;
+    const std::uint8_t basis[] = {'s', 'B', 0x13, 0, 0x4D, 0, 0, 0};
+    Result<TextureData> b = read_texture(basis, sizeof basis);
+    ASSERT_FALSE(b.ok());
+    EXPECT_NE(b.error().message.find("basisu -unpack"), std::string::npos) << b.error().message;
+}
+
+}  // namespace
+}  // namespace px

@@ -53,6 +53,7 @@ int run_texinfo(const TexinfoArgs& a) {
                 t->height, t->levels.size(), full_mip_count(t->width, t->height), t->layers, t->faces);
     std::printf("rows       %s (%s)%s\n", row_order_name(t->rows), t->rows_source.c_str(),
                 t->rows == RowOrder::top_first ? "; drawn at v' = 1 - v, the image the right way up" : "");
+    for (const std::string& note : t->notes) std::printf("note       %s\n", note.c_str());
     std::printf("bytes      %s of texel data\n", bytes_text(t->total_bytes()).c_str());
     for (size_t i = 0; i < t->levels.size(); ++i)
         std::printf("  level %-2zu %5ux%-5u %s\n", i, t->levels[i].width, t->levels[i].height,

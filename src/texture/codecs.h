@@ -56,6 +56,16 @@ Status decode_pvrtc_rgba8(TextureFormat format, std::uint32_t width, std::uint32
                           const std::uint8_t* data, std::size_t size, std::uint8_t* rgba);
 Result<std::vector<std::uint8_t>> encode_pvrtc_rgba8(TextureFormat format, std::uint32_t width,
                                                      std::uint32_t height, const std::uint8_t* rgba);
+// PVRTC1 levels smaller than 2 x 2 blocks. IMG_texture_compression_pvrtc
+// sizes every level as at least 8x8 texels (4 bpp) or 16x8 (2 bpp): 2 x 2
+// blocks, and glCompressedTexImage2D takes nothing less. Some tools (basisu
+// 1.15's -unpack) store only the blocks the level covers (one 8-byte block
+// for 4x4 and below). Decoding wraps, so a level of bx x by blocks decodes
+// exactly as the 2 x 2 (or wider) grid that repeats them: this returns the
+// bytes of a short level, `stored` blocks, and the padded bytes otherwise.
+std::uint64_t pvrtc_stored_bytes(TextureFormat format, std::uint32_t width, std::uint32_t height);
+std::vector<std::uint8_t> pvrtc_pad_level(TextureFormat format, std::uint32_t width, std::uint32_t height,
+                                          const std::uint8_t* stored);
 
 // ASTC LDR through libastcenc (texture/astc.cpp), linear (not sRGB) profile.
 Status decode_astc_rgba8(TextureFormat format, std::uint32_t width, std::uint32_t height,

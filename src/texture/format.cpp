@@ -114,6 +114,29 @@ Result<TextureFormat> format_from_gl(std::uint32_t internal, std::uint32_t gl_fo
         internal == kSignedRgtc2)
         return make_error("glInternalFormat " + hex(internal) + " is a signed format, which is not supported "
                           "(use the unsigned one)");
+    // Compressed formats known by name and not decoded here, named as the
+    // KTX 2.0 path names them.
+    static const std::pair<std::uint32_t, const char*> unsupported[] = {
+        {0x8E8C, "BC7 (GL_COMPRESSED_RGBA_BPTC_UNORM)"},
+        {0x8E8D, "BC7 sRGB (GL_COMPRESSED_SRGB_ALPHA_BPTC_UNORM)"},
+        {0x8E8E, "BC6H signed float (GL_COMPRESSED_RGB_BPTC_SIGNED_FLOAT)"},
+        {0x8E8F, "BC6H unsigned float (GL_COMPRESSED_RGB_BPTC_UNSIGNED_FLOAT)"},
+        {0x8C70, "LATC1 (GL_COMPRESSED_LUMINANCE_LATC1_EXT)"},
+        {0x8C71, "signed LATC1 (GL_COMPRESSED_SIGNED_LUMINANCE_LATC1_EXT)"},
+        {0x8C72, "LATC2 (GL_COMPRESSED_LUMINANCE_ALPHA_LATC2_EXT)"},
+        {0x8C73, "signed LATC2 (GL_COMPRESSED_SIGNED_LUMINANCE_ALPHA_LATC2_EXT)"},
+        {0x9137, "PVRTC2 2 bpp (GL_COMPRESSED_RGBA_PVRTC_2BPPV2_IMG)"},
+        {0x9138, "PVRTC2 4 bpp (GL_COMPRESSED_RGBA_PVRTC_4BPPV2_IMG)"},
+        {0x8C92, "ATC RGB (GL_ATC_RGB_AMD)"},
+        {0x8C93, "ATC RGBA explicit alpha (GL_ATC_RGBA_EXPLICIT_ALPHA_AMD)"},
+        {0x87EE, "ATC RGBA interpolated alpha (GL_ATC_RGBA_INTERPOLATED_ALPHA_AMD)"},
+        {0x86B0, "FXT1 RGB (GL_COMPRESSED_RGB_FXT1_3DFX)"},
+        {0x86B1, "FXT1 RGBA (GL_COMPRESSED_RGBA_FXT1_3DFX)"},
+    };
+    for (const auto& [code, name] : unsupported)
+        if (internal == code)
+            return make_error("glInternalFormat " + hex(internal) + " is " + name +
+                              ", which is not supported (ETC1, ETC2/EAC, ASTC, PVRTC1 and BC1 to BC5 are)");
     if (internal == 0)
         return make_error("glInternalFormat 0 (an uncompressed file must give a sized or unsized format; type " +
                           hex(gl_type) + ", format " + hex(gl_format) + ")");
@@ -125,7 +148,10 @@ Result<TextureFormat> format_from_vk(std::uint32_t vk) {
     for (const FormatInfo& f : all_formats())
         if (f.vk_format != 0 && f.vk_format == vk) return f.format;
     if (vk == 0)
-        return make_error("vkFormat 0 (VK_FORMAT_UNDEFINED: a Basis Universal payload, which is not supported)");
+        return make_error("vkFormat 0 (VK_FORMAT_UNDEFINED: a Basis Universal payload, UASTC or ETC1S as glTF's "
+                          "KHR_texture_basisu uses, which is not read here): transcode it to a GPU format first, "
+                          "for example `basisu -unpack file.ktx2`, which writes KTX 1.1 files of ETC1, ETC2, ASTC, "
+                          "BC1 to BC5 and PVRTC that this library reads");
     if ((vk >= 132 && vk <= 138 && vk % 2 == 0) || vk == 43 || (vk >= 148 && vk <= 152 && vk % 2 == 0) ||
         (vk >= 158 && vk <= 184 && vk % 2 == 0) || (vk >= 1000054004u && vk <= 1000054007u))
         return make_error("vkFormat " + std::to_string(vk) +

@@ -27,6 +27,7 @@
 
 #include "parallaxes/core/limits.h"
 #include "parallaxes/core/text.h"
+#include "parallaxes/texture/codecs.h"
 #include "parallaxes/texture/containers.h"
 
 namespace px {
@@ -269,6 +270,8 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
     std::uint64_t total = 0;
     const std::uint64_t images = std::uint64_t{layers} * faces;
     std::vector<std::uint64_t> starts;
+    std::vector<std::uint64_t> stored_sizes;  // one image as stored: `one`, or fewer PVRTC blocks
+    std::vector<std::string> notes;
     for (std::uint32_t i = 0; i < level_count; ++i) {
         const std::uint32_t w = mip_extent(width, static_cast<int>(i)), h = mip_extent(height, static_cast<int>(i));
         const std::string at = c + "level [" + num(i) + "] (" + shape(format, w, h, layers, faces) + ")";
@@ -281,14 +284,34 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
             return make_error(at + " imageSize at byte " + num(pos) + " passes the end of the " + num(size) +
                               "-byte file");
         const std::uint64_t image_size = rd32(bytes + pos);
-        const std::uint64_t expected = plain_cube ? one : one * images;
-        if (image_size != expected)
+        std::uint64_t stored = one;
+        std::uint64_t expected = plain_cube ? one : one * images;
+        // A PVRTC1 level under 2 x 2 blocks stored with only the blocks it
+        // covers (basisu): accepted, and repeated to the size GL takes.
+        if (image_size != expected && info.family == FormatFamily::pvrtc) {
+            const std::uint64_t few = pvrtc_stored_bytes(format, w, h);
+            if (few != one && image_size == (plain_cube ? few : few * images)) {
+                stored = few;
+                expected = image_size;
+                notes.push_back("level [" + num(i) + "] " + num(w) + "x" + num(h) + ": " + num(few / 8) +
+                                " stored PVRTC block(s), repeated to the " + num(one / 8) +
+                                " that IMG_texture_compression_pvrtc sizes a level at (at least 2x2 blocks); "
+                                "decoding wraps, so the texels are the same");
+            }
+        }
+        if (image_size != expected) {
+            std::string why;
+            if (info.family == FormatFamily::pvrtc)
+                why = " (PVRTC1 levels take at least 2x2 blocks, " + num(one) + " bytes here, or exactly the " +
+                      num(pvrtc_stored_bytes(format, w, h)) + " bytes of the blocks the level covers)";
             return make_error(at + " imageSize " + num(image_size) + " does not match the " + num(expected) +
                               " bytes the format's block arithmetic gives" +
-                              (plain_cube ? std::string(" for one face") : std::string()));
+                              (plain_cube ? std::string(" for one face") : std::string()) + why);
+        }
         pos += 4;
         starts.push_back(pos);
-        const std::uint64_t data = plain_cube ? align4(one) * 6 : align4(expected);  // cube and mip padding
+        stored_sizes.push_back(stored);
+        const std::uint64_t data = plain_cube ? align4(stored) * 6 : align4(expected);  // cube and mip padding
         if (!fits(pos, data, size))
             return make_error(at + " data of " + num(data) + " bytes at byte " + num(pos) + " passes the end of the " +
                               num(size) + "-byte file");
@@ -306,15 +329,19 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
     t.container = ContainerKind::ktx1;
     t.rows = rows;
     t.rows_source = rows_source;
+    t.notes = std::move(notes);
     const std::size_t tight_row_unit = static_cast<std::size_t>(info.block_bytes);
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
         const TextureLevel& l = t.levels[i];
-        const std::uint64_t one = ktx1_file_image_bytes(format, l.width, l.height);
+        const std::uint64_t one = stored_sizes[i];
         const std::uint64_t stride = plain_cube ? align4(one) : one;
         for (std::uint64_t k = 0; k < images; ++k) {
             const std::uint8_t* src = bytes + starts[i] + k * stride;
             std::uint8_t* dst = t.bytes.data() + l.offset + k * l.image_bytes;
-            if (info.compressed()) {
+            if (one != l.image_bytes) {
+                const std::vector<std::uint8_t> padded = pvrtc_pad_level(format, l.width, l.height, src);
+                std::memcpy(dst, padded.data(), l.image_bytes);
+            } else if (info.compressed()) {
                 std::memcpy(dst, src, l.image_bytes);
             } else {
                 const std::size_t row = l.width * tight_row_unit;

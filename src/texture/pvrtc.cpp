@@ -65,6 +65,16 @@ Layout layout_of(F f, std::uint32_t w, std::uint32_t h) {
     return l;
 }
 
+// The blocks a level covers, without the 2 x 2 minimum.
+Layout unpadded_layout_of(F f, std::uint32_t w, std::uint32_t h) {
+    Layout l;
+    l.block_w = is_2bpp(f) ? 8u : 4u;
+    l.block_h = 4;
+    l.bw = (w + l.block_w - 1) / l.block_w;
+    l.bh = (h + l.block_h - 1) / l.block_h;
+    return l;
+}
+
 // Block index of block (x, y) in Morton order (the sizes are powers of two).
 std::uint32_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t bw, std::uint32_t bh) {
     const std::uint32_t min_dim = std::min(bw, bh);
@@ -473,6 +483,23 @@ Result<std::vector<std::uint8_t>> encode_pvrtc_rgba8(TextureFormat format, std::
             }
         return out;
     });
+}
+
+std::uint64_t pvrtc_stored_bytes(TextureFormat format, std::uint32_t width, std::uint32_t height) {
+    const Layout l = unpadded_layout_of(format, width, height);
+    return std::uint64_t{l.bw} * l.bh * 8;
+}
+
+std::vector<std::uint8_t> pvrtc_pad_level(TextureFormat format, std::uint32_t width, std::uint32_t height,
+                                          const std::uint8_t* stored) {
+    const Layout given = unpadded_layout_of(format, width, height), full = layout_of(format, width, height);
+    std::vector<std::uint8_t> out(std::size_t{full.bw} * full.bh * 8);
+    for (std::uint32_t by = 0; by < full.bh; ++by)
+        for (std::uint32_t bx = 0; bx < full.bw; ++bx) {
+            const std::uint32_t from = morton(bx % given.bw, by % given.bh, given.bw, given.bh);
+            std::memcpy(out.data() + std::size_t{morton(bx, by, full.bw, full.bh)} * 8, stored + std::size_t{from} * 8, 8);
+        }
+    return out;
 }
 
 }  // namespace px

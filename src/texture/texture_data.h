@@ -53,6 +53,9 @@ struct TextureData {
     // metadata (y down)", "no KTXorientation: the tools' default", "the scene's
     // first_row", ...
     std::string rows_source = "default";
+    // What the reader repaired on the way, for texinfo and the render log
+    // ("level [4] 4x4: one stored PVRTC block, repeated to the 2x2 blocks ...").
+    std::vector<std::string> notes;
     std::vector<TextureLevel> levels;
     // Per level: layers * faces images of levels[i].image_bytes, layer-major
     // (layer 0 faces 0..5, layer 1 ...).

@@ -39,6 +39,9 @@ std::string describe_start(const std::uint8_t* bytes, std::size_t size) {
     else if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) s += ", a JPEG image";
     else if (size >= 4 && std::memcmp(bytes, "DDS ", 4) == 0) s += ", a DDS file";
     else if (size >= 6 && std::memcmp(bytes, "\xABKTX ", 5) == 0) s += ", a KTX identifier of an unknown version";
+    else if (size >= 2 && bytes[0] == 's' && bytes[1] == 'B')
+        s += ", a Basis Universal .basis file (transcode it first: `basisu -unpack file.basis` writes KTX 1.1 "
+             "files of ETC1, ETC2, ASTC, BC1 to BC5 and PVRTC)";
     return s;
 }
 
