@@ -24,6 +24,7 @@ namespace {
 struct TexinfoArgs {
     std::string file;
     int es = 3;
+    bool formats = false;
 };
 
 std::string bytes_text(std::uint64_t n) {
@@ -37,7 +38,31 @@ std::string bytes_text(std::uint64_t n) {
     return b;
 }
 
+// --formats: what this context samples, from its own lists (the ES
+// version, its extensions, GL_COMPRESSED_TEXTURE_FORMATS).
+int run_formats(int es) {
+    platform::ContextOptions options;
+    options.es_major = es;
+    Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
+    if (!context) return fail("texinfo --formats: " + context.error().message);
+    const Caps caps = query_caps();
+    std::printf("context    %s | %s\n", caps.version.c_str(), caps.renderer.c_str());
+    std::printf("GL_COMPRESSED_TEXTURE_FORMATS (%zu):", caps.compressed_formats.size());
+    for (std::uint32_t f : caps.compressed_formats) std::printf(" 0x%04X", f);
+    std::printf("\n%-18s %-8s %s\n", "format", "GL", "upload on this context");
+    for (const FormatInfo& f : all_formats()) {
+        if (!f.compressed()) continue;
+        const bool direct = context_samples(caps, f.format);
+        std::printf("%-18s 0x%04X   %s\n", f.name, f.gl_internal_format,
+                    direct ? "direct (glCompressedTexImage2D)"
+                           : ("CPU decode to RGBA8 (needs " + std::string(format_requirement(f.format)) + ")").c_str());
+    }
+    return 0;
+}
+
 int run_texinfo(const TexinfoArgs& a) {
+    if (a.formats) return run_formats(a.es);
+    if (a.file.empty()) return fail("texinfo: give a texture file, or --formats");
     Result<TextureData> t = read_texture_file(a.file);
     if (!t) return fail(t.error().message);
     const FormatInfo& f = format_info(t->format);
@@ -181,8 +206,9 @@ int run_convert(const ConvertArgs& a) {
 
 void add_texture_commands(CLI::App& app) {
     auto info = std::make_shared<TexinfoArgs>();
-    CLI::App* t = app.add_subcommand("texinfo", "Print what a texture file (KTX 1.1, KTX 2.0, PVR v3) holds, or why it is rejected");
-    t->add_option("file", info->file, "The texture file")->required();
+    CLI::App* t = app.add_subcommand("texinfo", "Print what a texture file (KTX 1.1, KTX 2.0, PVR v3, .astc) holds, or why it is rejected");
+    t->add_option("file", info->file, "The texture file");
+    t->add_flag("--formats", info->formats, "List every compressed format and whether this context samples it");
     t->add_option("--es", info->es, "OpenGL ES version of the context asked whether it samples the format")
         ->check(CLI::IsMember({2, 3}))
         ->capture_default_str();

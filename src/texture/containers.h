@@ -50,9 +50,11 @@ Result<TextureData> read_texture(const std::uint8_t* bytes, std::size_t size,
 // prefixed with the path.
 Result<TextureData> read_texture_file(const std::string& path, std::uint64_t max_bytes = kMaxTextureFileBytes);
 
-// Writers: little-endian, KTX 1.1 with KTXorientation "S=r,T=u" (row 0 is
-// t = 0), KTX 2.0 with a basic data format descriptor and optional zstd
-// supercompression (level 1..22), PVR v3 with no metadata.
+// Writers: little-endian, the data as `texture.rows` says and declared so:
+// KTX 1.1 KTXorientation "S=r,T=d" (top row first) or "S=r,T=u"; KTX 2.0 "rd"
+// or "ru", with a basic data format descriptor and optional zstd
+// supercompression (level 1..22); PVR v3 with its orientation metadata (y
+// down or up). texture/convert.h's encoders make top-first data.
 Result<std::vector<std::uint8_t>> write_ktx1(const TextureData& texture);
 Result<std::vector<std::uint8_t>> write_ktx2(const TextureData& texture, int zstd_level = 0);
 Result<std::vector<std::uint8_t>> write_pvr3(const TextureData& texture);

@@ -338,7 +338,7 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
         for (std::uint64_t k = 0; k < images; ++k) {
             const std::uint8_t* src = bytes + starts[i] + k * stride;
             std::uint8_t* dst = t.bytes.data() + l.offset + k * l.image_bytes;
-            if (one != l.image_bytes) {
+            if (info.family == FormatFamily::pvrtc && one != l.image_bytes) {
                 const std::vector<std::uint8_t> padded = pvrtc_pad_level(format, l.width, l.height, src);
                 std::memcpy(dst, padded.data(), l.image_bytes);
             } else if (info.compressed()) {
