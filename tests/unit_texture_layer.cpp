@@ -352,5 +352,49 @@ TEST(ThirdPartyFiles, UnsupportedFormatsAreNamed) {
     EXPECT_NE(b.error().message.find("basisu -unpack"), std::string::npos) << b.error().message;
 }
 
+// This library's convert output, decoded by PVRTexToolCLI and astcenc at
+// asset-build time (tests/fixtures/third_party/README.md): the tools show
+// the marker the right way up, and today's encoder and writers still make
+// exactly those files.
+TEST(ThirdPartyFiles, OurFilesReadTheRightWayUpInTheToolsDecoders) {
+    MaterialDesc m;
+    m.name = "relief";
+    m.albedo.kind = TextureSource::Kind::file;
+    m.albedo.path = kThirdParty + "marker.png";
+    Result<MaterialImages> images = build_material_images(m, "");
+    ASSERT_TRUE(images.ok()) << images.error().message;
+    Result<Image> marker = load_image(kThirdParty + "marker.png", 4);
+    ASSERT_TRUE(marker.ok());
+    const std::pair<const char*, TextureFormat> cases[] = {{"ours_etc2_albedo.ktx", TextureFormat::etc2_rgb8},
+                                                           {"ours_etc2_albedo.pvr", TextureFormat::etc2_rgb8},
+                                                           {"ours_astc_albedo.ktx", TextureFormat::astc_4x4},
+                                                           {"ours_astc_albedo.pvr", TextureFormat::astc_4x4}};
+    for (auto [file, format] : cases) {
+        SCOPED_TRACE(file);
+        Result<TextureData> t = encode_color_texture(images->albedo, format, true);
+        ASSERT_TRUE(t.ok()) << t.error().message;
+        const bool pvr = std::string(file).find(".pvr") != std::string::npos;
+        Result<std::vector<std::uint8_t>> bytes = pvr ? write_pvr3(*t) : write_ktx1(*t);
+        ASSERT_TRUE(bytes.ok());
+        Result<std::vector<std::uint8_t>> committed = read_file_bounded(kThirdParty + file, 1 << 20, "fixture");
+        ASSERT_TRUE(committed.ok());
+        EXPECT_TRUE(*bytes == *committed) << "convert no longer writes the file the tools decoded";
+        Result<Image> decoded = load_image(kThirdParty + file + ".decoded.png", 4);
+        ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+        ASSERT_EQ(decoded->width, marker->width);
+        ASSERT_EQ(decoded->height, marker->height);
+        double same = 0, mirrored = 0;
+        for (int y = 0; y < marker->height; ++y)
+            for (int x = 0; x < marker->width; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    same += std::abs(decoded->texel(x, y)[c] - marker->texel(x, y)[c]);
+                    mirrored += std::abs(decoded->texel(x, y)[c] - marker->texel(x, marker->height - 1 - y)[c]);
+                }
+        const double n = 3.0 * marker->width * marker->height;
+        EXPECT_LE(same / n, 3.0);       // the format's own error
+        EXPECT_GE(mirrored / n, 20.0);  // upside down would be far off
+    }
+}
+
 }  // namespace
 }  // namespace px
