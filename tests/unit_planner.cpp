@@ -429,3 +429,35 @@ TEST(Planner, ACalibrationWithNothingToChooseFromIsAnErrorNotACrash) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// A single quad far bigger than the view (a 100-unit ground seen from a
+// metre up): every precomputed survey point of it lies outside the view.
+// Surveyed on its visible part, it gets the decision a tessellated
+// ground gets, and the pixels it reports are the image's, not more.
+TEST(PlannerSurvey, ABigSingleQuadIsPlannedLikeATessellatedOne) {
+    const CostTable table = small_table();
+    EffectRequest request;
+    request.max_error_texels = 1.0f;
+    request.lod_fade = EffectSwitch::off;
+    for (int segments : {1, 4, 32}) {
+        SCOPED_TRACE(segments);
+        SceneDesc s = plane_scene(70.0, 2.0f, 0.04f, request, 40.0f, segments);
+        s.objects[0].mesh.size = 100.0f;
+        s.materials[0].uv.scale = glm::vec2(50.0f);  // a tile per 2 units, as on the small plane
+        Result<std::vector<ObjectPlan>> p = plan_of(s, es3_caps(), table, 512);
+        ASSERT_TRUE(p.ok()) << p.error().message;
+        const ObjectPlan& plan = (*p)[0];
+        EXPECT_TRUE(plan.view.visible);
+        EXPECT_GT(plan.view.pixels, 0.3 * 512 * 512);
+        EXPECT_LE(plan.view.pixels, 512.0 * 512.0 * 1.0001);
+        EXPECT_NE(plan.key.technique, Technique::normal) << plan.key.describe();
+        EXPECT_EQ(plan.key.technique, Technique::pom) << plan.key.describe();
+        EXPECT_GE(plan.view.angle_max_deg, 70.0);
+    }
+}
+
+}  // namespace
+}  // namespace px

@@ -52,12 +52,133 @@ struct SurfacePoint {
     glm::vec3 bary;
     float area = 0.0f;  // object-space area this point stands for
     std::size_t triangle = 0;  // points of one triangle are consecutive
+    // Pixels this point stands for, where the survey sampled the triangle's
+    // visible part on the screen (clipped_points); < 0: from `area`.
+    double pixels = -1.0;
 };
+
+// A triangle as drawn, for a survey of its visible part.
+struct SurveyTriangle {
+    glm::vec3 position[3];
+    glm::vec3 normal[3];
+    glm::vec2 uv[3];
+    glm::vec4 tangent;
+};
+
+// Meshes of at most this many triangles (quads, cubes, coarse planes) are
+// surveyed per frame on what the camera sees: each triangle clipped to the
+// view volume and sampled in proportion to its pixels, so a single quad
+// that fills the image (its precomputed points all outside the view) gets
+// the decision a tessellated one gets. Finer meshes keep their
+// precomputed points, dense enough on the surface.
+constexpr std::size_t kMaxClippedTriangles = 4096;
 
 struct ObjectSurvey {
     std::vector<SurfacePoint> points;
+    std::vector<SurveyTriangle> triangles;  // when the mesh has at most kMaxClippedTriangles
     glm::vec3 box_min{0.0f}, box_max{0.0f};  // object space
 };
+
+// Points on the visible part of every triangle of `survey` this frame, up
+// to kMaxSurfacePoints in all, spread in proportion to pixels: each triangle
+// is clipped in clip space against the six planes of the view volume (its
+// barycentric coordinates carried along, linear there), the polygon left is
+// fanned into triangles on the screen, and each gets a barycentric grid of
+// points (perspective-correct back to the triangle), each standing for its
+// share of the pixels.
+std::vector<SurfacePoint> clipped_points(const ObjectSurvey& survey, const glm::mat4& model_view_projection,
+                                         int width, int height) {
+    struct ClipVertex {
+        glm::dvec4 clip;
+        glm::dvec3 bary;
+    };
+    struct Piece {
+        ClipVertex v[3];
+        double pixels;
+        std::size_t triangle;
+    };
+    std::vector<Piece> pieces;
+    double total = 0.0;
+    const glm::dmat4 mvp(model_view_projection);
+    for (std::size_t t = 0; t < survey.triangles.size(); ++t) {
+        const SurveyTriangle& tri = survey.triangles[t];
+        std::vector<ClipVertex> poly(3);
+        for (int c = 0; c < 3; ++c) {
+            poly[static_cast<size_t>(c)].clip = mvp * glm::dvec4(glm::dvec3(tri.position[c]), 1.0);
+            poly[static_cast<size_t>(c)].bary = glm::dvec3(c == 0, c == 1, c == 2);
+        }
+        // Wholly outside one plane (most triangles of a big mesh): skipped.
+        bool outside = false;
+        for (int plane = 0; plane < 6 && !outside; ++plane) {
+            const int axis = plane / 2;
+            const double sign = (plane % 2) ? -1.0 : 1.0;
+            outside = true;
+            for (const ClipVertex& v : poly) outside = outside && v.clip.w - sign * v.clip[axis] < 0.0;
+        }
+        if (outside) continue;
+        // Sutherland-Hodgman against w +- x >= 0, w +- y >= 0, w +- z >= 0,
+        // a hair inside so that every point lands within the view.
+        constexpr double kInside = 1.0 - 1e-6;
+        for (int plane = 0; plane < 6 && !poly.empty(); ++plane) {
+            const int axis = plane / 2;
+            const double sign = (plane % 2) ? -1.0 : 1.0;
+            auto distance = [&](const ClipVertex& v) { return kInside * v.clip.w - sign * v.clip[axis]; };
+            std::vector<ClipVertex> out;
+            for (size_t i = 0; i < poly.size(); ++i) {
+                const ClipVertex& a = poly[i];
+                const ClipVertex& b = poly[(i + 1) % poly.size()];
+                const double da = distance(a), db = distance(b);
+                if (da >= 0.0) out.push_back(a);
+                if ((da >= 0.0) != (db >= 0.0)) {
+                    const double s = da / (da - db);
+                    out.push_back({a.clip + s * (b.clip - a.clip), a.bary + s * (b.bary - a.bary)});
+                }
+            }
+            poly = std::move(out);
+        }
+        if (poly.size() < 3) continue;
+        auto screen = [&](const ClipVertex& v) {
+            return glm::dvec2((v.clip.x / v.clip.w + 1.0) * 0.5 * width, (v.clip.y / v.clip.w + 1.0) * 0.5 * height);
+        };
+        for (size_t i = 1; i + 1 < poly.size(); ++i) {
+            const glm::dvec2 a = screen(poly[0]), b = screen(poly[i]), c = screen(poly[i + 1]);
+            const double pixels = 0.5 * std::fabs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+            if (!(pixels > 0.0) || !std::isfinite(pixels)) continue;
+            pieces.push_back({{poly[0], poly[i], poly[i + 1]}, pixels, t});
+            total += pixels;
+        }
+    }
+    std::vector<SurfacePoint> points;
+    if (!(total > 0.0)) return points;
+    for (const Piece& piece : pieces) {
+        // Points for this piece by its share of the pixels (at least one).
+        const double share = static_cast<double>(kMaxSurfacePoints) * piece.pixels / total;
+        int k = 1;
+        while ((k + 1) * (k + 2) / 2 <= share && k < 24) ++k;
+        const int count = k * (k + 1) / 2;
+        const SurveyTriangle& tri = survey.triangles[piece.triangle];
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < k - i; ++j) {
+                const double s1 = (i + 1.0 / 3.0) / k, s2 = (j + 1.0 / 3.0) / k, s0 = 1.0 - s1 - s2;
+                const double w0 = s0 / piece.v[0].clip.w, w1 = s1 / piece.v[1].clip.w, w2 = s2 / piece.v[2].clip.w;
+                const glm::dvec3 bary = (w0 * piece.v[0].bary + w1 * piece.v[1].bary + w2 * piece.v[2].bary) / (w0 + w1 + w2);
+                SurfacePoint p;
+                p.bary = glm::vec3(bary);
+                for (int c = 0; c < 3; ++c) {
+                    p.corners[c] = tri.position[c];
+                    p.corner_uvs[c] = tri.uv[c];
+                }
+                p.position = p.bary.x * tri.position[0] + p.bary.y * tri.position[1] + p.bary.z * tri.position[2];
+                const glm::vec3 n = p.bary.x * tri.normal[0] + p.bary.y * tri.normal[1] + p.bary.z * tri.normal[2];
+                p.normal = glm::length(n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
+                p.tangent = tri.tangent;
+                p.triangle = piece.triangle;
+                p.pixels = piece.pixels / count;
+                points.push_back(p);
+            }
+    }
+    return points;
+}
 
 ObjectSurvey survey_mesh(const Mesh& mesh) {
     ObjectSurvey s;
@@ -69,6 +190,23 @@ ObjectSurvey survey_mesh(const Mesh& mesh) {
     }
     const size_t triangles = mesh.indices.size() / 3;
     if (triangles == 0) return s;
+    if (triangles <= kMaxClippedTriangles)
+        for (size_t t = 0; t < triangles; ++t) {
+            SurveyTriangle tri;
+            bool ok = true;
+            for (int c = 0; c < 3 && ok; ++c) {
+                const std::uint32_t i = mesh.indices[3 * t + static_cast<size_t>(c)];
+                if (i >= mesh.vertices.size()) {
+                    ok = false;
+                    break;
+                }
+                tri.position[c] = mesh.vertices[i].position;
+                tri.normal[c] = mesh.vertices[i].normal;
+                tri.uv[c] = mesh.vertices[i].uv;
+                if (c == 0) tri.tangent = mesh.vertices[i].tangent;
+            }
+            if (ok) s.triangles.push_back(tri);
+        }
     // Points per triangle on a barycentric grid (k(k+1)/2 of them), or every
     // stride-th triangle's centre when the mesh has more triangles than points.
     int k = 1;
@@ -453,8 +591,13 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const PlanView& frame,
     std::size_t cached_triangle = static_cast<std::size_t>(-1);
     glm::dvec3 corner_to_eye[3];
     double density = texels_per_unit, area_scale = 1.0;
-    points.reserve(survey.points.size());
-    for (const SurfacePoint& sp : survey.points) {
+    // Few big triangles: the visible part of each, this frame.
+    std::vector<SurfacePoint> visible;
+    if (!survey.triangles.empty())
+        visible = clipped_points(survey, view_projection * model, frame.width, frame.height);
+    const std::vector<SurfacePoint>& surface = survey.triangles.empty() ? survey.points : visible;
+    points.reserve(surface.size());
+    for (const SurfacePoint& sp : surface) {
         const glm::vec3 p = glm::vec3(model * glm::vec4(sp.position, 1.0f));
         glm::vec3 n = normal_matrix * sp.normal;
         if (!(glm::length(n) > 0.0f)) continue;
@@ -502,7 +645,7 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const PlanView& frame,
         PointView pv;
         pv.angle_deg = glm::degrees(std::acos(std::min(1.0, cos_view)));
         pv.rho = rho;
-        pv.weight = world_area * cos_view / (pixel_world * pixel_world);
+        pv.weight = sp.pixels >= 0.0 ? sp.pixels : world_area * cos_view / (pixel_world * pixel_world);
         // The tangent frame of the point.
         glm::vec3 t = glm::vec3(model3 * glm::vec3(sp.tangent));
         t = t - n * glm::dot(n, t);
