@@ -461,3 +461,32 @@ TEST(PlannerSurvey, ABigSingleQuadIsPlannedLikeATessellatedOne) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// The step-over bound: a linear search whose step along the ray passes the
+// relief's narrowest feature is predicted at least that step off, whatever
+// the table relief measured. Two reliefs alike but for their lines' width:
+// the narrow one may not be given the cheaper search.
+TEST(PlannerPrediction, ALinearSearchThatStepsOverTheNarrowestFeatureIsNotTrusted) {
+    const CostTable table = small_table();
+    EffectRequest request;
+    request.max_error_texels = 4.0f;
+    request.lod_fade = EffectSwitch::off;
+    auto plan_for = [&](int line_width) {
+        SceneDesc s = plane_scene(60.0, 2.5f, 0.08f, request);
+        s.materials[0].height.field.line_width = line_width;
+        Result<std::vector<ObjectPlan>> p = plan_of(s, es3_caps(), table);
+        EXPECT_TRUE(p.ok()) << p.error().message;
+        return p ? (*p)[0] : ObjectPlan{};
+    };
+    const ObjectPlan narrow = plan_for(1), wide = plan_for(12);
+    SCOPED_TRACE("narrow: " + narrow.key.describe() + ", wide: " + wide.key.describe());
+    EXPECT_GE(narrow.predicted_cost, wide.predicted_cost);
+    EXPECT_GE(narrow.key.max_samples, wide.key.max_samples);
+    EXPECT_GT(narrow.predicted_error, wide.predicted_error);
+}
+
+}  // namespace
+}  // namespace px

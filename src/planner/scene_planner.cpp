@@ -936,11 +936,23 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         const Basis& bn = basis_for(nc->angles);
         const bool per_vertex = !c.exact_view && !technique_info(c.technique).always_exact_view &&
                                 (technique_info(c.technique).options & kOptHeight);
+        // The step-over bound: a linear search of `samples` layers moves the
+        // ray depth x tan(view angle) / samples texels per sample; where that
+        // passes the relief's narrowest feature the search can step over it
+        // and land up to a step away, whatever the table relief (whose
+        // features may be wider) measured. Exact walks never step over.
+        const bool linear_search = (technique_info(c.technique).options & kOptSamples) && c.samples > 0;
+        const double thinnest = std::max(relief.features.thinnest_texels, 0.5);
         std::vector<std::pair<double, double>> errors;
         errors.reserve(points.size());
         for (size_t i = 0; i < points.size(); ++i) {
             const PointView& p = points[i];
             double e = value(b, tc->error, i) * s.depth_scale;
+            if (linear_search) {
+                const double travel = depth_texels * std::tan(glm::radians(std::min(p.angle_deg, 89.5)));
+                const double step = travel / c.samples;
+                if (step > thinnest) e = std::max(e, step);
+            }
             if (per_vertex) e += depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset : p.pv_parallax);
             if (c.lod) {
                 e = (1.0 - blends[i]) * e + blends[i] * value(bn, nc->error, i) * s.depth_scale;
