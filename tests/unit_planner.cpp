@@ -490,3 +490,56 @@ TEST(PlannerPrediction, ALinearSearchThatStepsOverTheNarrowestFeatureIsNotTruste
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// Explanations that are true: a pick made against the hit target a shadow
+// tightened says that target, not the one asked; a calibrated plan names
+// the generic choice as it would be drawn (a relief search refines).
+TEST(PlannerExplanations, TheTargetUsedAndTheGenericChoiceAsDrawn) {
+    const CostTable table = small_table();
+    EffectRequest shadowed;
+    shadowed.max_error_texels = 4.0f;
+    shadowed.lod_fade = EffectSwitch::off;
+    shadowed.shadow = ShadowMode::hard;
+    shadowed.shadow_max_error = 0.5f;
+    Result<std::vector<ObjectPlan>> p = plan_of(plane_scene(20.0, 2.5f, 0.04f, shadowed), es3_caps(), table);
+    ASSERT_TRUE(p.ok()) << p.error().message;
+    const ObjectPlan& plan = (*p)[0];
+    ASSERT_TRUE(has_note(plan, "hit target tightened")) << plan.key.describe();
+    EXPECT_TRUE(has_note(plan, "(the hit target tightened for the shadow; asked 4)"));
+    EXPECT_FALSE(has_note(plan, "predicted within 4 texels"));
+
+    // Generic: relief x8 the cheapest within 2; the calibration of this
+    // relief finds it far worse.
+    CostTable generic = small_table();
+    for (double a : {0.0, 45.0, 89.0})
+        generic.rows.push_back({0, a, Technique::relief, 8, ShadowMode::none, 0, 0.3 * (1.0 + a / 10.0), 0.0, 1.3});
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    ASSERT_TRUE(images.ok());
+    const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    CostTable calibration = generic;
+    calibration.date = "calibrated";
+    calibration.reliefs[0].features = relief.features;
+    for (CostSample& s : calibration.rows)
+        if (s.technique == Technique::relief) s.error_p95 *= 10.0;
+    PlannerOptions options;
+    options.table = &generic;
+    options.calibrations = std::make_shared<const std::vector<CostTable>>(std::vector<CostTable>{calibration});
+    Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
+    ASSERT_TRUE(planner.ok()) << planner.error().message;
+    Result<std::vector<ObjectPlan>> calibrated = (*planner)->plan(scene.camera, 256, 256);
+    ASSERT_TRUE(calibrated.ok()) << calibrated.error().message;
+    ASSERT_TRUE((*calibrated)[0].generic_key.has_value()) << (*calibrated)[0].key.describe();
+    EXPECT_EQ((*calibrated)[0].generic_key->technique, Technique::relief);
+    EXPECT_GT((*calibrated)[0].generic_key->refine_steps, 0) << (*calibrated)[0].generic_key->describe();
+    EXPECT_NE((*calibrated)[0].key.technique, Technique::relief);
+}
+
+}  // namespace
+}  // namespace px

@@ -1142,6 +1142,10 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
                 g.max_samples = static_cast<std::uint16_t>(generic_pick->samples);
                 g.exact_view = generic_pick->exact_view;
                 g.lod = generic_pick->lod;
+                // As the chosen key is completed below: the refinements the
+                // draw uses (a relief search refines options.refine_steps times).
+                if (technique_info(g.technique).options & kOptRefine)
+                    g.refine_steps = static_cast<std::uint8_t>(options.refine_steps);
                 plan.generic_error = generic_chosen.error;
                 plan.generic_cost = generic_chosen.cost;
             }
@@ -1169,8 +1173,13 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     options.lod = pick->lod;
     plan.predicted_error = chosen.error;
     plan.predicted_cost = chosen.cost + shadow_cost;
-    plan.notes.push_back(candidate_name(*pick) + ": the cheapest candidate predicted within " +
-                         fmt("%g", request.max_error_texels) + " texels (" + fmt("%.3g", chosen.error) + ", x" +
+    const std::string target_text =
+        hit_target < request.max_error_texels
+            ? fmt("%.3g", hit_target) + " texels (the hit target tightened for the shadow; asked " +
+                  fmt("%g", request.max_error_texels) + ")"
+            : fmt("%g", request.max_error_texels) + " texels";
+    plan.notes.push_back(candidate_name(*pick) + ": the cheapest candidate predicted within " + target_text + " (" +
+                         fmt("%.3g", chosen.error) + ", x" +
                          fmt("%.2f", chosen.cost) + " normal mapping per pixel; " + source.label + ")");
     if (info.options & kOptHeight && !info.always_exact_view)
         plan.notes.push_back(pick->exact_view
