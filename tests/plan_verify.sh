@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# parallax plan --verify: the plan drawn and measured against the exact
+# parallax plan --verify (and render --verify): the plan drawn and measured against the exact
 # reference, on ES 3.0 and ES 2.0, for planned and technique-named
 # materials; its exit status says whether every target was met.
 #   tests/plan_verify.sh PARALLAX
@@ -22,6 +22,13 @@ for es in 3 2; do
         { echo "FAIL: --es $es: an object without a target is not said to be one"; failures=$((failures + 1)); }
     echo "ok: plan showcase --verify --es $es"
 done
+# render --verify: the same measurement after the render.
+if ! "$parallax" render showcase --size 128x128 --frames 1 -o "$work/s.png" --verify >"$work/out" 2>"$work/err" ||
+    ! grep -q '^verify     every target met' "$work/out"; then
+    echo "FAIL: render showcase --verify:"; cat "$work/out" "$work/err"; failures=$((failures + 1))
+else
+    echo "ok: render showcase --verify"
+fi
 # A relief unlike the cost table's (one-texel lines, seen low): whatever the
 # planner picks, a miss must be printed as MISSED and exit 1, a pass exit 0.
 cat >"$work/lines.json" <<'JSON'

@@ -427,11 +427,14 @@ TEST(Planner, ACalibrationWithNothingToChooseFromIsAnErrorNotACrash) {
     EXPECT_NE(p.error().message.find("measured no candidate"), std::string::npos) << p.error().message;
 }
 
-}  // namespace
-}  // namespace px
-
-namespace px {
-namespace {
+// A parallax request of `texels`, without the LOD fade (which would move
+// the choice on far pixels).
+EffectRequest within(float texels) {
+    EffectRequest r;
+    r.max_error_texels = texels;
+    r.lod_fade = EffectSwitch::off;
+    return r;
+}
 
 // A single quad far bigger than the view (a 100-unit ground seen from a
 // metre up): every precomputed survey point of it lies outside the view.
@@ -439,9 +442,7 @@ namespace {
 // ground gets, and the pixels it reports are the image's, not more.
 TEST(PlannerSurvey, ABigSingleQuadIsPlannedLikeATessellatedOne) {
     const CostTable table = small_table();
-    EffectRequest request;
-    request.max_error_texels = 1.0f;
-    request.lod_fade = EffectSwitch::off;
+    const EffectRequest request = within(1.0f);
     for (int segments : {1, 4, 32}) {
         SCOPED_TRACE(segments);
         SceneDesc s = plane_scene(70.0, 2.0f, 0.04f, request, 40.0f, segments);
@@ -459,21 +460,13 @@ TEST(PlannerSurvey, ABigSingleQuadIsPlannedLikeATessellatedOne) {
     }
 }
 
-}  // namespace
-}  // namespace px
-
-namespace px {
-namespace {
-
 // The step-over bound: a linear search whose step along the ray passes the
 // relief's narrowest feature is predicted at least that step off, whatever
 // the table relief measured. Two reliefs alike but for their lines' width:
 // the narrow one may not be given the cheaper search.
 TEST(PlannerPrediction, ALinearSearchThatStepsOverTheNarrowestFeatureIsNotTrusted) {
     const CostTable table = small_table();
-    EffectRequest request;
-    request.max_error_texels = 4.0f;
-    request.lod_fade = EffectSwitch::off;
+    const EffectRequest request = within(4.0f);
     auto plan_for = [&](int line_width) {
         SceneDesc s = plane_scene(60.0, 2.5f, 0.08f, request);
         s.materials[0].height.field.line_width = line_width;
@@ -488,20 +481,12 @@ TEST(PlannerPrediction, ALinearSearchThatStepsOverTheNarrowestFeatureIsNotTruste
     EXPECT_GT(narrow.predicted_error, wide.predicted_error);
 }
 
-}  // namespace
-}  // namespace px
-
-namespace px {
-namespace {
-
 // Explanations that are true: a pick made against the hit target a shadow
 // tightened says that target, not the one asked; a calibrated plan names
 // the generic choice as it would be drawn (a relief search refines).
 TEST(PlannerExplanations, TheTargetUsedAndTheGenericChoiceAsDrawn) {
     const CostTable table = small_table();
-    EffectRequest shadowed;
-    shadowed.max_error_texels = 4.0f;
-    shadowed.lod_fade = EffectSwitch::off;
+    EffectRequest shadowed = within(4.0f);
     shadowed.shadow = ShadowMode::hard;
     shadowed.shadow_max_error = 0.5f;
     Result<std::vector<ObjectPlan>> p = plan_of(plane_scene(20.0, 2.5f, 0.04f, shadowed), es3_caps(), table);
@@ -516,10 +501,7 @@ TEST(PlannerExplanations, TheTargetUsedAndTheGenericChoiceAsDrawn) {
     CostTable generic = small_table();
     for (double a : {0.0, 45.0, 89.0})
         generic.rows.push_back({0, a, Technique::relief, 8, ShadowMode::none, 0, 0.3 * (1.0 + a / 10.0), 0.0, 1.3});
-    EffectRequest e;
-    e.max_error_texels = 2.0f;
-    e.lod_fade = EffectSwitch::off;
-    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, within(2.0f));
     Result<MaterialImages> images = build_material_images(scene.materials[0], "");
     ASSERT_TRUE(images.ok());
     const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);

@@ -1,5 +1,13 @@
 #include "plan_report.h"
 
+#include <map>
+#include <set>
+
+#include "cli_common.h"
+#include "parallaxes/reference/metrics.h"
+#include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/surface_capture.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -153,6 +161,89 @@ std::string calibration_file(const std::string& dir, const ReliefFeatures& featu
     char depth[32];
     std::snprintf(depth, sizeof depth, "%.4f", features.depth_texels);
     return dir + "/" + hash_hex(features.field_hash) + "-depth" + depth + ".json";
+}
+
+namespace {
+
+std::string texels(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", v);
+    return b;
+}
+
+}  // namespace
+
+// --verify: the plan drawn, each object's hit error (p95, texels of the
+// level sampled) and shadow error (mean |visibility difference|) measured
+// against the depth-composited exact reference, beside the prediction and
+// the target. Returns 1 when a target is missed.
+int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height) {
+    Result<int> viewed = renderer.set_view(scene.camera, width, height);
+    if (!viewed) return fail(in_scene_file(scene.source, viewed.error().message));
+    Result<SurfaceImage> drawn = capture_surfaces(renderer, width, height);
+    if (!drawn) return fail(in_scene_file(scene.source, "--verify: " + drawn.error().message));
+    std::set<ShadowMode> modes = {ShadowMode::none};
+    for (const MaterialDesc& m : scene.materials)
+        if (m.effects) modes.insert(m.effects->shadow);
+        else modes.insert(m.technique.shadow);
+    std::map<ShadowMode, reference::ReferenceImage> truths;
+    for (ShadowMode mode : modes) {
+        reference::ReferenceOptions ro;
+        ro.shadow = mode;
+        ro.depth_composite = true;
+        std::fprintf(stderr, "verify: exact reference, shadow %s ...\n", shadow_mode_name(mode));
+        Result<reference::ReferenceImage> truth = reference::render_reference(*renderer.prepared(), width, height, ro);
+        if (!truth) return fail(in_scene_file(scene.source, "--verify: " + truth.error().message));
+        truths.emplace(mode, std::move(*truth));
+    }
+    int missed = 0;
+    std::printf("verify     %dx%d against the depth-composited exact reference; hit error p95 in texels of the "
+                "level sampled, shadow error mean |visibility difference|\n",
+                width, height);
+    const std::vector<DrawReport>& reports = renderer.reports();
+    for (size_t i = 0; i < scene.objects.size() && i < reports.size(); ++i) {
+        const ObjectPlan& plan = reports[i].plan;
+        const MaterialDesc* m = scene.find_material(scene.objects[i].material);
+        const int index = static_cast<int>(i);
+        Result<reference::ObjectError> e = reference::compare_object(*drawn, truths.at(ShadowMode::none), index);
+        if (!e) return fail(e.error().message);
+        std::string line = "  " + scene.objects[i].name + " (" + reports[i].variant.describe() + "): ";
+        if (e->pixels == 0) {
+            std::printf("%snot in view: nothing to measure\n", line.c_str());
+            continue;
+        }
+        const bool has_target = m && m->effects && m->effects->parallax;
+        const double target = has_target ? m->effects->max_error_texels : -1.0;
+        line += "hit " + texels(e->level_error_p95) + " measured";
+        if (plan.predicted_error >= 0.0) line += ", " + texels(plan.predicted_error) + " predicted";
+        bool met = true;
+        if (has_target) {
+            met = e->level_error_p95 <= target;
+            line += ", target " + texels(target) + (met ? ": met" : ": MISSED");
+        } else {
+            line += m && !m->effects ? " (technique named: no target)" : " (no parallax asked)";
+        }
+        const ShadowMode asked = m ? (m->effects ? m->effects->shadow : m->technique.shadow) : ShadowMode::none;
+        if (asked != ShadowMode::none) {
+            Result<reference::ObjectError> s = reference::compare_object(*drawn, truths.at(asked), index);
+            if (!s) return fail(s.error().message);
+            line += "; shadow " + texels(s->visibility_error_mean) + " measured";
+            if (plan.predicted_shadow_error >= 0.0) line += ", " + texels(plan.predicted_shadow_error) + " predicted";
+            if (m->effects) {
+                const bool shadow_met = s->visibility_error_mean <= m->effects->shadow_max_error;
+                line += ", target " + texels(m->effects->shadow_max_error) + (shadow_met ? ": met" : ": MISSED");
+                met = met && shadow_met;
+            }
+        }
+        if (!met) ++missed;
+        std::printf("%s (%ld px)\n", line.c_str(), e->pixels);
+    }
+    if (missed) {
+        std::fprintf(stderr, "parallax: plan --verify: %d object(s) missed their target\n", missed);
+        return 1;
+    }
+    std::printf("verify     every target met\n");
+    return 0;
 }
 
 }  // namespace px::tools

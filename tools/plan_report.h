@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "parallaxes/planner/planner.h"
+#include "parallaxes/render/renderer.h"
 
 namespace px::tools {
 
@@ -21,5 +22,12 @@ std::string default_calibration_dir();
 // on stderr naming the file).
 std::vector<CostTable> load_calibrations(const std::string& dir);
 std::string calibration_file(const std::string& dir, const ReliefFeatures& features);
+
+// `plan --verify` and `render --verify`: the scene camera's plan drawn (the
+// renderer has the scene loaded), each object's hit error (p95, texels of the
+// level sampled) and shadow error measured against the depth-composited
+// exact reference and printed beside the prediction and the target. Returns
+// the exit status: 1 when a target is missed (stderr says how many).
+int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height);
 
 }  // namespace px::tools

@@ -44,6 +44,7 @@ struct RenderArgs {
     bool decode_textures = false;
     bool stats = false;
     bool no_state_restore = false;
+    bool verify = false;
 };
 
 // The camera of frame i of n along a path: orbit turns it around the
@@ -259,6 +260,7 @@ int run_render(const RenderArgs& a) {
     const std::string last = stats.rejected ? " (last: " + stats.last_rejection + ")" : "";
     std::printf("programs   %d compiled, %d from the binary cache (%s), %d stale entries rebuilt%s\n", stats.compiled,
                 stats.from_binary, where.c_str(), stats.rejected, last.c_str());
+    if (a.verify) return verify_plan(**renderer, *scene, width, height);
     return 0;
 }
 
@@ -288,6 +290,9 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--no-state-restore", args->no_state_restore,
                   "Draw as a host that manages its own GL state would (RendererOptions::preserve_host_state off): "
                   "compare --frames timings with and without");
+    cmd->add_flag("--verify", args->verify,
+                  "After rendering, measure each object's hit and shadow error at the scene camera against the "
+                  "exact reference, beside the plan's prediction and target; exit 1 when a target is missed");
     cmd->add_flag("--stats", args->stats,
                   "Print how often the pipeline validated, built images and meshes, planned and built programs");
     cmd->add_flag("--explain", args->explain,
