@@ -523,5 +523,28 @@ TEST(PlannerExplanations, TheTargetUsedAndTheGenericChoiceAsDrawn) {
     EXPECT_NE((*calibrated)[0].key.technique, Technique::relief);
 }
 
+// Shadows by what they can change: a gentle relief under a light steeper
+// than any of its slopes cannot shadow itself, so the shadow is dropped and
+// the note says why; under a low light it is kept.
+TEST(PlannerShadows, ALightAboveEverySlopeDropsTheShadow) {
+    const CostTable table = small_table();
+    EffectRequest request = within(4.0f);
+    request.shadow = ShadowMode::hard;
+    request.shadow_max_error = 0.5f;
+    auto plan_under = [&](float light_elevation) {
+        SceneDesc s = plane_scene(20.0, 2.5f, 0.01f, request, light_elevation);
+        s.materials[0].height.field.kind = FieldKind::sine;
+        s.materials[0].height.field.frequency = 2;
+        Result<std::vector<ObjectPlan>> p = plan_of(s, es3_caps(), table);
+        EXPECT_TRUE(p.ok()) << p.error().message;
+        return p ? (*p)[0] : ObjectPlan{};
+    };
+    const ObjectPlan high = plan_under(60.0f), low = plan_under(3.0f);
+    EXPECT_EQ(high.key.shadow, ShadowMode::none) << high.key.describe();
+    EXPECT_TRUE(has_note(high, "nothing on it can cast a shadow"));
+    EXPECT_EQ(low.key.shadow, ShadowMode::hard) << low.key.describe();
+    EXPECT_FALSE(has_note(low, "nothing on it can cast a shadow"));
+}
+
 }  // namespace
 }  // namespace px

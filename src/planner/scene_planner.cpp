@@ -850,6 +850,29 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
             want_shadow = false;
             plan.notes.push_back(std::string("shadow=") + shadow_mode_name(request.shadow) +
                                  " dropped: every light is behind the surface or below its horizon wherever it is seen");
+        } else {
+            // A height field whose slopes are all below the light's
+            // elevation cannot shadow itself: with |grad h| <= S everywhere,
+            // h rises less than S t over a distance t, and the ray to the
+            // light rises tan(elevation) t. S: the steepest rise between
+            // neighbouring texels, in texels of height per texel, times
+            // sqrt(2) for the diagonals of a bilinear surface. A soft
+            // light's disc reaches its angular radius lower.
+            const double slope_deg = glm::degrees(std::atan(std::sqrt(2.0) * relief.features.steepness *
+                                                            relief.features.depth_texels));
+            double lowest = 90.0;
+            for (const PointView& p : points)
+                if (p.lit) lowest = std::min(lowest, p.light_elevation_deg);
+            double radius = 0.0;
+            if (request.shadow == ShadowMode::soft)
+                for (const LightDesc& l : scene.lights) radius = std::max(radius, static_cast<double>(l.angular_radius_deg));
+            if (lowest - radius > slope_deg) {
+                want_shadow = false;
+                plan.notes.push_back(std::string("shadow=") + shadow_mode_name(request.shadow) + " dropped: the light is " +
+                                     fmt("%.1f", lowest - radius) + " degrees or more above the surface wherever it is "
+                                     "seen, steeper than the relief's steepest slope (" + fmt("%.1f", slope_deg) +
+                                     " degrees): nothing on it can cast a shadow");
+            }
         }
     }
     const bool lod_possible = request.lod_fade != EffectSwitch::off && caps.derivatives();
