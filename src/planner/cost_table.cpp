@@ -46,6 +46,9 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
     if (doc.contains("height") && doc["height"].is_number_integer()) t.height = doc["height"].get<int>();
     const json& reliefs = doc.contains("reliefs") ? doc["reliefs"] : json();
     if (!reliefs.is_array() || reliefs.empty()) return make_error(origin + ": reliefs: expected a non-empty array");
+    if (reliefs.size() > kMaxCostTableReliefs)
+        return make_error(origin + ": reliefs: " + std::to_string(reliefs.size()) + " reliefs, more than the " +
+                          std::to_string(kMaxCostTableReliefs) + " a cost table may hold");
     for (size_t i = 0; i < reliefs.size(); ++i) {
         const json& r = reliefs[i];
         const std::string path = origin + ": reliefs[" + std::to_string(i) + "]";
@@ -74,6 +77,9 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
     }
     const json& rows = doc.contains("rows") ? doc["rows"] : json();
     if (!rows.is_array()) return make_error(origin + ": rows: expected an array");
+    if (rows.size() > kMaxCostTableRows)
+        return make_error(origin + ": rows: " + std::to_string(rows.size()) + " rows, more than the " +
+                          std::to_string(kMaxCostTableRows) + " a cost table may hold");
     for (size_t i = 0; i < rows.size(); ++i) {
         const json& r = rows[i];
         const std::string path = origin + ": rows[" + std::to_string(i) + "]";

@@ -15,6 +15,12 @@
 
 namespace px {
 
+// What a cost table (or a calibration read from the cache) may hold: the
+// built-in one has 5 reliefs and 1,070 rows; a bench run of every setting on
+// a few more reliefs stays far below. Past these a table is refused.
+inline constexpr std::size_t kMaxCostTableReliefs = 64;
+inline constexpr std::size_t kMaxCostTableRows = 20000;
+
 struct CostTableRelief {
     std::string name;  // bench scene, or "calibrated <hash>"
     ReliefFeatures features;

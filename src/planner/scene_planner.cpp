@@ -296,17 +296,20 @@ std::map<CurveKey, Curve> curves_of(const CostTable& table) {
     // where a technique was measured at several sample counts, a count
     // costs at least what any smaller one does at the same angle, so that
     // noise never makes more samples look cheaper than fewer.
-    for (auto it = out.begin(); it != out.end(); ++it) {
-        const auto& [relief, technique, samples, shadow, shadow_samples, elevation] = it->first;
-        for (auto prev = out.begin(); prev != it; ++prev) {
-            const auto& [r2, t2, s2, sh2, ss2, e2] = prev->first;
-            if (r2 != relief || t2 != technique || sh2 != shadow || ss2 != shadow_samples || e2 != elevation ||
-                s2 >= samples)
-                continue;
-            if (prev->second.angles != it->second.angles) continue;
-            for (size_t k = 0; k < it->second.cost.size(); ++k)
-                it->second.cost[k] = std::max(it->second.cost[k], prev->second.cost[k]);
-        }
+    // One pass: the map orders keys by relief, technique, then samples, so
+    // the curves of one (relief, technique, shadow, shadow samples,
+    // elevation) and angle grid come in increasing sample counts, and each
+    // takes the running maximum of the ones before it (a table of many
+    // sample counts stays n log n, not quadratic).
+    using Group = std::tuple<int, Technique, ShadowMode, int, int, std::vector<double>>;
+    std::map<Group, std::vector<double>> running;
+    for (auto& [key, curve] : out) {
+        const auto& [relief, technique, samples, shadow, shadow_samples, elevation] = key;
+        (void)samples;
+        std::vector<double>& most = running[Group{relief, technique, shadow, shadow_samples, elevation, curve.angles}];
+        if (most.size() == curve.cost.size())
+            for (size_t k = 0; k < curve.cost.size(); ++k) curve.cost[k] = std::max(curve.cost[k], most[k]);
+        most = curve.cost;
     }
     return out;
 }
@@ -382,7 +385,9 @@ struct ScenePlanner::Impl {
         std::string label;
     };
     Source generic_source(const MaterialRelief& r) const;
-    std::optional<Source> calibrated_source(const MaterialRelief& r) const;
+    // The calibration of this very relief, if one can plan it; `skipped`
+    // says why a matching one could not (it is then not used).
+    std::optional<Source> calibrated_source(const MaterialRelief& r, std::string* skipped) const;
 
     Result<ObjectPlan> plan_object(size_t object_index, const std::vector<ObjectView>& views,
                                    const std::vector<std::vector<PointView>>& points,
@@ -515,13 +520,33 @@ ScenePlanner::Impl::Source ScenePlanner::Impl::generic_source(const MaterialReli
     return s;
 }
 
-std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(const MaterialRelief& r) const {
+std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(const MaterialRelief& r,
+                                                                               std::string* skipped) const {
     for (size_t c = 0; c < calibrations.size(); ++c)
         for (size_t i = 0; i < calibrations[c].reliefs.size(); ++i) {
             const ReliefFeatures& f = calibrations[c].reliefs[i].features;
             if (f.field_hash != r.features.field_hash ||
                 std::fabs(f.depth_texels - r.features.depth_texels) > 1e-3 * std::max(1.0, f.depth_texels))
                 continue;
+            // Usable: normal mapping's curve (every cost is relative to it)
+            // and at least one technique that traces the relief.
+            bool normal = false, traced = false;
+            for (const auto& [key, curve] : calibration_curves[c]) {
+                const auto& [relief, technique, samples, shadow, shadow_samples, elevation] = key;
+                (void)samples;
+                (void)shadow_samples;
+                (void)elevation;
+                if (relief != static_cast<int>(i) || shadow != ShadowMode::none || curve.angles.empty()) continue;
+                if (technique == Technique::normal) normal = true;
+                else if (technique_info(technique).options & kOptHeight) traced = true;
+            }
+            if (!normal || !traced) {
+                if (skipped)
+                    *skipped = "the calibration of this relief (" + hash_hex(f.field_hash) + ", " + calibrations[c].date +
+                               ") holds no " + (normal ? "technique that traces the relief" : "normal-mapping row") +
+                               " to plan with: the generic table is used";
+                continue;
+            }
             Source s;
             s.table = &calibrations[c];
             s.curves = &calibration_curves[c];
@@ -835,7 +860,9 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
 
     // Sources of prediction: the material's own calibration first.
     const Source table_source = generic_source(relief);
-    const std::optional<Source> calibrated = calibrated_source(relief);
+    std::string calibration_skipped;
+    const std::optional<Source> calibrated = calibrated_source(relief, &calibration_skipped);
+    if (!calibrated && !calibration_skipped.empty()) plan.notes.push_back(calibration_skipped);
     const Source& source = calibrated ? *calibrated : table_source;
     if (source.relief < 0) return make_error(who + ": the cost table has no relief to predict from");
     plan.prediction_source = source.label;
