@@ -77,7 +77,8 @@ const Case kAlbedoCases[] = {
     {"ptt_etc2_npot.ktx", 1.0},       {"ptt_etc1.pvr", 1.0},          {"ptt_etc1_flipped.pvr", 1.0},
     {"ptt_pvrtc4_mips.pvr", 1.0},     {"ptt_rgba8_flipped.pvr", 1.0}, {"astcenc_6x6.astc", 1.0},
     {"astcenc_4x4.ktx", 1.0},         {"astcenc_npot_5x5.astc", 1.0}, {"basisu_etc1_mips.ktx", 1.0},
-    {"basisu_bc1_mips.ktx", 1.0},     {"basisu_pvrtc4_mips.ktx", 1.0},
+    {"basisu_bc1_mips.ktx", 1.0},     {"basisu_pvrtc4_mips.ktx", 1.0}, {"ktxparse_etc2_rgb.ktx2", 1.0},
+    {"ktxparse_etc2_rgb_ru.ktx2", 1.0},
 };
 
 TEST(ThirdParty, FilesDrawTheRightWayUpOnTheGpuAndThroughTheCpuDecoders) {
@@ -162,6 +163,8 @@ TEST(ThirdParty, EachContainerReportsItsRowOrderAndWhereItCameFrom) {
         {"astcenc_4x4.ktx", "no KTXorientation"},
         {"astcenc_6x6.astc", ".astc declares none"},
         {"basisu_etc1_mips.ktx", "no KTXorientation"},
+        {"ktxparse_etc2_rgb.ktx2", "no KTXorientation: \"rd\", the KTX 2.0 default"},
+        {"ktxparse_etc2_rgb_ru.ktx2", "KTXorientation \"ru\""},
     };
     for (auto [file, source] : cases) {
         Result<TextureData> t = read_texture_file(kDir + file);
