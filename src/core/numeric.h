@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstddef>
+#include <vector>
 
 #include <glm/gtc/constants.hpp>
 
@@ -53,6 +55,18 @@ inline BilinearTaps bilinear_taps(double u, double v, int w, int h) {
     t.x1 = t.x0 + 1 == w ? 0 : t.x0 + 1;
     t.y1 = t.y0 + 1 == h ? 0 : t.y0 + 1;
     return t;
+}
+
+// Reverses the order of the rows of a width x height image of `channels`
+// values per texel, in place: top-row-first data to the library's order
+// (row 0 at v = 0) and back.
+template <typename T>
+void reverse_rows(std::vector<T>& texels, std::size_t width, std::size_t height, std::size_t channels) {
+    const std::size_t row = width * channels;
+    for (std::size_t y = 0; y < height / 2; ++y)
+        std::swap_ranges(texels.begin() + static_cast<std::ptrdiff_t>(row * y),
+                         texels.begin() + static_cast<std::ptrdiff_t>(row * (y + 1)),
+                         texels.begin() + static_cast<std::ptrdiff_t>(row * (height - 1 - y)));
 }
 
 }  // namespace px

@@ -39,8 +39,8 @@ namespace {
 
 Status no_readers(const TextureSource& s) {
     return make_error("'" + echo_path(s.path) +
-                      "' is a file, and no file readers were given: pass px::texture_file_readers() "
-                      "(RendererOptions::texture_files, or MaterialImageOptions::files)");
+                      "' is a file, and no file readers were given: set RendererOptions::texture_files = "
+                      "px::texture_files() (or MaterialImageOptions::files = px::texture_file_readers())");
 }
 
 Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir, const TextureFileReaders* files) {
@@ -207,16 +207,12 @@ bool pot(int w, int h) { return is_power_of_two(w) && is_power_of_two(h); }
 // is mirrored into that order for the CPU (the reference, the mesh, the max
 // pyramid), while its texture goes up as it is and is read at 1 - v.
 void flip_rows(HeightField& f) {
-    for (int y = 0; y < f.height / 2; ++y)
-        for (int x = 0; x < f.width; ++x) std::swap(f.ref(x, y), f.ref(x, f.height - 1 - y));
+    reverse_rows(f.texels, static_cast<size_t>(f.width), static_cast<size_t>(f.height), 1);
 }
 
 void flip_rows(Image& img) {
-    const size_t row = static_cast<size_t>(img.width) * static_cast<size_t>(img.channels);
-    for (int y = 0; y < img.height / 2; ++y)
-        std::swap_ranges(img.pixels.begin() + static_cast<std::ptrdiff_t>(row * static_cast<size_t>(y)),
-                         img.pixels.begin() + static_cast<std::ptrdiff_t>(row * static_cast<size_t>(y + 1)),
-                         img.pixels.begin() + static_cast<std::ptrdiff_t>(row * static_cast<size_t>(img.height - 1 - y)));
+    reverse_rows(img.pixels, static_cast<size_t>(img.width), static_cast<size_t>(img.height),
+                 static_cast<size_t>(img.channels));
 }
 
 bool top_first(const std::optional<TextureData>& t) { return t && t->rows == RowOrder::top_first; }

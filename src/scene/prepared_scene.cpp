@@ -46,8 +46,8 @@ Status check_files_readable(const SceneDesc& scene, const PrepareOptions& option
     const std::string first = first_file_source(scene);
     if (first.empty()) return {};
     return make_error(first + ": the scene reads files, and this preparation has no file readers: set "
-                              "RendererOptions::texture_files = px::texture_file_readers() (or "
-                              "PrepareOptions::images.files)");
+                              "RendererOptions::texture_files = px::texture_files() (or PrepareOptions::images.files "
+                              "= px::texture_file_readers())");
 }
 
 Result<std::shared_ptr<const PreparedScene>> prepare_checked(const SceneDesc& scene, const PrepareOptions& options) {

@@ -47,15 +47,8 @@ Status check_slot(TextureFormat format, std::uint32_t w, std::uint32_t h) {
 
 // The encoders write the top row first, as the field's tools do (and say so
 // in the container: texture_data.h RowOrder). Images and height fields
-// here keep row 0 at the bottom (v = 0), so their rows are reversed first.
-template <typename T>
-void reverse_rows(std::vector<T>& texels, std::uint32_t width, std::uint32_t height, std::uint32_t channels) {
-    const std::size_t row = static_cast<std::size_t>(width) * channels;
-    for (std::uint32_t y = 0; y < height / 2; ++y)
-        std::swap_ranges(texels.begin() + static_cast<std::ptrdiff_t>(row * y),
-                         texels.begin() + static_cast<std::ptrdiff_t>(row * (y + 1)),
-                         texels.begin() + static_cast<std::ptrdiff_t>(row * (height - 1 - y)));
-}
+// here keep row 0 at the bottom (v = 0), so their rows are reversed first
+// (core/numeric.h reverse_rows).
 
 // Lays out a chain and fills each level from `encode_level(level, w, h)`.
 template <typename EncodeLevel>
