@@ -295,6 +295,10 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 Result<reference::ErrorMetrics> error = reference::compare_surfaces(
                     *surfaces, truth->surface, truth->texture_width, truth->texture_height);
                 if (!error) return error.error();
+                // The same in texels of the level sampled (GL's mip selection
+                // at each pixel): what the planner's targets are in.
+                Result<reference::ObjectError> level = reference::compare_object(*surfaces, *truth, 0);
+                if (!level) return level.error();
 
                 // Colour, then time: warm both programs, then interleave
                 // normal mapping and the setting so both see the same machine.
@@ -332,6 +336,7 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 row.uv_error_mean = error->uv_error_mean;
                 row.uv_error_p95 = error->uv_error_p95;
                 row.uv_error_max = error->uv_error_max;
+                row.level_error_p95 = level->level_error_p95;
                 row.wrong_surface_share = error->wrong_surface_share;
                 row.depth_error_mean = error->depth_error_mean;
                 row.depth_error_max = error->depth_error_max;

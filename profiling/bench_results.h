@@ -27,6 +27,7 @@ struct BenchRow {
     double uv_error_mean = 0.0;  // texels
     double uv_error_p95 = 0.0;
     double uv_error_max = 0.0;
+    double level_error_p95 = 0.0;  // the same in texels of the level sampled (divided by texels per pixel where > 1)
     double wrong_surface_share = 0.0;
     double depth_error_mean = 0.0;
     double depth_error_max = 0.0;

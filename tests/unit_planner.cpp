@@ -9,6 +9,7 @@
 #include "parallaxes/planner/cost_table.h"
 #include "parallaxes/planner/planner.h"
 #include "parallaxes/planner/relief.h"
+#include "parallaxes/planner/search_model.h"
 #include "parallaxes/scene/material_images.h"
 #include "parallaxes/scene/scene.h"
 
@@ -197,12 +198,17 @@ SceneDesc plane_scene(double angle_deg, float distance, float height_scale, Effe
     return s;
 }
 
-Result<std::vector<ObjectPlan>> plan_of(const SceneDesc& scene, const Caps& caps, const CostTable& table, int size = 256) {
+// Planned on `table` alone (the search model, which would predict hits from
+// the relief itself, left out: these tests state the table's numbers), or
+// with the search model where `search_model` is true.
+Result<std::vector<ObjectPlan>> plan_of(const SceneDesc& scene, const Caps& caps, const CostTable& table, int size = 256,
+                                        bool search_model = false) {
     std::vector<MaterialRelief> reliefs;
     for (const MaterialDesc& m : scene.materials) {
         Result<MaterialImages> images = build_material_images(m, "");
         if (!images) return images.error();
         reliefs.push_back(material_relief(quantized_8bit(images->field), m));
+        if (!search_model) reliefs.back().search.reset();
     }
     PlannerOptions options;
     options.table = &table;
@@ -587,6 +593,107 @@ TEST(PlannerShadows, ALightAboveEverySlopeDropsTheShadow) {
     EXPECT_TRUE(has_note(high, "nothing on it can cast a shadow"));
     EXPECT_EQ(low.key.shadow, ShadowMode::hard) << low.key.describe();
     EXPECT_FALSE(has_note(low, "nothing on it can cast a shadow"));
+}
+
+// --- The search model: hits predicted from the relief itself -----------------
+
+HeightField flat_field(int size, float level) {
+    HeightField f;
+    f.width = f.height = size;
+    f.texels.assign(static_cast<size_t>(size) * size, level);
+    return f;
+}
+
+// On a flat field at half depth every quantity has a closed form: the exact
+// hit is at height 0.5, so normal mapping is off by 0.5 |P| and offset
+// limiting (which scales the offset by V.z) by 0.5 (1 - cos) |P|, with
+// |P| = scale * width * tan(angle); parallax's single fetch is exact there,
+// and a linear search whose samples land on 0.5 is exact too.
+TEST(SearchModel, AFlatFieldGivesTheClosedFormErrors) {
+    const HeightField field = flat_field(64, 0.5f);
+    const double angle = 60.0, scale = 0.05;
+    const double theta = glm::radians(angle);
+    std::vector<SearchRay> rays;
+    for (int k = 0; k < 16; ++k) {
+        const double phi = 0.4 * k;
+        rays.push_back({glm::dvec2(0.03 * k, 0.05 * k),
+                        glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta))});
+    }
+    const std::vector<int> samples{4, 6};
+    const std::vector<SearchCurve> order = search_candidates(samples);
+    const std::vector<double> e = simulate_rays(field, scale, 1.0, rays, samples, 5).front();
+    ASSERT_EQ(e.size(), order.size());
+    auto error_of = [&](Technique t, int n) {
+        for (size_t i = 0; i < order.size(); ++i)
+            if (order[i].technique == t && order[i].samples == n) return e[i];
+        ADD_FAILURE() << "no curve " << technique_name(t) << " " << n;
+        return -1.0;
+    };
+    const double p = scale * 64 * std::tan(theta);
+    EXPECT_NEAR(error_of(Technique::normal, 0), 0.5 * p, 1e-6);
+    EXPECT_NEAR(error_of(Technique::offset_limited, 0), 0.5 * (1.0 - std::cos(theta)) * p, 1e-6);
+    EXPECT_NEAR(error_of(Technique::parallax, 0), 0.0, 1e-6);
+    EXPECT_NEAR(error_of(Technique::steep, 4), 0.0, 1e-6);  // samples at 1, 0.75, 0.5
+    // Six samples fall at 1, 5/6, 4/6, 3/6: steep stops on 0.5 exactly too;
+    // at 1/3 steps (three samples) it would stop at 1/3, 1/6 |P| off.
+    EXPECT_NEAR(error_of(Technique::steep, 6), 0.0, 1e-6);
+    EXPECT_NEAR(error_of(Technique::pom, 4), 0.0, 1e-6);
+    EXPECT_NEAR(error_of(Technique::maxmip, 0), 0.0, 1e-12);
+    const std::vector<double> three = simulate_rays(field, scale, 1.0, rays, {3}, 5).front();
+    const std::vector<SearchCurve> order3 = search_candidates({3});
+    for (size_t i = 0; i < order3.size(); ++i)
+        if (order3[i].technique == Technique::steep) EXPECT_NEAR(three[i], p / 6.0, 1e-6);
+}
+
+// A search that steps over thin features: 3-texel flat-topped lines 8
+// texels apart, seen low. Few samples stride past the lines (errors of
+// many texels), many do not; the model sees it from the field, with no
+// table relief to match. (1-texel lines are a bilinear tent whose tip a ray
+// can graze near the top between any two samples: even 256 samples leave a
+// few rays texels off there, as the exact reference sees it.)
+TEST(SearchModel, StepsOverThinLinesWithFewSamplesOnly) {
+    FieldSpec spec;
+    spec.kind = FieldKind::lines;
+    spec.size = 128;
+    spec.count = 16;
+    spec.line_width = 3;
+    Result<HeightField> field = make_height_field(spec);
+    ASSERT_TRUE(field.ok()) << field.error().message;
+    SearchModelOptions o;
+    o.angles = {0, 75};
+    o.samples = {4, 256};
+    o.rays = 256;
+    const SearchModel m = simulate_searches(quantized_8bit(*field), 0.08, 1.0, o);
+    const SearchCurve* coarse = m.find(Technique::pom, 4);
+    const SearchCurve* fine = m.find(Technique::pom, 256);
+    ASSERT_TRUE(coarse && fine);
+    EXPECT_GT(coarse->error[1], 3.0);  // steps of 0.08 * 128 * tan 75 / 4 = 9.6 texels over 3-texel lines
+    EXPECT_LT(fine->error[1], 0.5);
+    EXPECT_LT(fine->error[0], 1e-3);
+    // Deterministic.
+    const SearchModel again = simulate_searches(quantized_8bit(*field), 0.08, 1.0, o);
+    EXPECT_EQ(again.find(Technique::pom, 4)->error, coarse->error);
+}
+
+// The planner with the search model: its prediction comes from the relief
+// itself (the source says so), it offers the single-fetch techniques too,
+// and a shallow relief with a loose target gets one of them where the
+// table alone (thin 1-texel lines) would pay for a search.
+TEST(SearchModel, PlansFromTheReliefAndOffersSingleFetchCandidates) {
+    const CostTable table = small_table();
+    SceneDesc s = plane_scene(30.0, 2.5f, 0.02f, within(2.0f));
+    s.materials[0].height.field.kind = FieldKind::sine;
+    s.materials[0].height.field.frequency = 2;
+    Result<std::vector<ObjectPlan>> with = plan_of(s, es3_caps(), table, 256, true);
+    ASSERT_TRUE(with.ok()) << with.error().message;
+    const ObjectPlan& p = (*with)[0];
+    EXPECT_NE(p.prediction_source.find("search model on this relief"), std::string::npos) << p.prediction_source;
+    EXPECT_TRUE(p.key.technique == Technique::offset_limited || p.key.technique == Technique::parallax)
+        << p.key.describe();
+    EXPECT_LE(p.predicted_error, 2.0);
+    Result<std::vector<ObjectPlan>> without = plan_of(s, es3_caps(), table, 256, false);
+    ASSERT_TRUE(without.ok()) << without.error().message;
+    EXPECT_NE((*without)[0].prediction_source.find("table"), std::string::npos);
 }
 
 }  // namespace

@@ -23,6 +23,8 @@
 
 namespace px::tools {
 
+int run_search_model_bench(const std::string& folder, int width, int height, const std::string& out,
+                           const std::string& command);
 int run_texture_bench(const std::string& scene_name, int width, int height, int frames, const std::string& out,
                       const std::string& command);
 
@@ -47,6 +49,7 @@ struct BenchArgs {
     std::string command;
     bool textures = false;      // the texture-format table instead of the sweep
     std::string textures_scene; // --textures-scene: its scene (default: the default scene)
+    std::string search_model;   // a folder of fit_*.json and judge_*.json scenes
 };
 
 
@@ -158,6 +161,7 @@ int run(BenchArgs a) {
 
     if (!a.planner_table.empty()) return run_planner_table(a, o);
     if (!a.showcase.empty()) return run_showcase_bench(a, width, height);
+    if (!a.search_model.empty()) return run_search_model_bench(a.search_model, width, height, a.out, a.command);
     if (a.textures) return run_texture_bench(a.textures_scene, width, height, a.frames > 0 ? a.frames : 7, a.out, a.command);
     std::error_code ec;
     std::filesystem::create_directories(a.out, ec);
@@ -231,6 +235,9 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
                   "Texture formats: bytes, frame time and the hit error of each height-map format, per asset variant, "
                   "on the default scene (or --textures-scene); writes OUT/textures.md");
     cmd->add_option("--textures-scene", args->textures_scene, "With --textures: the scene (file or built-in name)");
+    cmd->add_option("--search-model", args->search_model,
+                    "The planner's search model against the GPU: every fit_*.json and judge_*.json scene of this folder "
+                    "(examples/scenes/relief_family) benched and simulated; writes OUT/search_model.md, .csv, .svg");
     cmd->add_flag("--shadows-only", args->shadows_only,
                   "With --planner-table: measure only the shadow rows, keeping the file's other rows");
     cmd->callback([args]() { set_exit_status(run(*args)); });

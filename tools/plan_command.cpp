@@ -28,6 +28,7 @@ struct PlanArgs {
     int es = 3;
     std::string format = "table";
     bool calibrate = false;
+    bool candidates = false;
     std::string calibration_cache;  // "": the default folder
     int frames = 3;
     bool verify = false;
@@ -145,7 +146,7 @@ int run_plan(const PlanArgs& a) {
                     context_line.c_str());
         std::fputs(plans_table(*plans).c_str(), stdout);
     }
-    if (a.verify) return verify_plan(**renderer, *scene, width, height);
+    if (a.verify || a.candidates) return verify_plan(**renderer, *scene, width, height, a.candidates);
     return 0;
 }
 
@@ -168,6 +169,9 @@ void add_plan_command(CLI::App& app, int argc, char** argv) {
     cmd->add_flag("--verify", args->verify,
                   "Draw the plan and measure each object's hit and shadow error against the exact reference, beside "
                   "the prediction and the target; exit 1 when a target is missed");
+    cmd->add_flag("--candidates", args->candidates,
+                  "With --verify: also draw every technique and sample count the context runs in each planned "
+                  "object's place, and print the cheapest that measures within the targets against the plan's time");
     cmd->callback([args]() { set_exit_status(run_plan(*args)); });
 }
 

@@ -7,6 +7,11 @@
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
+#include "parallaxes/render/offscreen_target.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/gl/gl.h"
+#include <algorithm>
+#include <chrono>
 
 #include <cstdio>
 #include <cstdlib>
@@ -177,7 +182,101 @@ std::string texels(double v) {
 // level sampled) and shadow error (mean |visibility difference|) measured
 // against the depth-composited exact reference, beside the prediction and
 // the target. Returns 1 when a target is missed.
-int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height) {
+namespace {
+
+// One candidate a planned object could have been drawn with.
+struct Tried {
+    std::string name;
+    double hit = 0.0, shadow = 0.0;  // measured
+    double time_ratio = 0.0;         // its frame time / the plan's, median of rounds
+    bool within = false;
+};
+
+// Every technique and sample count the context runs, drawn in the plan's
+// place for object `index` (the plan's other options kept), measured
+// against the same references, and timed against the plan in interleaved
+// rounds.
+Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& scene, size_t index, int width, int height,
+                                          const std::map<ShadowMode, reference::ReferenceImage>& truths) {
+    const ObjectPlan& plan = planned.reports()[index].plan;
+    const MaterialDesc* m = scene.find_material(scene.objects[index].material);
+    if (!m || !m->effects) return std::vector<Tried>{};
+    const Caps& caps = planned.caps();
+    RendererOptions options;
+    options.texture_files = texture_files();
+    options.get_proc_address = platform::HeadlessContext::proc_loader();
+    options.effect_planner = effect_planner;
+    Result<std::unique_ptr<Renderer>> other = Renderer::create(options);
+    if (!other) return other.error();
+    Status loaded = (*other)->load(planned.prepared());
+    if (!loaded) return loaded.error();
+    auto target = OffscreenTarget::create(width, height);
+    if (!target) return target.error();
+    const int rounds = 5;
+    std::vector<Tried> out;
+    const std::vector<int> counts{4, 8, 16, 32, 64, 128, 256};
+    for (Technique t : {Technique::normal, Technique::parallax, Technique::offset_limited, Technique::steep,
+                        Technique::pom, Technique::relief, Technique::maxmip}) {
+        const TechniqueInfo& info = technique_info(t);
+        if (info.min_es_major > caps.es_major) continue;
+        const bool sampled = info.options & kOptSamples;
+        for (int n : sampled ? counts : std::vector<int>{0}) {
+            if (sampled && n > info.max_samples_limit) continue;
+            MaterialDesc named = *m;
+            named.effects.reset();
+            named.technique = plan.options;
+            named.technique.technique = t;
+            if (sampled) named.technique.min_samples = named.technique.max_samples = n;
+            if (!(info.options & kOptShadow)) named.technique.shadow = ShadowMode::none;
+            if (!(info.options & kOptDepth)) named.technique.depth_write = false;
+            Status replaced = (*other)->replace_material(named);
+            if (!replaced) continue;  // the context cannot run it (said by the plan's own checks)
+            Result<int> viewed = (*other)->set_view(scene.camera, width, height);
+            if (!viewed) return viewed.error();
+            Result<SurfaceImage> drawn = capture_surfaces(**other, width, height);
+            if (!drawn) return drawn.error();
+            Tried c;
+            c.name = technique_name(t) + (sampled ? " x" + std::to_string(n) : std::string());
+            Result<reference::ObjectError> e = reference::compare_object(*drawn, truths.at(ShadowMode::none), static_cast<int>(index));
+            if (!e) return e.error();
+            c.hit = e->level_error_p95;
+            c.within = c.hit <= m->effects->max_error_texels;
+            if (m->effects->shadow != ShadowMode::none) {
+                Result<reference::ObjectError> s = reference::compare_object(*drawn, truths.at(m->effects->shadow), static_cast<int>(index));
+                if (!s) return s.error();
+                c.shadow = s->visibility_error_mean;
+                c.within = c.within && c.shadow <= m->effects->shadow_max_error;
+            }
+            // Time against the plan, both warm, interleaved.
+            for (Renderer* r : {&planned, other->get()}) {
+                Status d = r->draw(target->target());
+                if (!d) return d.error();
+            }
+            glFinish();
+            std::vector<double> ratios;
+            for (int i = 0; i < rounds; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                (void)planned.draw(target->target());
+                glFinish();
+                const auto t1 = std::chrono::steady_clock::now();
+                (void)(*other)->draw(target->target());
+                glFinish();
+                const auto t2 = std::chrono::steady_clock::now();
+                ratios.push_back(std::chrono::duration<double>(t2 - t1).count() /
+                                 std::max(1e-9, std::chrono::duration<double>(t1 - t0).count()));
+            }
+            std::sort(ratios.begin(), ratios.end());
+            c.time_ratio = ratios[ratios.size() / 2];
+            std::fprintf(stderr, "verify: candidate %s: hit %.3g, x%.2f of the plan's time\n", c.name.c_str(), c.hit, c.time_ratio);
+            out.push_back(c);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height, bool candidates) {
     Result<int> viewed = renderer.set_view(scene.camera, width, height);
     if (!viewed) return fail(in_scene_file(scene.source, viewed.error().message));
     Result<SurfaceImage> drawn = capture_surfaces(renderer, width, height);
@@ -237,6 +336,22 @@ int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int heigh
         }
         if (!met) ++missed;
         std::printf("%s (%ld px)\n", line.c_str(), e->pixels);
+        if (candidates && m && m->effects) {
+            Result<std::vector<Tried>> tried = try_candidates(renderer, scene, i, width, height, truths);
+            if (!tried) return fail(in_scene_file(scene.source, "--candidates: " + tried.error().message));
+            const Tried* cheapest = nullptr;
+            for (const Tried& c : *tried) {
+                std::printf("    candidate %-18s hit %-8s%s x%.2f of the plan's time%s\n", c.name.c_str(),
+                            texels(c.hit).c_str(), asked != ShadowMode::none ? (" shadow " + texels(c.shadow)).c_str() : "",
+                            c.time_ratio, c.within ? ", within the targets" : "");
+                if (c.within && (!cheapest || c.time_ratio < cheapest->time_ratio)) cheapest = &c;
+            }
+            if (cheapest)
+                std::printf("    cheapest within the targets: %s at x%.2f of the plan's time: the plan spends %.2fx what it must\n",
+                            cheapest->name.c_str(), cheapest->time_ratio, 1.0 / std::max(cheapest->time_ratio, 1e-9));
+            else
+                std::printf("    no candidate measured within the targets\n");
+        }
     }
     if (missed) {
         std::fprintf(stderr, "parallax: plan --verify: %d object(s) missed their target\n", missed);

@@ -28,6 +28,12 @@ std::string calibration_file(const std::string& dir, const ReliefFeatures& featu
 // level sampled) and shadow error measured against the depth-composited
 // exact reference and printed beside the prediction and the target. Returns
 // the exit status: 1 when a target is missed (stderr says how many).
-int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height);
+// `candidates`: also draw every candidate a planned object could have had
+// (each technique and sample count the context runs, with the plan's other
+// options), measure each one's error and frame time against the plan's
+// (median of interleaved rounds), and print the cheapest that measures
+// within the targets and the plan's time over its time ("spends 1.31x what
+// it must").
+int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height, bool candidates = false);
 
 }  // namespace px::tools

@@ -18,6 +18,7 @@
 #include "parallaxes/effects/variant.h"
 #include "parallaxes/planner/cost_table.h"
 #include "parallaxes/planner/relief.h"
+#include "parallaxes/planner/search_model.h"
 #include "parallaxes/scene/prepared_scene.h"
 #include "parallaxes/scene/scene.h"
 
@@ -75,8 +76,11 @@ struct ObjectPlan {
     double predicted_error = -1.0;         // texels of the level sampled, p95 (see EffectRequest)
     double predicted_cost = -1.0;          // per pixel, relative to normal mapping
     double predicted_shadow_error = -1.0;  // mean |visibility difference|
-    std::string prediction_source;         // "table: bricks (depth 15.4 texels, ...)" or "calibrated ..."
-    // Where a calibration changed the choice: what the generic table alone picks.
+    // "search model on this relief (...)", "calibrated on this relief (...)"
+    // or "table 'bricks' (...)".
+    std::string prediction_source;
+    // Where a calibration changed the choice: what the planner picks without
+    // it (from the search model, or the generic table).
     std::optional<VariantKey> generic_key;
     double generic_error = -1.0, generic_cost = -1.0;
 };
@@ -86,6 +90,12 @@ struct MaterialRelief {
     ReliefFeatures features;  // of the traced field as the GPU samples it
     int traced_width = 0, traced_height = 0;
     TextureLayout layout;     // applied to every variant the material draws with
+    // Every candidate's search simulated on this very field
+    // (planner/search_model.h): what the planner predicts hit errors from
+    // where no calibration matches. Null: predicted from the generic
+    // table's nearest relief (a material that names its technique, or a
+    // relief given without one).
+    std::shared_ptr<const SearchModel> search;
 };
 
 struct PlannerOptions {

@@ -375,6 +375,10 @@ struct ScenePlanner::Impl {
     std::vector<std::map<CurveKey, Curve>> calibration_curves;
     std::vector<ObjectSurvey> surveys;
     std::vector<float> units_per_uv;  // per object: world units per mesh uv unit
+    // Per material with a search model: its curves as a one-relief table
+    // (errors simulated with the margin, costs from the generic table).
+    std::vector<std::optional<CostTable>> model_tables;
+    std::vector<std::map<CurveKey, Curve>> model_curves;
 
     // Where a material's predictions come from.
     struct Source {
@@ -383,8 +387,11 @@ struct ScenePlanner::Impl {
         int relief = -1;
         double depth_scale = 1.0;  // material depth / table relief depth
         std::string label;
+        bool simulated = false;    // the search model: step-overs already simulated
     };
     Source generic_source(const MaterialRelief& r) const;
+    // The search model of material `mi`, if it has one.
+    std::optional<Source> model_source(size_t mi) const;
     // The calibration of this very relief, if one can plan it; `skipped`
     // says why a matching one could not (it is then not used).
     std::optional<Source> calibrated_source(const MaterialRelief& r, std::string* skipped) const;
@@ -412,6 +419,9 @@ MaterialRelief material_relief(const HeightField& traced_8bit, const MaterialDes
     r.traced_width = traced_8bit.width;
     r.traced_height = traced_8bit.height;
     r.features = measure_relief(traced_8bit, material.height_scale);
+    if (material.effects && material.effects->parallax && material.height_scale > 0.0f && r.features.range > 0.0)
+        r.search = std::make_shared<const SearchModel>(
+            simulate_searches(traced_8bit, material.height_scale, material.polygon_height()));
     return r;
 }
 
@@ -478,6 +488,55 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
         m.generic = **builtin;
     }
     m.generic_curves = curves_of(m.generic);
+    // Each search model as a one-relief table: the simulated error with the
+    // margin, the cost the generic table measured for the candidate on its
+    // nearest relief (a candidate's time depends on its samples and the
+    // view far more than on the relief), at the model's angles.
+    m.model_tables.resize(m.reliefs.size());
+    m.model_curves.resize(m.reliefs.size());
+    for (size_t mi = 0; mi < m.reliefs.size(); ++mi) {
+        const MaterialRelief& r = m.reliefs[mi];
+        if (!r.search || r.search->angles.empty()) continue;
+        const int nearest = m.generic_source(r).relief;
+        if (nearest < 0) continue;
+        std::map<CurveKey, Curve> curves;
+        for (const SearchCurve& sc : r.search->curves) {
+            if (sc.error.size() != r.search->angles.size()) continue;
+            // The generic curve of the candidate (maxmip: at whatever step
+            // bound the table measured).
+            const Curve* cost = nullptr;
+            int samples = sc.samples;
+            for (const auto& [key, c] : m.generic_curves) {
+                const auto& [relief, technique, n, shadow, shadow_samples, elevation] = key;
+                (void)shadow_samples;
+                (void)elevation;
+                if (relief != nearest || technique != sc.technique || shadow != ShadowMode::none) continue;
+                const bool steps = technique_info(technique).options & kOptSteps;
+                if (n != sc.samples && !steps) continue;
+                cost = &c;
+                samples = n;
+                break;
+            }
+            if (!cost || cost->angles.empty()) continue;
+            Curve c;
+            c.angles = r.search->angles;
+            for (size_t k = 0; k < c.angles.size(); ++k) {
+                // The scale here; the floor (texels of the level sampled)
+                // after the division by texels per pixel, in predict_error.
+                c.error.push_back(search_margin(sc.technique).scale * sc.error[k]);
+                c.cost.push_back(interpolate(cost->angles, cost->cost, c.angles[k]));
+                c.visibility.push_back(0.0);
+            }
+            curves.emplace(CurveKey{0, sc.technique, samples, ShadowMode::none, 0, 0}, std::move(c));
+        }
+        CostTable t;
+        t.date = m.generic.date;
+        t.renderer = m.generic.renderer;
+        t.version = m.generic.version;
+        t.reliefs.push_back({"search model", r.features});
+        m.model_tables[mi] = std::move(t);
+        m.model_curves[mi] = std::move(curves);
+    }
     if (options.calibrations) m.calibrations = *options.calibrations;
     for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
     for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -517,6 +576,21 @@ ScenePlanner::Impl::Source ScenePlanner::Impl::generic_source(const MaterialReli
         s.label = "table '" + generic.reliefs[static_cast<size_t>(s.relief)].name + "' (" + describe(t) +
                   ") x" + fmt("%.2f", s.depth_scale) + " depth";
     }
+    return s;
+}
+
+std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::model_source(size_t mi) const {
+    if (mi >= model_tables.size() || !model_tables[mi] || model_curves[mi].empty()) return std::nullopt;
+    const MaterialRelief& r = reliefs[mi];
+    Source s;
+    s.table = &*model_tables[mi];
+    s.curves = &model_curves[mi];
+    s.relief = 0;
+    s.simulated = true;
+    const int nearest = generic_source(r).relief;
+    s.label = "search model on this relief (" + describe(r.features) + "; " + std::to_string(r.search->rays) +
+              " rays per angle; margin fitted by `parallax bench --search-model`; costs from table '" +
+              (nearest >= 0 ? generic.reliefs[static_cast<size_t>(nearest)].name : std::string("?")) + "')";
     return s;
 }
 
@@ -699,9 +773,15 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const PlanView& frame,
             const float length = glm::length(to_light);
             if (!(length > 0.0f)) continue;
             const float sine = glm::dot(n, to_light) / length;
-            if (sine > 0.0f) {
+            // A light's disc (soft shadows) reaches its angular radius below
+            // its centre: part of it is above the horizon until the centre
+            // is that far below (the renderer's soft visibility and the exact
+            // reference both light that part).
+            const double reach = std::sin(glm::radians(std::clamp(static_cast<double>(light.angular_radius_deg), 0.0, 90.0)));
+            if (sine > -reach && (sine > 0.0f || reach > 0.0)) {
                 pv.lit |= 1u << l;
-                pv.light_elevation_deg = std::min(pv.light_elevation_deg, glm::degrees(std::asin(static_cast<double>(std::min(sine, 1.0f)))));
+                pv.light_elevation_deg = std::min(pv.light_elevation_deg,
+                                                  glm::degrees(std::asin(std::clamp(static_cast<double>(sine), -1.0, 1.0))));
             }
         }
         lit_any |= pv.lit;
@@ -859,11 +939,16 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     }
 
     // Sources of prediction: the material's own calibration first.
+    // The table's nearest relief holds the shadow rows; the search model
+    // (where the material has one) predicts hits; a calibration of this very
+    // relief comes first.
     const Source table_source = generic_source(relief);
+    const std::optional<Source> modelled = model_source(mi);
+    const Source& uncalibrated = modelled ? *modelled : table_source;
     std::string calibration_skipped;
     const std::optional<Source> calibrated = calibrated_source(relief, &calibration_skipped);
     if (!calibrated && !calibration_skipped.empty()) plan.notes.push_back(calibration_skipped);
-    const Source& source = calibrated ? *calibrated : table_source;
+    const Source& source = calibrated ? *calibrated : uncalibrated;
     if (source.relief < 0) return make_error(who + ": the cost table has no relief to predict from");
     plan.prediction_source = source.label;
 
@@ -991,7 +1076,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         // passes the relief's narrowest feature the search can step over it
         // and land up to a step away, whatever the table relief (whose
         // features may be wider) measured. Exact walks never step over.
-        const bool linear_search = (technique_info(c.technique).options & kOptSamples) && c.samples > 0;
+        const bool linear_search = !s.simulated && (technique_info(c.technique).options & kOptSamples) && c.samples > 0;
         const double thinnest = std::max(relief.features.thinnest_texels, 0.5);
         std::vector<std::pair<double, double>> errors;
         errors.reserve(points.size());
@@ -1004,10 +1089,13 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
                 if (step > thinnest) e = std::max(e, step);
             }
             if (per_vertex) e += depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset : p.pv_parallax);
-            if (c.lod) {
-                e = (1.0 - blends[i]) * e + blends[i] * value(bn, nc->error, i) * s.depth_scale;
-            }
-            errors.emplace_back(e / std::max(1.0, p.rho), p.weight);
+            const double floor_technique = s.simulated ? search_margin(c.technique).floor : 0.0;
+            const double floor_normal = s.simulated ? search_margin(Technique::normal).floor : 0.0;
+            double level = e / std::max(1.0, p.rho) + floor_technique;
+            if (c.lod)
+                level = (1.0 - blends[i]) * level +
+                        blends[i] * (value(bn, nc->error, i) * s.depth_scale / std::max(1.0, p.rho) + floor_normal);
+            errors.emplace_back(level, p.weight);
         }
         return weighted_p95(errors);
     };
@@ -1056,8 +1144,10 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     int shadow_samples = 0;
     double shadow_cost = 0.0, shadow_error = -1.0;
     if (want_shadow) {
-        // The nearest table relief that has shadow rows of this mode.
-        const CostTable& table = *source.table;
+        // The nearest table relief that has shadow rows of this mode (the
+        // search model simulates no shadows: the generic table's).
+        const Source& shadow_base = source.simulated ? table_source : source;
+        const CostTable& table = *shadow_base.table;
         std::vector<bool> eligible(table.reliefs.size(), false);
         for (const CostSample& s : table.rows)
             if (s.shadow == request.shadow) eligible[static_cast<size_t>(s.relief)] = true;
@@ -1066,13 +1156,13 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
             return make_error(who + ": " + field_path + ".shadow: the cost table has no " + shadow_mode_name(request.shadow) +
                               " shadow measurements to choose a sample count from");
         }
-        Source shadow_source = source;
+        Source shadow_source = shadow_base;
         shadow_source.relief = shadow_relief;
         double best_error = std::numeric_limits<double>::infinity();
         std::vector<std::tuple<double, int, double>> options_by_cost;  // cost, samples, error
         // Per shadow sample count, its curves at each light elevation.
         std::map<std::pair<std::pair<Technique, int>, int>, std::vector<std::pair<double, const Curve*>>> by_count;
-        for (const auto& [k, c] : *source.curves) {
+        for (const auto& [k, c] : *shadow_base.curves) {
             const auto& [r, t, samples, shadow, ss, elevation] = k;
             if (r != shadow_relief || shadow != request.shadow) continue;
             by_count[{{t, samples}, ss}].emplace_back(elevation / 10.0, &c);
@@ -1183,7 +1273,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         Prediction generic_chosen;
         double generic_best = 0.0;
         std::string generic_best_name;
-        const std::optional<Candidate> generic_pick = choose(table_source, generic_chosen, generic_best, generic_best_name);
+        const std::optional<Candidate> generic_pick = choose(uncalibrated, generic_chosen, generic_best, generic_best_name);
         if (!generic_pick || generic_pick->technique != pick->technique || generic_pick->samples != pick->samples ||
             generic_pick->exact_view != pick->exact_view || generic_pick->lod != pick->lod) {
             VariantKey g = key;
@@ -1200,7 +1290,8 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
                 plan.generic_cost = generic_chosen.cost;
             }
             plan.generic_key = g.canonical();
-            plan.notes.push_back("the calibration changed the choice: the generic table alone picks " +
+            plan.notes.push_back(std::string("the calibration changed the choice: ") +
+                                 (modelled ? "the search model alone picks " : "the generic table alone picks ") +
                                  (generic_pick ? candidate_name(*generic_pick) : std::string("nothing that meets the target")));
         }
     }

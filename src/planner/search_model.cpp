@@ -1,0 +1,208 @@
+#include "parallaxes/planner/search_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "parallaxes/reference/tracer.h"
+
+namespace px {
+
+const SearchCurve* SearchModel::find(Technique technique, int samples) const {
+    for (const SearchCurve& c : curves)
+        if (c.technique == technique && c.samples == samples) return &c;
+    return nullptr;
+}
+
+namespace {
+
+// A deterministic sequence in [0, 1): the van der Corput radical inverse
+// (base 2 and 3 give a Halton set, well spread for any count).
+double radical_inverse(std::uint32_t i, std::uint32_t base) {
+    double inv = 1.0 / base, f = inv, r = 0.0;
+    while (i > 0) {
+        r += f * (i % base);
+        i /= base;
+        f *= inv;
+    }
+    return r;
+}
+
+double quantile(std::vector<double>& v, double q) {
+    if (v.empty()) return 0.0;
+    const double at = std::ceil(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size()));
+    const size_t k = std::min(v.size() - 1, static_cast<size_t>(std::max(at, 1.0)) - 1);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+}
+
+}  // namespace
+
+std::vector<SearchCurve> search_candidates(const std::vector<int>& samples) {
+    // A fixed order: normal, parallax, offset_limited, maxmip, then steep,
+    // pom and relief at each count.
+    std::vector<SearchCurve> curves{{Technique::normal, 0, {}},
+                                    {Technique::parallax, 0, {}},
+                                    {Technique::offset_limited, 0, {}},
+                                    {Technique::maxmip, 0, {}}};
+    for (Technique t : {Technique::steep, Technique::pom, Technique::relief})
+        for (int n : samples) curves.push_back({t, n, {}});
+    return curves;
+}
+
+namespace {
+
+std::vector<int> usable_counts(const std::vector<int>& samples) {
+    std::vector<int> counts;
+    for (int n : samples)
+        if (n >= 1 && n <= 4096) counts.push_back(n);
+    std::sort(counts.begin(), counts.end());
+    counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+    return counts;
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> simulate_rays(const HeightField& field, double height_scale, double polygon_height,
+                                               const std::vector<SearchRay>& rays, const std::vector<int>& samples,
+                                               int refine_steps, const std::vector<double>& quantiles) {
+    const std::vector<int> counts = usable_counts(samples);
+    const size_t curve_count = search_candidates(counts).size();
+    const bool usable = field.width > 0 && field.height > 0 &&
+                        field.texels.size() == static_cast<size_t>(field.width) * static_cast<size_t>(field.height) &&
+                        height_scale > 0.0 && std::isfinite(height_scale);
+    if (!usable || rays.empty()) return std::vector<std::vector<double>>(quantiles.size(), std::vector<double>(curve_count, 0.0));
+
+    const double w = field.width, h = field.height;
+    const double ph = std::isfinite(polygon_height) ? polygon_height : 1.0;
+    const int refine = std::clamp(refine_steps, 0, 32);
+    // The finest grid every count is a subset of, when there is one.
+    int finest = 1;
+    for (int n : counts) finest = std::max(finest, n);
+    bool nested = true;
+    for (int n : counts) nested = nested && finest % n == 0;
+
+    std::vector<std::vector<double>> errors(curve_count);
+    for (auto& e : errors) e.reserve(rays.size());
+    std::vector<double> grid_height(static_cast<size_t>(finest) + 1);
+    struct March {
+        double ray_above, height_above, ray_below, height_below;
+    };
+    std::vector<March> marches(counts.size());
+
+    for (const SearchRay& start : rays) {
+        glm::dvec3 view = start.view;
+        if (!(glm::length(view) > 0.0) || !std::isfinite(view.x + view.y + view.z)) continue;
+        view = glm::normalize(view);
+        if (view.z <= 1e-6) continue;  // the polygon is seen edge-on or from behind: nothing to draw
+        const reference::Ray exact_ray = reference::view_ray(field, start.uv, view, height_scale, ph);
+        const reference::Hit exact = reference::first_hit(field, exact_ray, 0.0, 1.0);
+        const glm::dvec2 truth =
+            exact.hit ? glm::dvec2(exact.position) : glm::dvec2(exact_ray.origin + exact_ray.direction);
+
+        // The shaders' ray (march.glsl): uv at ray height r is uv + (r - ph) P,
+        // P = height_scale view.xy / max(view.z, 1/64), here in texels.
+        const glm::dvec2 parallax =
+            height_scale * glm::dvec2(view.x, view.y) / std::max(view.z, 1.0 / 64.0) * glm::dvec2(w, h);
+        const glm::dvec2 at_polygon = start.uv * glm::dvec2(w, h);
+        auto position = [&](double r) { return at_polygon + (r - ph) * parallax; };
+        auto height_at = [&](glm::dvec2 p) { return field.sample_bilinear(p.x / w, p.y / h); };
+        // As the bench measures it (reference/metrics.cpp): the difference
+        // wrapped into one tile, so a miss costs at most half a tile.
+        const double per_level = 1.0 / std::max(1.0, std::isfinite(start.texels_per_pixel) ? start.texels_per_pixel : 1.0);
+        auto error_at = [&](double r) {
+            glm::dvec2 d = position(r) - truth;
+            d -= glm::dvec2(w, h) * glm::round(d / glm::dvec2(w, h));
+            return glm::length(d) * per_level;
+        };
+
+        size_t c = 0;
+        errors[c++].push_back(error_at(ph));  // normal mapping: the uv as drawn
+        const double h0 = height_at(at_polygon);
+        errors[c++].push_back(error_at(h0));                       // parallax: one offset by h / V.z
+        errors[c++].push_back(error_at(ph + (h0 - ph) * view.z));  // offset limiting: by h alone
+        errors[c++].push_back(0.0);                                // maxmip: an exact walk of the same field
+
+        if (nested)
+            for (int i = 0; i <= finest; ++i)
+                grid_height[static_cast<size_t>(i)] = height_at(position(1.0 - static_cast<double>(i) / finest));
+        for (size_t k = 0; k < counts.size(); ++k) {
+            const int n = counts[k];
+            // From the top down in n equal steps; stop at the first sample on
+            // or under the surface, or at the bottom.
+            auto sample = [&](int i) {
+                return nested ? grid_height[static_cast<size_t>(i * (finest / n))]
+                              : height_at(position(1.0 - static_cast<double>(i) / n));
+            };
+            March m{1.0, sample(0), 1.0, sample(0)};
+            if (m.height_above < 1.0) {
+                for (int i = 1; i <= n; ++i) {
+                    const double r = 1.0 - static_cast<double>(i) / n;
+                    const double s = sample(i);
+                    m.ray_below = r;
+                    m.height_below = s;
+                    if (s >= r || i >= n) break;
+                    m.ray_above = r;
+                    m.height_above = s;
+                }
+            }
+            marches[k] = m;
+        }
+        for (const March& m : marches) errors[c++].push_back(error_at(m.ray_below));  // steep: the sample
+        for (const March& m : marches) {  // pom: the secant between the last two samples
+            const double gap_above = m.ray_above - m.height_above, gap_below = m.ray_below - m.height_below;
+            const double d = gap_above - gap_below;
+            const double t = d > 0.0 ? std::clamp(gap_above / d, 0.0, 1.0) : 1.0;
+            errors[c++].push_back(error_at(m.ray_above + t * (m.ray_below - m.ray_above)));
+        }
+        for (const March& m : marches) {  // relief: binary refinement
+            double above = m.ray_above, below = m.ray_below;
+            for (int i = 0; i < refine; ++i) {
+                const double middle = 0.5 * (above + below);
+                if (height_at(position(middle)) >= middle) below = middle;
+                else above = middle;
+            }
+            errors[c++].push_back(error_at(below));
+        }
+    }
+    std::vector<std::vector<double>> out(quantiles.size(), std::vector<double>(curve_count, 0.0));
+    for (size_t q = 0; q < quantiles.size(); ++q)
+        for (size_t c = 0; c < curve_count; ++c) out[q][c] = quantile(errors[c], quantiles[q]);
+    return out;
+}
+
+SearchModel simulate_searches(const HeightField& field, double height_scale, double polygon_height,
+                              const SearchModelOptions& options) {
+    SearchModel model;
+    model.angles = options.angles;
+    std::sort(model.angles.begin(), model.angles.end());
+    model.rays = std::clamp(options.rays, 1, 1 << 16);
+    const std::vector<int> counts = usable_counts(options.samples);
+    model.curves = search_candidates(counts);
+    std::vector<SearchRay> rays(static_cast<size_t>(model.rays));
+    for (double angle : model.angles) {
+        const double theta = glm::radians(std::clamp(angle, 0.0, 89.9));
+        for (int k = 0; k < model.rays; ++k) {
+            // Spread over the tile and the circle of azimuths (Halton).
+            const auto i = static_cast<std::uint32_t>(k) + 1;
+            const double phi = 2.0 * M_PI * radical_inverse(i, 5);
+            rays[static_cast<size_t>(k)] = {glm::dvec2(radical_inverse(i, 2), radical_inverse(i, 3)),
+                                            glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                                                       std::cos(theta))};
+        }
+        const std::vector<double> p =
+            simulate_rays(field, height_scale, polygon_height, rays, counts, options.refine_steps, {options.quantile})
+                .front();
+        for (size_t c = 0; c < model.curves.size(); ++c) model.curves[c].error.push_back(p[c]);
+    }
+    return model;
+}
+
+SearchMargin search_margin(Technique technique) {
+    (void)technique;
+    return SearchMargin{1.0, 0.0};
+}
+
+}  // namespace px

@@ -1,0 +1,87 @@
+// The planner's error model from the relief itself: every candidate search
+// (normal mapping, the single-fetch offsets, the linear searches with their
+// endings, the exact walk) simulated on the CPU over the material's own
+// height field, as the shaders define them (shaders_es/chunks/march.glsl and
+// the technique files), against the exact reference (reference/tracer.h),
+// at a grid of view angles over many rays and azimuths. What it cannot know
+// (the GPU's rasterisation, texture filtering at the pixel's footprint,
+// perspective across an image) is covered by a margin fitted on a family
+// of reliefs by `parallax bench --search-model` and judged on reliefs it
+// was not fitted on (docs/planner.md, "The search model").
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "parallaxes/assets/heightfield.h"
+#include "parallaxes/effects/technique.h"
+
+namespace px {
+
+struct SearchCurve {
+    Technique technique = Technique::normal;
+    int samples = 0;            // the linear search's count; 0 for the others
+    std::vector<double> error;  // simulated p95 hit error (texels of the field) at each angle
+};
+
+struct SearchModel {
+    std::vector<double> angles;  // view angles from the normal, degrees, increasing
+    std::vector<SearchCurve> curves;
+    int rays = 0;                // per angle
+    // The curve of a candidate, or null.
+    const SearchCurve* find(Technique technique, int samples) const;
+};
+
+struct SearchModelOptions {
+    std::vector<double> angles{0, 20, 40, 55, 65, 72, 78, 82, 85, 87, 89};
+    std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
+    int rays = 384;         // per angle: stratified over the tile, azimuths spread
+    int refine_steps = 5;   // relief's binary search (TechniqueOptions' default)
+    // The share of rays the error is read at: above the p95 the GPU
+    // measures, so that a tail of step-overs just past 5 % of the pixels
+    // (where a p95 jumps) is predicted (the margin, docs/planner.md).
+    double quantile = 0.95;
+};
+
+// Simulates every candidate on `field` (as the GPU samples it, 8-bit),
+// `height_scale` deep in tile units, polygon at `polygon_height` (units of
+// the depth). Deterministic. A field of zero size or a flat one gives zero
+// error everywhere.
+SearchModel simulate_searches(const HeightField& field, double height_scale, double polygon_height,
+                              const SearchModelOptions& options = {});
+
+// One ray to simulate: where the pixel meets the polygon (tile units) and
+// the unit vector toward the eye in the texture frame (z along the normal).
+struct SearchRay {
+    glm::dvec2 uv{0.0};
+    glm::dvec3 view{0.0, 0.0, 1.0};
+    // Where the ray stands for a pixel: its texels per pixel (GL's mip
+    // selection scale). Its errors are divided by it where it exceeds 1,
+    // into texels of the level sampled; 1 keeps them in the field's texels.
+    double texels_per_pixel = 1.0;
+};
+// Quantiles over `rays` of each candidate's hit error, in the order of
+// search_candidates(samples) (texels of the field).
+// `quantiles` (default: the p95) give one vector each, in their order.
+std::vector<std::vector<double>> simulate_rays(const HeightField& field, double height_scale, double polygon_height,
+                                               const std::vector<SearchRay>& rays, const std::vector<int>& samples,
+                                               int refine_steps, const std::vector<double>& quantiles = {0.95});
+// The candidates simulate_rays measures, in its order (errors left empty).
+std::vector<SearchCurve> search_candidates(const std::vector<int>& samples);
+
+// The margin the planner predicts with: the simulated error (texels of the
+// level sampled) times `scale`, plus `floor` texels of the level sampled
+// (what the GPU's rasterisation and filtering add that the simulation has no
+// notion of), per technique, fitted by `parallax bench --search-model`.
+struct SearchMargin {
+    double scale = 1.0;
+    double floor = 0.0;
+};
+SearchMargin search_margin(Technique technique);
+inline double predicted_with_margin(Technique technique, double simulated_level) {
+    const SearchMargin m = search_margin(technique);
+    return simulated_level * m.scale + m.floor;
+}
+
+}  // namespace px
