@@ -397,7 +397,8 @@ TEST(Planner, CalibrationReplacesTheGenericTable) {
     const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
     Result<MaterialImages> images = build_material_images(scene.materials[0], "");
     ASSERT_TRUE(images.ok());
-    const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();  // against the stated table, not the search model
     // A calibration of this very relief in which pom x8 is far worse.
     CostTable calibration = small_table();
     calibration.date = "calibrated";
@@ -418,13 +419,57 @@ TEST(Planner, CalibrationReplacesTheGenericTable) {
     EXPECT_NE((*p)[0].prediction_source.find("calibrated"), std::string::npos);
 }
 
+// A calibration knows what it measured: the view angles it was run at and
+// the renderer it timed. A view past its angles, or another renderer, plans
+// without it, and the note says which and why.
+TEST(Planner, ACalibrationIsUsedOnlyWhereItMeasured) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    auto plan_with = [&](double view_angle, double calibrated_up_to, const std::string& renderer) {
+        const SceneDesc scene = plane_scene(view_angle, 2.5f, 0.04f, e);
+        Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+        EXPECT_TRUE(images.ok());
+        MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+        relief.search.reset();
+        CostTable calibration = small_table();
+        calibration.date = "calibrated";
+        calibration.renderer = renderer;
+        calibration.reliefs[0].features = relief.features;
+        std::vector<CostSample> kept;
+        for (const CostSample& s : calibration.rows)
+            if (s.angle_deg <= calibrated_up_to) kept.push_back(s);
+        calibration.rows = kept;
+        PlannerOptions options;
+        const CostTable generic = small_table();
+        options.table = &generic;
+        options.calibrations = std::make_shared<const std::vector<CostTable>>(std::vector<CostTable>{calibration});
+        Caps caps = es3_caps();
+        caps.renderer = "llvmpipe (test)";
+        Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, caps, {relief}, options);
+        EXPECT_TRUE(planner.ok()) << planner.error().message;
+        Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 256, 256);
+        EXPECT_TRUE(p.ok()) << p.error().message;
+        return p ? (*p)[0] : ObjectPlan{};
+    };
+    const ObjectPlan inside = plan_with(20.0, 89.0, "llvmpipe (test)");
+    EXPECT_NE(inside.prediction_source.find("calibrated"), std::string::npos) << inside.prediction_source;
+    const ObjectPlan past = plan_with(60.0, 45.0, "llvmpipe (test)");
+    EXPECT_EQ(past.prediction_source.find("calibrated"), std::string::npos) << past.prediction_source;
+    EXPECT_TRUE(has_note(past, "measured view angles up to 45.0 degrees; this view reaches"));
+    const ObjectPlan elsewhere = plan_with(20.0, 89.0, "Mali-G78");
+    EXPECT_EQ(elsewhere.prediction_source.find("calibrated"), std::string::npos) << elsewhere.prediction_source;
+    EXPECT_TRUE(has_note(elsewhere, "was measured on 'Mali-G78', not this renderer ('llvmpipe (test)')"));
+}
+
 TEST(Planner, ACalibrationWithNothingToPlanWithFallsBackToTheGenericTable) {
     EffectRequest e;
     e.max_error_texels = 2.0f;
     const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
     Result<MaterialImages> images = build_material_images(scene.materials[0], "");
     ASSERT_TRUE(images.ok());
-    const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();  // against the stated table, not the search model
     // A cache file that matches the relief but holds only shadow rows.
     CostTable calibration = small_table();
     calibration.reliefs[0].features = relief.features;
@@ -439,7 +484,7 @@ TEST(Planner, ACalibrationWithNothingToPlanWithFallsBackToTheGenericTable) {
     ASSERT_TRUE(planner.ok());
     Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 128, 128);
     ASSERT_TRUE(p.ok()) << p.error().message;
-    EXPECT_TRUE(has_note((*p)[0], "holds no normal-mapping row to plan with: the generic table is used"));
+    EXPECT_TRUE(has_note((*p)[0], "holds no normal-mapping row to plan with: the planner predicts without it"));
     EXPECT_EQ((*p)[0].prediction_source.find("calibrated"), std::string::npos) << (*p)[0].prediction_source;
 
     // Normal mapping alone: nothing that traces the relief.
@@ -553,7 +598,8 @@ TEST(PlannerExplanations, TheTargetUsedAndTheGenericChoiceAsDrawn) {
     const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, within(2.0f));
     Result<MaterialImages> images = build_material_images(scene.materials[0], "");
     ASSERT_TRUE(images.ok());
-    const MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();  // against the stated table, not the search model
     CostTable calibration = generic;
     calibration.date = "calibrated";
     calibration.reliefs[0].features = relief.features;
@@ -694,6 +740,18 @@ TEST(SearchModel, PlansFromTheReliefAndOffersSingleFetchCandidates) {
     Result<std::vector<ObjectPlan>> without = plan_of(s, es3_caps(), table, 256, false);
     ASSERT_TRUE(without.ok()) << without.error().message;
     EXPECT_NE((*without)[0].prediction_source.find("table"), std::string::npos);
+}
+
+// The margin: a tail of misses just past 5 % of the rays (the p98 far above
+// the p95) is predicted at the tail, since the GPU's p95 may land anywhere
+// up to it; a smooth distribution gets its scaled p95 and the floor.
+TEST(SearchModel, TheMarginCoversATailPastThePercentile) {
+    const SearchMargin m = search_margin(Technique::pom);
+    EXPECT_GE(m.scale, 1.0);
+    EXPECT_GE(m.floor, 0.0);
+    EXPECT_DOUBLE_EQ(predicted_with_margin(Technique::pom, 0.02, 5.4), 5.4 + m.floor);
+    EXPECT_DOUBLE_EQ(predicted_with_margin(Technique::pom, 1.0, 1.01), m.scale * 1.0 + m.floor);
+    EXPECT_DOUBLE_EQ(predicted_with_margin(Technique::maxmip, 0.0, 0.0), search_margin(Technique::maxmip).floor);
 }
 
 }  // namespace

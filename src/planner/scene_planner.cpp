@@ -394,7 +394,9 @@ struct ScenePlanner::Impl {
     std::optional<Source> model_source(size_t mi) const;
     // The calibration of this very relief, if one can plan it; `skipped`
     // says why a matching one could not (it is then not used).
-    std::optional<Source> calibrated_source(const MaterialRelief& r, std::string* skipped) const;
+    // Only where it measured what this view needs: the view angles seen
+    // (up to `angle_max_deg`), on this renderer.
+    std::optional<Source> calibrated_source(const MaterialRelief& r, double angle_max_deg, std::string* skipped) const;
 
     Result<ObjectPlan> plan_object(size_t object_index, const std::vector<ObjectView>& views,
                                    const std::vector<std::vector<PointView>>& points,
@@ -501,7 +503,7 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
         if (nearest < 0) continue;
         std::map<CurveKey, Curve> curves;
         for (const SearchCurve& sc : r.search->curves) {
-            if (sc.error.size() != r.search->angles.size()) continue;
+            if (sc.error.size() != r.search->angles.size() || sc.upper.size() != r.search->angles.size()) continue;
             // The generic curve of the candidate (maxmip: at whatever step
             // bound the table measured).
             const Curve* cost = nullptr;
@@ -521,9 +523,11 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
             Curve c;
             c.angles = r.search->angles;
             for (size_t k = 0; k < c.angles.size(); ++k) {
-                // The scale here; the floor (texels of the level sampled)
-                // after the division by texels per pixel, in predict_error.
-                c.error.push_back(search_margin(sc.technique).scale * sc.error[k]);
+                // The margin without its floor here; the floor (texels of
+                // the level sampled) after the division by texels per
+                // pixel, in predict_error.
+                c.error.push_back(predicted_with_margin(sc.technique, sc.error[k], sc.upper[k]) -
+                                  search_margin(sc.technique).floor);
                 c.cost.push_back(interpolate(cost->angles, cost->cost, c.angles[k]));
                 c.visibility.push_back(0.0);
             }
@@ -595,6 +599,7 @@ std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::model_source(size_
 }
 
 std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(const MaterialRelief& r,
+                                                                               double angle_max_deg,
                                                                                std::string* skipped) const {
     for (size_t c = 0; c < calibrations.size(); ++c)
         for (size_t i = 0; i < calibrations[c].reliefs.size(); ++i) {
@@ -614,11 +619,33 @@ std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(
                 if (technique == Technique::normal) normal = true;
                 else if (technique_info(technique).options & kOptHeight) traced = true;
             }
+            const std::string fallback = "the planner predicts without it";
             if (!normal || !traced) {
                 if (skipped)
                     *skipped = "the calibration of this relief (" + hash_hex(f.field_hash) + ", " + calibrations[c].date +
                                ") holds no " + (normal ? "technique that traces the relief" : "normal-mapping row") +
-                               " to plan with: the generic table is used";
+                               " to plan with: " + fallback;
+                continue;
+            }
+            // What it measured: its timings are this renderer's only, its
+            // errors at the view angles it was run at (past them a curve is
+            // clamped, not known).
+            if (!calibrations[c].renderer.empty() && !caps.renderer.empty() && calibrations[c].renderer != caps.renderer) {
+                if (skipped)
+                    *skipped = "the calibration of this relief (" + hash_hex(f.field_hash) + ") was measured on '" +
+                               echo(calibrations[c].renderer) + "', not this renderer ('" + echo(caps.renderer) +
+                               "'): " + fallback;
+                continue;
+            }
+            double measured_max = 0.0;
+            for (const CostSample& row : calibrations[c].rows)
+                if (row.relief == static_cast<int>(i) && row.shadow == ShadowMode::none)
+                    measured_max = std::max(measured_max, row.angle_deg);
+            if (angle_max_deg > measured_max + 1.0) {
+                if (skipped)
+                    *skipped = "the calibration of this relief (" + hash_hex(f.field_hash) + ") measured view angles up to " +
+                               fmt("%.1f", measured_max) + " degrees; this view reaches " + fmt("%.1f", angle_max_deg) +
+                               ": " + fallback;
                 continue;
             }
             Source s;
@@ -946,7 +973,8 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     const std::optional<Source> modelled = model_source(mi);
     const Source& uncalibrated = modelled ? *modelled : table_source;
     std::string calibration_skipped;
-    const std::optional<Source> calibrated = calibrated_source(relief, &calibration_skipped);
+    const std::optional<Source> calibrated =
+        calibrated_source(relief, views[oi].visible ? views[oi].angle_max_deg : 0.0, &calibration_skipped);
     if (!calibrated && !calibration_skipped.empty()) plan.notes.push_back(calibration_skipped);
     const Source& source = calibrated ? *calibrated : uncalibrated;
     if (source.relief < 0) return make_error(who + ": the cost table has no relief to predict from");

@@ -192,17 +192,33 @@ SearchModel simulate_searches(const HeightField& field, double height_scale, dou
                                             glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
                                                        std::cos(theta))};
         }
-        const std::vector<double> p =
-            simulate_rays(field, height_scale, polygon_height, rays, counts, options.refine_steps, {options.quantile})
-                .front();
-        for (size_t c = 0; c < model.curves.size(); ++c) model.curves[c].error.push_back(p[c]);
+        const std::vector<std::vector<double>> p =
+            simulate_rays(field, height_scale, polygon_height, rays, counts, options.refine_steps, {0.95, 0.98});
+        for (size_t c = 0; c < model.curves.size(); ++c) {
+            model.curves[c].error.push_back(p[0][c]);
+            model.curves[c].upper.push_back(p[1][c]);
+        }
     }
     return model;
 }
 
 SearchMargin search_margin(Technique technique) {
-    (void)technique;
-    return SearchMargin{1.0, 0.0};
+    // Fitted on the 7 fit reliefs of examples/scenes/relief_family (1,050
+    // cases) by `parallax bench --search-model examples/scenes/relief_family`
+    // on llvmpipe, 2026-12-03 (docs/planner.md, "The search model"): the
+    // scale the 95th percentile of (measured - floor) / simulated p95, the
+    // floor the 90th percentile of what the GPU measures where the
+    // simulation leaves nothing.
+    switch (technique) {
+        case Technique::normal: return {1.016, 0.0};
+        case Technique::parallax: return {1.017, 0.0};
+        case Technique::offset_limited: return {1.044, 0.0};
+        case Technique::steep: return {1.023, 0.0478};
+        case Technique::pom: return {1.078, 0.0506};
+        case Technique::relief: return {1.058, 0.0518};
+        case Technique::maxmip: return {1.0, 0.0};
+        default: return {1.0, 0.0};
+    }
 }
 
 }  // namespace px

@@ -23,6 +23,7 @@ struct SearchCurve {
     Technique technique = Technique::normal;
     int samples = 0;            // the linear search's count; 0 for the others
     std::vector<double> error;  // simulated p95 hit error (texels of the field) at each angle
+    std::vector<double> upper;  // the p98: where a tail of misses starts just past 5 % of the rays
 };
 
 struct SearchModel {
@@ -38,10 +39,6 @@ struct SearchModelOptions {
     std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
     int rays = 384;         // per angle: stratified over the tile, azimuths spread
     int refine_steps = 5;   // relief's binary search (TechniqueOptions' default)
-    // The share of rays the error is read at: above the p95 the GPU
-    // measures, so that a tail of step-overs just past 5 % of the pixels
-    // (where a p95 jumps) is predicted (the margin, docs/planner.md).
-    double quantile = 0.95;
 };
 
 // Simulates every candidate on `field` (as the GPU samples it, 8-bit),
@@ -70,18 +67,23 @@ std::vector<std::vector<double>> simulate_rays(const HeightField& field, double 
 // The candidates simulate_rays measures, in its order (errors left empty).
 std::vector<SearchCurve> search_candidates(const std::vector<int>& samples);
 
-// The margin the planner predicts with: the simulated error (texels of the
-// level sampled) times `scale`, plus `floor` texels of the level sampled
-// (what the GPU's rasterisation and filtering add that the simulation has no
-// notion of), per technique, fitted by `parallax bench --search-model`.
+// The margin the planner predicts with, in texels of the level sampled:
+// the larger of the simulated p95 times `scale` and the simulated p98, plus
+// `floor` (what the GPU's rasterisation and filtering add that the
+// simulation has no notion of), per technique, fitted by `parallax bench
+// --search-model` on the fit reliefs of examples/scenes/relief_family. The
+// p98 is the margin's answer to uncertainty: where a tail of misses (a
+// search stepping over crests) starts just past 5 % of the rays, the p95 the
+// GPU measures may land anywhere up to it.
 struct SearchMargin {
     double scale = 1.0;
     double floor = 0.0;
 };
 SearchMargin search_margin(Technique technique);
-inline double predicted_with_margin(Technique technique, double simulated_level) {
+inline double predicted_with_margin(Technique technique, double p95, double p98) {
     const SearchMargin m = search_margin(technique);
-    return simulated_level * m.scale + m.floor;
+    const double scaled = p95 * m.scale;
+    return (scaled > p98 ? scaled : p98) + m.floor;
 }
 
 }  // namespace px
