@@ -187,4 +187,22 @@ expect_error "profile: bad model field" "$work/model.json: \$.texture.samples_pe
 expect_error "profile: bad size" "--size" profile --no-nir --size 0x0
 expect_error "profile: bad angle" "--angle" profile --no-nir --angle 95
 
+# Outputs replace what is at their names, never write through it: a symlink
+# planted at an output name (to a file outside the folder) is replaced by the
+# output, and the file it pointed at is untouched.
+mkdir -p "$work/shaders" "$work/outside"
+echo "precious" >"$work/outside/victim"
+ln -s "$work/outside/victim" "$work/shaders/flat_es2.frag"
+if "$parallax" shaders --es 2 --out "$work/shaders" >/dev/null 2>"$work/err"; then
+    if [ "$(cat "$work/outside/victim")" != "precious" ]; then
+        echo "FAIL: shaders --out wrote through a planted symlink"; failures=$((failures + 1))
+    elif [ -L "$work/shaders/flat_es2.frag" ] || ! grep -q "main" "$work/shaders/flat_es2.frag"; then
+        echo "FAIL: shaders --out left the planted symlink in place of its output"; failures=$((failures + 1))
+    else
+        echo "ok: shaders --out replaces a planted symlink, not its target"
+    fi
+else
+    echo "FAIL: shaders --out failed: $(cat "$work/err")"; failures=$((failures + 1))
+fi
+
 [ "$failures" = 0 ] && echo "all CLI error cases behave" || { echo "$failures CLI error case(s) failed"; exit 1; }

@@ -432,12 +432,10 @@ int run_against(const ProfileArgs& a, const std::vector<VariantKey>& keys, const
     return 0;
 }
 
-Status write_file(const std::string& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-    if (!f) return make_error("cannot write '" + path + "'");
-    return {};
-}
+// Through a temporary file renamed over the target (core/files.h): a
+// symlink planted at an output name is replaced, never followed, and a full
+// disk leaves the previous file, not a truncated one.
+Status write_file(const std::string& path, const std::string& text) { return write_file_atomically(path, text); }
 
 // Counts, NIR, vendor figures and (unless --no-time) measurements for keys.
 Result<std::vector<profiling::VariantProfile>> profile_all(const std::vector<VariantKey>& keys, const ProfileArgs& a,

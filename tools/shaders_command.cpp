@@ -2,6 +2,7 @@
 // variant the program can build, for offline validation (glslangValidator)
 // and for reading what a variant really contains. --emulate PROFILE writes
 // them as the precision emulation rewrites them (src/emulation/precision.h).
+#include "parallaxes/core/files.h"
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,10 +63,11 @@ int run_shaders(const ShadersArgs& a) {
                 }
                 written = std::move(*emulated);
             }
-            std::ofstream file(path, std::ios::binary);
-            file << written;
-            if (!file) {
-                std::fprintf(stderr, "parallax: error: cannot write '%s'\n", path.c_str());
+            // Renamed over the target (core/files.h): a planted symlink is
+            // replaced, not followed; a full disk leaves no truncated file.
+            Status saved = write_file_atomically(path, written);
+            if (!saved) {
+                std::fprintf(stderr, "parallax: error: %s\n", saved.error().message.c_str());
                 return 1;
             }
         }
