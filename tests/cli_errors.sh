@@ -54,6 +54,10 @@ MESA_GLES_VERSION_OVERRIDE=3.1 expect_error "contradicting MESA_GLES_VERSION_OVE
 expect_error "unknown bench scene" "unknown bench scene 'nope'" bench --scenes nope --out "$work/bench"
 expect_error "bench samples past the loop bound" "300 is outside 1..256 for pom" bench --techniques pom --samples 300 --out "$work/bench"
 expect_error "unknown bench technique" "unknown technique 'bump'" bench --techniques bump --out "$work/bench"
+# An output folder that cannot be written is refused before anything is
+# measured (not after the sweep).
+echo "not a folder" >"$work/a-file"
+expect_error "bench into a file" "cannot create the output folder '$work/a-file'" bench --quick --out "$work/a-file"
 
 # Texture files: texinfo, convert, render --textures, and scenes naming them.
 fuzz_corpus=$(dirname "$0")/fuzz/corpus

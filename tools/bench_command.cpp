@@ -160,6 +160,9 @@ int run(BenchArgs a) {
     o.threads = threads ? std::atoi(threads) : static_cast<int>(std::thread::hardware_concurrency());
 
     if (!a.planner_table.empty()) return run_planner_table(a, o);
+    // Every other mode writes into --out at the end: refuse a folder that
+    // cannot be written before measuring anything.
+    if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail(unwritable);
     if (!a.showcase.empty()) return run_showcase_bench(a, width, height);
     if (!a.search_model.empty()) return run_search_model_bench(a.search_model, width, height, a.out, a.command);
     if (a.textures) return run_texture_bench(a.textures_scene, width, height, a.frames > 0 ? a.frames : 7, a.out, a.command);

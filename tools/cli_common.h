@@ -3,7 +3,11 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <string>
 #include "parallaxes/core/counters.h"
 
@@ -13,6 +17,22 @@ namespace px::tools {
 inline int fail(const std::string& message) {
     std::fprintf(stderr, "parallax: error: %s\n", message.c_str());
     return 1;
+}
+
+// Before a long run writes into `dir`: the folder made, and a file created
+// and removed in it, so that a folder that cannot be written (read-only,
+// not a folder, no space for a name) is refused before anything is
+// measured. Empty: writable.
+inline std::string check_output_folder(const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return "cannot create the output folder '" + dir + "': " + ec.message();
+    std::string probe = dir + "/.parallax-write-test-XXXXXX";
+    const int fd = ::mkstemp(probe.data());
+    if (fd < 0) return "cannot write into the output folder '" + dir + "': " + std::strerror(errno);
+    ::close(fd);
+    ::unlink(probe.c_str());
+    return {};
 }
 
 // An error about a scene, prefixed with the scene file it came from (when
