@@ -20,9 +20,11 @@ struct MemoryStore {
     std::map<std::string, std::vector<std::uint8_t>> entries;
     int loads = 0;
     int stores = 0;
+    SipKey secret{};
 
     ProgramBinaryStore callbacks() {
         ProgramBinaryStore s;
+        s.secret = secret;
         s.load = [this](const std::string& key) -> std::optional<std::vector<std::uint8_t>> {
             ++loads;
             auto it = entries.find(key);
@@ -136,6 +138,74 @@ TEST(ProgramBinaries, SecondRendererLoadsFromTheStoreBitIdentical) {
     EXPECT_TRUE(second.image.pixels == first.image.pixels) << "mean difference " << compare(first.image, second.image).mean;
 }
 
+// Entries are authenticated with the store's secret: whoever can write the
+// store but lacks the secret cannot make an entry the renderer will use,
+// whether by recomputing the checks over an altered payload (which crashed
+// llvmpipe's compiler when it reached the driver) or by moving one
+// program's valid entry under another's name or identity. Each is refused
+// before the driver sees it, rebuilt from source, and the image is the same.
+TEST(ProgramBinaries, EntriesForgedWithoutTheSecretAreRefused) {
+    const SceneDesc scene = scene_with(Technique::pom);
+    PX_REQUIRE_BINARIES(scene);
+    MemoryStore store;
+    for (size_t i = 0; i < store.secret.size(); ++i) store.secret[i] = static_cast<std::uint8_t>(0x5a ^ (i * 37));
+    const CachedRender reference = render_cached(scene, store);
+    render_cached(scene_with(Technique::relief), store);  // another program's entry in the same store
+    ASSERT_GE(store.entries.size(), 2u);
+    const int programs = static_cast<int>(reference.programs);
+    const std::map<std::string, std::vector<std::uint8_t>> valid = store.entries;
+    auto field = [](const std::vector<std::uint8_t>& b, size_t at, int bytes) {
+        std::uint64_t v = 0;
+        for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | b[at + static_cast<size_t>(i)];
+        return v;
+    };
+    struct Forgery {
+        const char* name;
+        std::function<std::vector<std::uint8_t>(const std::string& key, const std::vector<std::uint8_t>& b)> make;
+        const char* reason;
+    };
+    const std::vector<Forgery> forgeries = {
+        {"the payload altered and re-encoded without the secret",
+         [&](const std::string&, const std::vector<std::uint8_t>& b) {
+             std::vector<std::uint8_t> payload(b.begin() + kProgramBinaryHeaderSize, b.end());
+             payload[payload.size() / 2] ^= 0x40;
+             return encode_program_binary_entry(field(b, 24, 8), static_cast<GLenum>(field(b, 8, 4)), payload);
+         },
+         "fails its authentication"},
+        {"another program's entry under this name",
+         [&](const std::string& key, const std::vector<std::uint8_t>&) {
+             for (const auto& [other, bytes] : valid)
+                 if (other != key) return bytes;
+             return std::vector<std::uint8_t>{};
+         },
+         "made for another program"},
+        {"another program's payload under this program's identity",
+         [&](const std::string& key, const std::vector<std::uint8_t>& b) {
+             for (const auto& [other, bytes] : valid)
+                 if (other != key) {
+                     std::vector<std::uint8_t> swapped = bytes;
+                     std::copy(b.begin() + 24, b.begin() + 32, swapped.begin() + 24);  // this program's identity check
+                     return swapped;
+                 }
+             return std::vector<std::uint8_t>{};
+         },
+         "fails its authentication"},
+    };
+    for (const Forgery& f : forgeries) {
+        SCOPED_TRACE(f.name);
+        for (auto& [key, bytes] : store.entries) bytes = f.make(key, valid.at(key));
+        const CachedRender rebuilt = render_cached(scene, store);
+        EXPECT_EQ(rebuilt.stats.rejected, programs);
+        EXPECT_EQ(rebuilt.stats.from_binary, 0);
+        EXPECT_NE(rebuilt.stats.last_rejection.find(f.reason), std::string::npos) << rebuilt.stats.last_rejection;
+        EXPECT_TRUE(rebuilt.image.pixels == reference.image.pixels) << compare(rebuilt.image, reference.image).mean;
+    }
+    // The same entries under the secret they were written with load again.
+    store.entries = valid;
+    const CachedRender again = render_cached(scene, store);
+    EXPECT_EQ(again.stats.from_binary, programs) << again.stats.last_rejection;
+}
+
 // Each way an entry can be wrong, applied to every stored entry: the renderer
 // rebuilds from source, counts each rejection with its reason, stores a
 // fresh entry (the next renderer loads it again) and draws the same bits.
@@ -165,7 +235,8 @@ TEST(ProgramBinaries, CorruptEntriesAreRebuiltAndReplaced) {
     };
     const std::vector<Corruption> corruptions = {
         {"a flipped payload byte", [](auto& b) { b[kProgramBinaryHeaderSize + (b.size() - kProgramBinaryHeaderSize) / 2] ^= 0x40; },
-         "checksum"},
+         "fails its authentication"},
+        {"a flipped format byte", [](auto& b) { b[8] ^= 0x01; }, "fails its authentication"},
         {"truncated to half", [](auto& b) { b.resize(b.size() / 2); }, "truncated"},
         {"truncated to 3 bytes", [](auto& b) { b.resize(3); }, "shorter than its 32-byte header"},
         {"empty", [](auto& b) { b.clear(); }, "entry of 0 bytes"},
@@ -174,8 +245,16 @@ TEST(ProgramBinaries, CorruptEntriesAreRebuiltAndReplaced) {
          [](auto& b) { for (size_t i = 0; i < 4; ++i) b[kProgramBinaryLengthOffset + i] = 0xff; },
          "payload of 4294967295 bytes"},
         {"another entry version", [](auto& b) { b[4] = 99; }, "entry version 99"},
-        {"a format the context lacks, checksum intact",
-         [](auto& b) { b[8] ^= 0x01; b[9] ^= 0x10; }, "not one this context offers"},
+        {"a format the context lacks, authenticated",
+         [](auto& b) {
+             std::uint64_t check = 0;
+             for (int i = 7; i >= 0; --i) check = (check << 8) | b[24 + static_cast<size_t>(i)];
+             std::uint32_t format = 0;
+             for (int i = 3; i >= 0; --i) format = (format << 8) | b[8 + static_cast<size_t>(i)];
+             b = encode_program_binary_entry(check, format ^ 0x1001u,
+                                             std::vector<std::uint8_t>(b.begin() + kProgramBinaryHeaderSize, b.end()));
+         },
+         "not one this context offers"},
         {"the driver's payload flipped under a valid header",
          [&](auto& b) { reencode(b, [](auto& p) { p[p.size() / 2] ^= 0x40; }); }, "GL_LINK_STATUS false"},
         {"the driver's payload cut under a valid header",
@@ -199,7 +278,7 @@ TEST(ProgramBinaries, CorruptEntriesAreRebuiltAndReplaced) {
 }
 
 // The entry of another variant stored under this variant's key (what a key
-// collision would look like): same format, valid checksum, and the driver
+// collision would look like): same format, authenticated, and the driver
 // would load it, so only the identity check in the header catches it.
 TEST(ProgramBinaries, EntryOfAnotherProgramIsRejected) {
     const SceneDesc pom = scene_with(Technique::pom);

@@ -47,7 +47,7 @@ for es in 3 2; do
     byte=$(od -An -tu1 -j100 -N1 "$entry" | tr -d ' ')
     printf "\\$(printf %03o $((byte ^ 255)))" | dd of="$entry" bs=1 seek=100 conv=notrunc status=none
     run flipped$es --es $es --program-cache "$cache" || continue
-    [ "$(field flipped$es 3)" = 1 ] && grep -q "checksum" "$work/flipped$es.out" ||
+    [ "$(field flipped$es 3)" = 1 ] && grep -q "fails its authentication" "$work/flipped$es.out" ||
         fail "es$es flipped byte: $(grep '^programs' "$work/flipped$es.out")"
     cmp -s "$work/first$es.png" "$work/flipped$es.png" || fail "es$es: the image after a rebuild differs"
     truncate -s 20 "$entry"
@@ -58,6 +58,37 @@ for es in 3 2; do
         fail "es$es: the rebuilt entry is not loaded again: $(grep '^programs' "$work/after$es.out")"
     echo "ok: es$es: stored, loaded, a flipped and a truncated entry rebuilt"
 done
+
+# The folder is private and holds the key every entry is authenticated with.
+cache="$work/cache_es3"
+[ "$(stat -c %a "$cache")" = 700 ] || fail "the cache folder is mode $(stat -c %a "$cache"), not 700"
+[ "$(stat -c %a "$cache/key")" = 600 ] && [ "$(stat -c %s "$cache/key")" = 16 ] ||
+    fail "the key is mode $(stat -c %a "$cache/key"), $(stat -c %s "$cache/key") bytes"
+# An entry written under another folder's key (what anyone who can write
+# the folder but cannot read its key can make) is refused, not loaded.
+run other --es 3 --program-cache "$work/other_cache" >/dev/null || true
+for entry in "$work"/other_cache/*.pxbin; do cp "$entry" "$cache/"; done
+run forged --es 3 --program-cache "$cache" &&
+    { grep -q "fails its authentication" "$work/forged.out" && [ "$(field forged 2)" = 0 ] ||
+        fail "an entry made under another key: $(grep -A1 '^programs' "$work/forged.out")"; }
+cmp -s "$work/first3.png" "$work/forged.png" || fail "the image after refusing forged entries differs"
+# An entry that is not this user's is not read.
+entry=$(find "$cache" -name '*.pxbin' | head -1)
+chown 65534 "$entry" 2>/dev/null && {
+    run foreign --es 3 --program-cache "$cache" &&
+        grep -q "belongs to user 65534" "$work/foreign.err" || fail "an entry of another user was read: $(cat "$work/foreign.err")"
+}
+# A key others can read, or a folder others can write: no binaries, a warning.
+chmod 644 "$cache/key"
+run readable_key --es 3 --program-cache "$cache" &&
+    { grep -q "readable or writable by other users" "$work/readable_key.err" && [ "$(field readable_key 2)" = 0 ] ||
+        fail "a key readable by others was used: $(cat "$work/readable_key.err")"; }
+chmod 600 "$cache/key"
+chmod 777 "$cache"
+run open_folder --es 3 --program-cache "$cache" &&
+    { grep -q "writable by other users" "$work/open_folder.err" || fail "a folder writable by others was used"; }
+chmod 700 "$cache"
+echo "ok: private folder and key; forged, foreign and exposed caches refused"
 
 run off --program-cache off && grep -q "from the binary cache (off)" "$work/off.out" || fail "--program-cache off"
 

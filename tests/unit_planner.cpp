@@ -742,7 +742,7 @@ TEST(SearchModel, PlansFromTheReliefAndOffersSingleFetchCandidates) {
     EXPECT_NE((*without)[0].prediction_source.find("table"), std::string::npos);
 }
 
-// The margin: a tail of misses just past 5 % of the rays (the p98 far above
+// The margin: a tail of misses just past 5 % of the rays (the p97 far above
 // the p95) is predicted at the tail, since the GPU's p95 may land anywhere
 // up to it; a smooth distribution gets its scaled p95 and the floor.
 TEST(SearchModel, TheMarginCoversATailPastThePercentile) {

@@ -292,7 +292,7 @@ std::unique_ptr<Program> ProgramCache::load_binary(const ProgramBinaryIdentity& 
         stats_.last_rejection = "entry " + id.key + " (variant '" + key.describe() + "'): " + why;
         return nullptr;
     };
-    Result<ProgramBinaryPayload> payload = decode_program_binary_entry(*bytes, id.check, support_.formats);
+    Result<ProgramBinaryPayload> payload = decode_program_binary_entry(*bytes, id.check, support_.formats, store_.secret);
     if (!payload) return reject(payload.error().message);
     Result<ProgramHandle> program = program_from_binary(support_, *payload);
     if (!program) return reject(program.error().message);
@@ -311,7 +311,7 @@ void ProgramCache::store_binary(const ProgramBinaryIdentity& id, GLuint program)
         stats_.store_problem = payload.error().message;
         return;
     }
-    store_.store(id.key, encode_program_binary_entry(id.check, format, *payload));
+    store_.store(id.key, encode_program_binary_entry(id.check, format, *payload, store_.secret));
 }
 
 void ProgramCache::abandon() {

@@ -114,14 +114,29 @@ ProgramBinaryIdentity program_binary_identity(const std::string& context_identit
     return id;
 }
 
+namespace {
+
+// The entry's authentication: SipHash-2-4 of header bytes 0..15, the
+// identity check and the payload.
+std::uint64_t entry_mac(const SipKey& secret, const std::uint8_t* head16, std::uint64_t identity_check,
+                        const std::uint8_t* payload, std::size_t size) {
+    std::vector<std::uint8_t> message(head16, head16 + 16);
+    message.reserve(24 + size);
+    put_u64(message, identity_check);
+    message.insert(message.end(), payload, payload + size);
+    return siphash24(secret, message.data(), message.size());
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> encode_program_binary_entry(std::uint64_t identity_check, GLenum format,
-                                                      const std::vector<std::uint8_t>& payload) {
+                                                      const std::vector<std::uint8_t>& payload, const SipKey& secret) {
     std::vector<std::uint8_t> out(kMagic, kMagic + 4);
     out.reserve(kProgramBinaryHeaderSize + payload.size());
     put_u32(out, kProgramBinaryEntryVersion);
     put_u32(out, static_cast<std::uint32_t>(format));
     put_u32(out, static_cast<std::uint32_t>(payload.size()));
-    put_u64(out, fnv1a64(payload.data(), payload.size()));
+    put_u64(out, entry_mac(secret, out.data(), identity_check, payload.data(), payload.size()));
     put_u64(out, identity_check);
     out.insert(out.end(), payload.begin(), payload.end());
     return out;
@@ -129,7 +144,7 @@ std::vector<std::uint8_t> encode_program_binary_entry(std::uint64_t identity_che
 
 Result<ProgramBinaryPayload> decode_program_binary_entry(const std::vector<std::uint8_t>& bytes,
                                                          std::uint64_t identity_check,
-                                                         const std::vector<GLenum>& formats) {
+                                                         const std::vector<GLenum>& formats, const SipKey& secret) {
     if (bytes.size() < kProgramBinaryHeaderSize)
         return make_error("entry of " + std::to_string(bytes.size()) + " bytes is shorter than its " +
                           std::to_string(kProgramBinaryHeaderSize) + "-byte header");
@@ -146,9 +161,14 @@ Result<ProgramBinaryPayload> decode_program_binary_entry(const std::vector<std::
                           std::to_string(available) + (length > available ? " (truncated)" : ""));
     if (length == 0) return make_error("entry has an empty payload");
     const std::uint8_t* payload = p + kProgramBinaryHeaderSize;
-    if (fnv1a64(payload, available) != get_le(p + 16, 8)) return make_error("entry payload fails its checksum");
-    if (get_le(p + 24, 8) != identity_check)
+    // Which program it claims to be for first (a plain mismatch is the
+    // common case: sources changed), then whether the header, that claim
+    // and the payload were written together by someone holding the secret.
+    const std::uint64_t claimed = get_le(p + 24, 8);
+    if (claimed != identity_check)
         return make_error("entry was made for another program (sources, driver or bindings differ)");
+    if (entry_mac(secret, p, claimed, payload, available) != get_le(p + 16, 8))
+        return make_error("entry fails its authentication (damaged, or not written with this store's secret)");
     const GLenum format = static_cast<GLenum>(get_le(p + 8, 4));
     if (std::find(formats.begin(), formats.end(), format) == formats.end())
         return make_error("entry's binary format " + std::to_string(format) + " is not one this context offers");

@@ -15,6 +15,7 @@
 
 #include "parallaxes/core/caps.h"
 #include "parallaxes/core/result.h"
+#include "parallaxes/core/siphash.h"
 #include "parallaxes/gl/errors.h"
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/gl/handles.h"
@@ -28,6 +29,14 @@ namespace px {
 struct ProgramBinaryStore {
     std::function<std::optional<std::vector<std::uint8_t>>(const std::string& key)> load;
     std::function<void(const std::string& key, const std::vector<std::uint8_t>& bytes)> store;
+    // The host's secret: every entry carries a SipHash-2-4 of its header,
+    // identity and payload under it, so an entry made or altered by anyone
+    // without it (another user, a shared CI cache) is refused before the
+    // driver sees it. Keep it where only the user can read it (the command
+    // line keeps a random one, mode 0600, in its cache folder). All zero:
+    // entries are still checked for damage, but anyone who can write the
+    // store can forge one.
+    SipKey secret{};
     bool enabled() const { return load || store; }
 };
 
@@ -67,14 +76,17 @@ ProgramBinarySupport query_program_binary_support(const Caps& caps, GetProcAddre
 // Bump when the entry layout, the identity's contents or anything a binary
 // silently depends on (the attribute bindings' meaning) changes: it is part
 // of every key and of the header, so old entries are missed, not misread.
-inline constexpr std::uint32_t kProgramBinaryEntryVersion = 1;
+inline constexpr std::uint32_t kProgramBinaryEntryVersion = 2;
 
 // The entry's header, little-endian, before the driver's payload:
 //   offset  0  4 bytes  magic "PXPB"
 //   offset  4  u32      kProgramBinaryEntryVersion
 //   offset  8  u32      the GL binary format (glGetProgramBinary's)
 //   offset 12  u32      payload length in bytes
-//   offset 16  u64      FNV-1a 64 of the payload
+//   offset 16  u64      SipHash-2-4 under the store's secret of bytes 0..15,
+//                       the identity check and the payload (one
+//                       authenticates the header, the program it is for and
+//                       the driver's bytes together)
 //   offset 24  u64      the program's identity check (below)
 inline constexpr std::size_t kProgramBinaryHeaderSize = 32;
 inline constexpr std::size_t kProgramBinaryLengthOffset = 12;
@@ -95,7 +107,8 @@ ProgramBinaryIdentity program_binary_identity(const std::string& context_identit
                                               const std::string& fragment);
 
 std::vector<std::uint8_t> encode_program_binary_entry(std::uint64_t identity_check, GLenum format,
-                                                      const std::vector<std::uint8_t>& payload);
+                                                      const std::vector<std::uint8_t>& payload,
+                                                      const SipKey& secret = SipKey{});
 
 // The payload of a valid entry (pointing into `bytes`).
 struct ProgramBinaryPayload {
@@ -104,11 +117,14 @@ struct ProgramBinaryPayload {
     std::size_t size = 0;
 };
 // Refuses, saying why: a short or truncated entry, another magic or entry
-// version, a length that disagrees with the bytes, a bad checksum, an entry
-// made for another program (identity check) or a format this context lacks.
+// version, a length that disagrees with the bytes, an entry that fails its
+// authentication under `secret` (damaged, made without the secret, or one
+// program's payload under another's header), an entry made for another
+// program (identity check) or a format this context lacks.
 Result<ProgramBinaryPayload> decode_program_binary_entry(const std::vector<std::uint8_t>& bytes,
                                                          std::uint64_t identity_check,
-                                                         const std::vector<GLenum>& formats);
+                                                         const std::vector<GLenum>& formats,
+                                                         const SipKey& secret = SipKey{});
 
 // The linked program's binary (link it after set_binary_retrievable on ES
 // 3.0); `format` receives its format.

@@ -268,6 +268,9 @@ double interpolate(const std::vector<double>& xs, const std::vector<double>& ys,
 
 struct Curve {
     std::vector<double> angles, error, visibility, cost;
+    // A search model's curve: per angle, the raw simulated error at each of
+    // kSearchLevels (base texels), pooled over an object's pixels.
+    std::vector<std::vector<double>> levels;
 };
 
 // relief, technique, samples, shadow, shadow samples, light elevation (tenths of a degree; 0 unshadowed)
@@ -522,6 +525,7 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
             if (!cost || cost->angles.empty()) continue;
             Curve c;
             c.angles = r.search->angles;
+            if (sc.levels.size() == c.angles.size()) c.levels = sc.levels;
             for (size_t k = 0; k < c.angles.size(); ++k) {
                 // The margin without its floor here; the floor (texels of
                 // the level sampled) after the division by texels per
@@ -1106,6 +1110,62 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         // features may be wider) measured. Exact walks never step over.
         const bool linear_search = !s.simulated && (technique_info(c.technique).options & kOptSamples) && c.samples > 0;
         const double thinnest = std::max(relief.features.thinnest_texels, 0.5);
+        if (s.simulated && tc->levels.size() == tc->angles.size() && nc->levels.size() == nc->angles.size() &&
+            !tc->levels.empty()) {
+            // The search model: every pixel's error is a draw from the
+            // simulated distribution at its angle (its levels), in texels
+            // of the level sampled; the object's p95 and p97 are of those
+            // draws pooled over its pixels (what the GPU's p95 is of), with
+            // the margin on top: max(p95 x scale, p97) + floor. Each
+            // level's share of the rays is put at its upper end.
+            const SearchMargin margin = search_margin(c.technique);
+            const SearchMargin normal_margin = search_margin(Technique::normal);
+            // Minified pixels (4 texels or more per pixel) sample coarser mip
+            // levels of the height map than the simulation walks: there the
+            // prediction is at least the generic table's (measured on the GPU
+            // at such levels) for the candidate on the nearest relief.
+            const Curve* table_curve = curve(table_source, c.technique, c.samples, ShadowMode::none, 0);
+            const Basis* table_basis = table_curve ? &basis_for(table_curve->angles) : nullptr;
+            std::vector<std::pair<double, double>> pooled;
+            pooled.reserve(points.size() * static_cast<size_t>(kSearchLevelCount));
+            for (size_t i = 0; i < points.size(); ++i) {
+                const PointView& p = points[i];
+                const auto [ti, tt] = b.at[i];
+                const auto [ni, nt] = bn.at[i];
+                const double added = per_vertex ? depth_texels * (c.technique == Technique::offset_limited ? p.pv_offset
+                                                                                                           : p.pv_parallax)
+                                                : 0.0;
+                const double per_level = 1.0 / std::max(1.0, p.rho);
+                double below = 0.0;
+                for (int k = 0; k < kSearchLevelCount; ++k) {
+                    const auto at = [k](const Curve& cv, size_t idx, double t) {
+                        const double lo = cv.levels[idx][static_cast<size_t>(k)];
+                        return t > 0.0 ? lo + t * (cv.levels[idx + 1][static_cast<size_t>(k)] - lo) : lo;
+                    };
+                    double v = (at(*tc, ti, tt) + added) * per_level;
+                    if (table_basis && p.rho >= 4.0)
+                        v = std::max(v, (value(*table_basis, table_curve->error, i) * table_source.depth_scale + added) *
+                                            per_level - margin.floor);
+                    if (c.lod)
+                        v = (1.0 - blends[i]) * v +
+                            blends[i] * (at(*nc, ni, nt) * per_level + normal_margin.floor - margin.floor);
+                    pooled.emplace_back(v, p.weight * (kSearchLevels[k] - below));
+                    below = kSearchLevels[k];
+                }
+            }
+            std::sort(pooled.begin(), pooled.end());
+            double total = 0.0;
+            for (const auto& e : pooled) total += e.second;
+            auto quantile = [&](double q) {
+                double sum = 0.0;
+                for (const auto& e : pooled) {
+                    sum += e.second;
+                    if (sum >= q * total) return e.first;
+                }
+                return pooled.empty() ? 0.0 : pooled.back().first;
+            };
+            return std::max(quantile(0.95) * margin.scale, quantile(0.97)) + margin.floor;
+        }
         std::vector<std::pair<double, double>> errors;
         errors.reserve(points.size());
         for (size_t i = 0; i < points.size(); ++i) {
@@ -1159,7 +1219,11 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     // error holds (auto) or whenever asked (on).
     if (lod_possible && view.mip_min >= request.lod_threshold) {
         const Prediction normal = predict(source, {Technique::normal, 0, true, false});
-        if (request.lod_fade == EffectSwitch::on || (normal.known && normal.error <= request.max_error_texels)) {
+        // Not where a shadow is wanted and could fall (its light reaches
+        // the surface, over slopes steep enough): normal mapping casts none,
+        // and the shadow's own target would be missed.
+        if (request.lod_fade == EffectSwitch::on ||
+            (normal.known && normal.error <= request.max_error_texels && !want_shadow)) {
             plan.predicted_error = normal.error;
             plan.predicted_cost = 1.0;
             return finish_normal("normal mapping: every visible pixel samples mip level " + fmt("%.1f", view.mip_min) +

@@ -43,12 +43,16 @@ double quantile(std::vector<double>& v, double q) {
 std::vector<SearchCurve> search_candidates(const std::vector<int>& samples) {
     // A fixed order: normal, parallax, offset_limited, maxmip, then steep,
     // pom and relief at each count.
-    std::vector<SearchCurve> curves{{Technique::normal, 0, {}},
-                                    {Technique::parallax, 0, {}},
-                                    {Technique::offset_limited, 0, {}},
-                                    {Technique::maxmip, 0, {}}};
+    auto curve = [](Technique t, int n) {
+        SearchCurve c;
+        c.technique = t;
+        c.samples = n;
+        return c;
+    };
+    std::vector<SearchCurve> curves{curve(Technique::normal, 0), curve(Technique::parallax, 0),
+                                    curve(Technique::offset_limited, 0), curve(Technique::maxmip, 0)};
     for (Technique t : {Technique::steep, Technique::pom, Technique::relief})
-        for (int n : samples) curves.push_back({t, n, {}});
+        for (int n : samples) curves.push_back(curve(t, n));
     return curves;
 }
 
@@ -192,11 +196,15 @@ SearchModel simulate_searches(const HeightField& field, double height_scale, dou
                                             glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
                                                        std::cos(theta))};
         }
+        const std::vector<double> levels(kSearchLevels, kSearchLevels + kSearchLevelCount);
         const std::vector<std::vector<double>> p =
-            simulate_rays(field, height_scale, polygon_height, rays, counts, options.refine_steps, {0.95, 0.98});
+            simulate_rays(field, height_scale, polygon_height, rays, counts, options.refine_steps, levels);
         for (size_t c = 0; c < model.curves.size(); ++c) {
-            model.curves[c].error.push_back(p[0][c]);
-            model.curves[c].upper.push_back(p[1][c]);
+            std::vector<double> at(static_cast<size_t>(kSearchLevelCount));
+            for (size_t k = 0; k < at.size(); ++k) at[k] = p[k][c];
+            model.curves[c].error.push_back(at[5]);  // 0.95
+            model.curves[c].upper.push_back(at[6]);  // 0.97
+            model.curves[c].levels.push_back(std::move(at));
         }
     }
     return model;

@@ -19,11 +19,19 @@
 
 namespace px {
 
+// The shares of rays a curve records its error at (kSearchLevels[k]: the
+// error that share of the rays stays within). The planner pools them over
+// an object's pixels, each at its own angle, into the object's p95 and p97.
+inline constexpr int kSearchLevelCount = 10;
+inline constexpr double kSearchLevels[kSearchLevelCount] = {0.5, 0.75, 0.85, 0.9, 0.93, 0.95, 0.97, 0.98, 0.99, 1.0};
+
 struct SearchCurve {
     Technique technique = Technique::normal;
     int samples = 0;            // the linear search's count; 0 for the others
     std::vector<double> error;  // simulated p95 hit error (texels of the field) at each angle
-    std::vector<double> upper;  // the p98: where a tail of misses starts just past 5 % of the rays
+    std::vector<double> upper;  // the p97: where a tail of misses starts just past 5 % of the rays
+    // Per angle, the error at each of kSearchLevels.
+    std::vector<std::vector<double>> levels;
 };
 
 struct SearchModel {
@@ -68,22 +76,22 @@ std::vector<std::vector<double>> simulate_rays(const HeightField& field, double 
 std::vector<SearchCurve> search_candidates(const std::vector<int>& samples);
 
 // The margin the planner predicts with, in texels of the level sampled:
-// the larger of the simulated p95 times `scale` and the simulated p98, plus
+// the larger of the simulated p95 times `scale` and the simulated p97, plus
 // `floor` (what the GPU's rasterisation and filtering add that the
 // simulation has no notion of), per technique, fitted by `parallax bench
 // --search-model` on the fit reliefs of examples/scenes/relief_family. The
-// p98 is the margin's answer to uncertainty: where a tail of misses (a
+// p97 is the margin's answer to uncertainty: where a tail of misses (a
 // search stepping over crests) starts just past 5 % of the rays, the p95 the
-// GPU measures may land anywhere up to it.
+// GPU measures may land well above the simulated one.
 struct SearchMargin {
     double scale = 1.0;
     double floor = 0.0;
 };
 SearchMargin search_margin(Technique technique);
-inline double predicted_with_margin(Technique technique, double p95, double p98) {
+inline double predicted_with_margin(Technique technique, double p95, double p97) {
     const SearchMargin m = search_margin(technique);
     const double scaled = p95 * m.scale;
-    return (scaled > p98 ? scaled : p98) + m.floor;
+    return (scaled > p97 ? scaled : p97) + m.floor;
 }
 
 }  // namespace px
