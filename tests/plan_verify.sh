@@ -29,6 +29,20 @@ if ! "$parallax" render showcase --size 128x128 --frames 1 -o "$work/s.png" --ve
 else
     echo "ok: render showcase --verify"
 fi
+# A small part of the planner suite (examples/scenes/planner_suite, all of
+# it in tests/planner_suite.sh): a fine sine the table's nearest relief
+# mispredicted 13 times, a 60-unit single quad, text under a low hard light.
+suite=$(cd "$(dirname "$0")/../examples/scenes/planner_suite" && pwd)
+for scene in sine_fine_05 bricks_quad_big text_shadow_low; do
+    for es in 3 2; do
+        if "$parallax" plan "$suite/$scene.json" --size 128x128 --es "$es" --verify >"$work/out" 2>"$work/err" &&
+            grep -q '^verify     every target met' "$work/out"; then
+            echo "ok: planner suite $scene --es $es: $(grep '^  ground (' "$work/out" | cut -c1-110)"
+        else
+            echo "FAIL: planner suite $scene --es $es:"; cat "$work/out" "$work/err"; failures=$((failures + 1))
+        fi
+    done
+done
 # A relief unlike the cost table's (one-texel lines, seen low): whatever the
 # planner picks, a miss must be printed as MISSED and exit 1, a pass exit 0.
 cat >"$work/lines.json" <<'JSON'
