@@ -2,10 +2,13 @@
 // object is drawn with on a given context, camera and image size, and says
 // why. A material either names its technique (plan_variant adjusts that
 // request to the context) or declares effects (EffectRequest), and then the
-// ScenePlanner chooses per object the cheapest variant that its measured
-// cost table (planner/cost_table.h) predicts meets the material's targets,
-// from what the camera sees of the object. GL-free: cheap enough to run
-// every frame (docs/planner.md has the measured time per object).
+// ScenePlanner chooses per object the cheapest variant predicted to meet the
+// material's targets, from what the camera sees of the object: hit errors
+// from the search model simulated on the material's own relief
+// (planner/search_model.h), costs from the measured cost table
+// (planner/cost_table.h). GL-free; about 1.7 ms per object and plan on
+// this 2-core host (docs/planner.md, "Planning time": more than the table
+// alone cost, not yet mended).
 #pragma once
 
 #include <memory>
