@@ -228,8 +228,8 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
         Result<MaterialImages> images = build_material_images(material, scene->base_dir);
         if (!images) return fail(path + ": " + images.error().message);
         // Simulated over the bench image's own rays, angle by angle, at
-        // the quantiles compared (the library reads SearchModelOptions'
-        // quantile).
+        // the quantiles compared (the library predicts from the p95 and
+        // the p97, predicted_with_margin).
         SearchModel model;
         model.angles = o.angles;
         model.curves = search_candidates(o.samples);
