@@ -191,6 +191,44 @@ expect_error "profile: bad model field" "$work/model.json: \$.texture.samples_pe
 expect_error "profile: bad size" "--size" profile --no-nir --size 0x0
 expect_error "profile: bad angle" "--angle" profile --no-nir --angle 95
 
+# The calibration cache: only the file named for a material's relief
+# (<hash>-depth<depth>.json, as plan --calibrate writes it) is read; any other
+# file there is never opened (a large one used to make every render parse it,
+# in quadratic time). A matching file that is broken, holds no row to plan
+# with, or is a FIFO is not used, and the plan says why; the render still
+# succeeds.
+cal="$work/calibration"
+mkdir -p "$cal"
+head -c 8000000 /dev/zero | tr '\0' '[' >"$cal/huge-unrelated.json"
+floor_file=$(python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(next(o['relief']['calibration_file'] for o in d['objects'] if o['material'] == 'floor'))" "$work/plan.json")
+calibration_note() {  # calibration_note DESCRIPTION EXPECTED_NOTE
+    local out status
+    out=$(timeout 120 "$parallax" plan showcase --format json --calibration-cache "$cal" 2>&1)
+    status=$?
+    if [ "$status" != 0 ]; then
+        echo "FAIL: $1: exit status $status: $(head -3 <<<"$out")"; failures=$((failures + 1))
+    elif grep -q "huge-unrelated" <<<"$out"; then
+        echo "FAIL: $1: a calibration not named for any material was read"; failures=$((failures + 1))
+    elif ! grep -qF -- "$2" <<<"$out"; then
+        echo "FAIL: $1: no note '$2' in the plan"; failures=$((failures + 1))
+    else
+        echo "ok: $1"
+    fi
+}
+if [ -z "$floor_file" ]; then
+    echo "FAIL: plan --format json names no calibration file for the showcase floor"; failures=$((failures + 1))
+else
+    calibration_note "an unrelated calibration file is never read" '"material": "floor"'
+    echo '{"date": "x", "renderer": "x", "version": "x", "command": "x", "reliefs": [' >"$cal/$floor_file"
+    calibration_note "a broken calibration is not used, with a note" "calibration not used: $cal/$floor_file: not a JSON object"
+    printf '{"date": "d", "renderer": "r", "version": "v", "command": "c", "reliefs": [{"name": "n", "depth_texels": 1,
+  "steepness": 1, "thinnest_texels": 1, "range": 1, "hash": "1"}], "rows": []}\n' >"$cal/$floor_file"
+    calibration_note "a calibration of another relief is not used, with a note" "it holds no relief with this field's hash and depth"
+    rm -f "$cal/$floor_file"
+    mkfifo "$cal/$floor_file"
+    calibration_note "a FIFO at a calibration's name does not hang" "not a regular file"
+fi
+
 # Outputs replace what is at their names, never write through it: a symlink
 # planted at an output name (to a file outside the folder) is replaced by the
 # output, and the file it pointed at is untouched.

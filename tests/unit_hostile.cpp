@@ -29,6 +29,7 @@
 #include "parallaxes/scene/material_images.h"
 #include "parallaxes/scene/mesh.h"
 #include "parallaxes/scene/scene.h"
+#include "parallaxes/texture/containers.h"
 
 // stb_image_write's deflate, compiled into the library's image.cpp: the
 // tests build PNGs byte by byte with it.
@@ -551,6 +552,44 @@ TEST(HostileImage, TruncatedJpegIsRefused) {
     Result<Image> cut = decode_image(bytes.data(), bytes.size(), "cut.jpg");
     ASSERT_FALSE(cut.ok());
     EXPECT_TRUE(contains(cut.error().message, "cut.jpg: cannot decode JPEG")) << cut.error().message;
+}
+
+// A material's texture is one 2D image: a KTX 2.0 array of 2048 zstd
+// layers (4 KB on disk, 8 MB inflated) is refused from its header, by the
+// scene check and by the material read, before its data is touched. The
+// data here does not even inflate: a reader that inflated first would say
+// so instead (and it took 21 to 27 s when 64 materials named such a file).
+TEST(HostileScene, ATextureArrayIsRefusedFromItsHeaderBeforeItsDataIsInflated) {
+    Result<TextureData> layers = allocate_texture(TextureFormat::r8, 64, 64, 1, 2048, 1, 64u << 20);
+    ASSERT_TRUE(layers.ok()) << layers.error().message;
+    Result<std::vector<std::uint8_t>> file = write_ktx2(*layers, 19);
+    ASSERT_TRUE(file.ok()) << file.error().message;
+    ASSERT_LT(file->size(), 16384u);
+    for (std::size_t i = file->size() - 16; i < file->size(); ++i) (*file)[i] ^= 0xA5;  // the zstd frame's end
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("px_hostile_array_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "layers.ktx2").string();
+    ASSERT_TRUE(write_file_atomically(path, file->data(), file->size()).ok());
+    Result<TextureData> whole = read_texture_file(path);
+    ASSERT_FALSE(whole.ok());
+    EXPECT_TRUE(contains(whole.error().message, "Zstandard")) << whole.error().message;
+
+    std::string text;
+    for (int i = 0; i < 64; ++i)
+        text += std::string(i ? ", " : "") + R"({"name": "m)" + std::to_string(i) + R"(", "height": ")" + path + R"("})";
+    Result<SceneDesc> scene = parse_scene(R"({"materials": [)" + text + R"(], "objects": [{"material": "m0"}]})", "array.json");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    const Status checked = check_scene_resources(*scene, true);
+    ASSERT_FALSE(checked.ok());
+    EXPECT_TRUE(contains(checked.error().message, "materials[0].height (material 'm0')")) << checked.error().message;
+    EXPECT_TRUE(contains(checked.error().message, "holds 2048 layers and 1 faces")) << checked.error().message;
+    Result<MaterialImages> images = build_material_images(scene->materials[0], "");
+    ASSERT_FALSE(images.ok());
+    EXPECT_TRUE(contains(images.error().message, "material 'm0' height")) << images.error().message;
+    EXPECT_TRUE(contains(images.error().message, "holds 2048 layers and 1 faces")) << images.error().message;
+    EXPECT_FALSE(contains(images.error().message, "Zstandard")) << images.error().message;
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -140,6 +140,10 @@ TEST(CostTable, RefusesBrokenTables) {
     refused(R"([0, 0, "pom", 8, "none", 0, -1, 0, 1])", "rows[0][6]: negative");
     refused(R"([0, 0, "pom", 8, "none", 0, 1, 0, 0])", "rows[0][8]");
     refused(R"([0, 0, "pom"])", "rows[0]: expected");
+    // Absurd values are not measurements: refused on reading, never planned with.
+    refused(R"([0, 0, "pom", 8, "none", 0, 1e300, 0, 1])", "rows[0][6]: a hit error over 1e6 texels");
+    refused(R"([0, 0, "pom", 8, "soft", 4, 1, 1.5, 1])", "rows[0][7]: a visibility difference over 1");
+    refused(R"([0, 0, "pom", 8, "none", 0, 1, 0, 1e300])", "rows[0][8]: a cost over 10000");
     EXPECT_FALSE(parse_cost_table("not json", "t.json").ok());
 }
 
@@ -417,6 +421,52 @@ TEST(Planner, CalibrationReplacesTheGenericTable) {
     ASSERT_TRUE((*p)[0].generic_key.has_value());
     EXPECT_EQ((*p)[0].generic_key->max_samples, 8);
     EXPECT_NE((*p)[0].prediction_source.find("calibrated"), std::string::npos);
+}
+
+// The same through the lookup a host gives (PlannerOptions::find_calibration):
+// asked once per material with a relief, with that relief; what it finds is
+// used, and why it found nothing usable is the plan's note.
+TEST(Planner, CalibrationsAreLookedUpPerMaterial) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    ASSERT_TRUE(images.ok());
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();
+    CostTable calibration = small_table();
+    calibration.date = "calibrated";
+    calibration.reliefs[0].features = relief.features;
+    for (CostSample& s : calibration.rows)
+        if (s.technique == Technique::pom && s.samples == 8) s.error_p95 *= 10.0;
+    const CostTable generic = small_table();
+    std::vector<std::uint64_t> asked;
+    auto plan_with = [&](bool found) {
+        PlannerOptions options;
+        options.table = &generic;
+        options.find_calibration = [&](const ReliefFeatures& f, std::string& note) -> std::optional<CostTable> {
+            asked.push_back(f.field_hash);
+            if (found) return calibration;
+            note = "calibration not used: broken.json: not a JSON object";
+            return std::nullopt;
+        };
+        Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
+        EXPECT_TRUE(planner.ok()) << planner.error().message;
+        Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 256, 256);
+        EXPECT_TRUE(p.ok()) << p.error().message;
+        return (*p)[0];
+    };
+    const ObjectPlan used = plan_with(true);
+    ASSERT_EQ(asked.size(), 1u);
+    EXPECT_EQ(asked[0], relief.features.field_hash);
+    EXPECT_EQ(used.key.max_samples, 32);
+    EXPECT_NE(used.prediction_source.find("calibrated"), std::string::npos) << used.prediction_source;
+    const ObjectPlan without = plan_with(false);
+    EXPECT_EQ(without.key.max_samples, 8);
+    EXPECT_EQ(without.prediction_source.find("calibrated"), std::string::npos) << without.prediction_source;
+    EXPECT_NE(std::find(without.notes.begin(), without.notes.end(), "calibration not used: broken.json: not a JSON object"),
+              without.notes.end());
 }
 
 // A calibration knows what it measured: the view angles it was run at and

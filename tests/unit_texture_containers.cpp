@@ -701,4 +701,44 @@ TEST(TextureFile, ReadsFilesAndPrefixesErrorsWithThePath) {
     std::filesystem::remove_all(dir);
 }
 
+// Kind and size from the header alone (what a scene check and a material
+// read look at before any data is inflated): the first kTextureHeaderBytes
+// give what the full read gives, and a bad header field the same error.
+TEST(TextureFile, ShapeFromTheHeaderAloneMatchesTheFullRead) {
+    const Bytes files[] = {ktx1(make_texture(TextureFormat::etc2_rgb8, 37, 20, 0, 3, 1)),
+                           ktx2(make_texture(TextureFormat::bc5, 32, 32, 0, 2, 6, true), 19),
+                           ktx2(make_texture(TextureFormat::r8, 64, 16, 2, 1, 1), 0),
+                           pvr(make_texture(TextureFormat::rgba8, 16, 16, 0, 1, 6))};
+    for (const Bytes& file : files) {
+        Result<TextureData> full = px::read_texture(file.data(), file.size());
+        ASSERT_TRUE(full.ok()) << full.error().message;
+        SCOPED_TRACE(px::container_name(full->container));
+        const std::size_t head = std::min(file.size(), px::kTextureHeaderBytes);
+        ASSERT_LT(head, file.size());  // the data really is left unread
+        Result<px::TextureShape> shape = px::read_texture_shape(file.data(), head);
+        ASSERT_TRUE(shape.ok()) << shape.error().message;
+        EXPECT_EQ(shape->container, full->container);
+        EXPECT_EQ(shape->format, full->format);
+        EXPECT_EQ(shape->width, full->width);
+        EXPECT_EQ(shape->height, full->height);
+        EXPECT_EQ(shape->layers, full->layers);
+        EXPECT_EQ(shape->faces, full->faces);
+        EXPECT_EQ(shape->levels, full->levels.size());
+        EXPECT_EQ(shape->bytes, full->bytes.size());
+    }
+    // Width 0 in each container's header: the same message either way.
+    const std::pair<Bytes, std::size_t> bad[] = {{files[0], 36}, {files[1], 20}, {files[3], 28}};
+    for (const auto& [file, width_at] : bad) {
+        const Bytes patched = patch32(file, width_at, 0);
+        Result<TextureData> full = px::read_texture(patched.data(), patched.size());
+        Result<px::TextureShape> shape = px::read_texture_shape(patched.data(), px::kTextureHeaderBytes);
+        ASSERT_FALSE(full.ok());
+        ASSERT_FALSE(shape.ok());
+        EXPECT_EQ(shape.error().message, full.error().message);
+    }
+    Result<px::TextureShape> png = px::read_texture_shape(reinterpret_cast<const std::uint8_t*>("\x89PNG\r\n\x1a\n"), 8);
+    ASSERT_FALSE(png.ok());
+    EXPECT_NE(png.error().message.find("not a texture container"), std::string::npos) << png.error().message;
+}
+
 }  // namespace

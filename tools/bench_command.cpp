@@ -113,8 +113,7 @@ int run_showcase_bench(const BenchArgs& a, int width, int height) {
     options.effect_planner = effect_planner;
     options.texture_files = texture_files();
     options.get_proc_address = platform::HeadlessContext::proc_loader();
-    options.planner.calibrations =
-        std::make_shared<const std::vector<CostTable>>(load_calibrations(a.calibration_cache));
+    options.planner.find_calibration = calibration_finder(a.calibration_cache);
     Result<profiling::ShowcaseRun> run = profiling::run_showcase(
         *scene, options, a.frames > 0 ? a.frames : 9, target->target(), a.command,
         [](const std::string& what) { std::fprintf(stderr, "showcase: %s\n", what.c_str()); },

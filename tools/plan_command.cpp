@@ -130,7 +130,7 @@ int run_plan(const PlanArgs& a) {
     renderer_options.effect_planner = effect_planner;
     renderer_options.texture_files = texture_files();
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
-    renderer_options.planner.calibrations = std::make_shared<const std::vector<CostTable>>(load_calibrations(dir));
+    renderer_options.planner.find_calibration = calibration_finder(dir);
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(*scene);

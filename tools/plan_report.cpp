@@ -12,6 +12,7 @@
 #include "parallaxes/gl/gl.h"
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include <cstdio>
 #include <cstdlib>
@@ -119,6 +120,15 @@ std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& 
             if (p.request.shadow != ShadowMode::none) o["shadow_target"] = p.request.shadow_max_error;
             if (p.predicted_shadow_error >= 0.0) o["predicted_shadow_error"] = p.predicted_shadow_error;
             o["prediction_source"] = p.prediction_source;
+            if (p.relief.range > 0.0) {
+                // What names its calibration file: <hash>-depth<depth>.json.
+                const std::string file = calibration_file("", p.relief);
+                o["relief"] = {{"hash", hash_hex(p.relief.field_hash)},
+                               {"depth_texels", p.relief.depth_texels},
+                               {"steepness", p.relief.steepness},
+                               {"thinnest_texels", p.relief.thinnest_texels},
+                               {"calibration_file", file.substr(1)}};
+            }
             if (p.generic_key) {
                 o["generic_variant"] = p.generic_key->describe();
                 o["generic_predicted_error_texels"] = p.generic_error;
@@ -139,27 +149,57 @@ std::string default_calibration_dir() {
     return "";
 }
 
-std::vector<CostTable> load_calibrations(const std::string& dir) {
-    std::vector<CostTable> out;
-    if (dir.empty() || dir == "off") return out;
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) return out;
-    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-        if (entry.path().extension() != ".json") continue;
-        Result<std::vector<std::uint8_t>> bytes = read_file_bounded(entry.path().string(), 8u << 20, "calibration");
-        if (!bytes) {
-            std::fprintf(stderr, "parallax: warning: skipping calibration: %s\n", bytes.error().message.c_str());
-            continue;
-        }
-        Result<CostTable> table =
-            parse_cost_table(std::string(bytes->begin(), bytes->end()), entry.path().string());
-        if (!table) {
-            std::fprintf(stderr, "parallax: warning: skipping calibration: %s\n", table.error().message.c_str());
-            continue;
-        }
-        out.push_back(std::move(*table));
+namespace {
+
+// Why a calibration that matched by name cannot plan, or "" if it can:
+// it must describe this relief and hold normal mapping (every cost is
+// relative to it) and a technique that traces it, unshadowed.
+std::string unusable_calibration(const CostTable& table, const ReliefFeatures& f) {
+    int relief = -1;
+    for (size_t i = 0; i < table.reliefs.size(); ++i) {
+        const ReliefFeatures& r = table.reliefs[i].features;
+        if (r.field_hash == f.field_hash && std::fabs(r.depth_texels - f.depth_texels) <= 1e-3 * std::max(1.0, f.depth_texels))
+            relief = static_cast<int>(i);
     }
-    return out;
+    if (relief < 0) return "it holds no relief with this field's hash and depth";
+    bool normal = false, traced = false;
+    for (const CostSample& s : table.rows) {
+        if (s.relief != relief || s.shadow != ShadowMode::none) continue;
+        if (s.technique == Technique::normal) normal = true;
+        else if (technique_info(s.technique).options & kOptHeight) traced = true;
+    }
+    if (!normal) return "it holds no normal-mapping row for this relief (every cost is relative to one)";
+    if (!traced) return "it holds no row of a technique that traces the relief";
+    return "";
+}
+
+}  // namespace
+
+std::function<std::optional<CostTable>(const ReliefFeatures&, std::string&)> calibration_finder(const std::string& dir) {
+    if (dir.empty() || dir == "off") return nullptr;
+    return [dir](const ReliefFeatures& features, std::string& note) -> std::optional<CostTable> {
+        const std::string file = calibration_file(dir, features);
+        std::error_code ec;
+        if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) return std::nullopt;
+        const std::string fallback = ": the planner predicts without it";
+        // A table of kMaxCostTableRows rows is about 1.6 MB as cost_table_json writes it.
+        Result<std::vector<std::uint8_t>> bytes = read_file_bounded(file, 4u << 20, "calibration");
+        if (!bytes) {
+            note = "calibration not used: " + bytes.error().message + fallback;
+            return std::nullopt;
+        }
+        Result<CostTable> table = parse_cost_table(std::string(bytes->begin(), bytes->end()), file);
+        if (!table) {
+            note = "calibration not used: " + table.error().message + fallback;
+            return std::nullopt;
+        }
+        const std::string why = unusable_calibration(*table, features);
+        if (!why.empty()) {
+            note = "calibration not used: " + file + ": " + why + fallback;
+            return std::nullopt;
+        }
+        return std::move(*table);
+    };
 }
 
 std::string calibration_file(const std::string& dir, const ReliefFeatures& features) {

@@ -2,6 +2,8 @@
 // planner's answers, and the calibration cache both read.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,9 +20,14 @@ std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& 
 // The calibration cache: one JSON cost table per relief. "" or "off": none.
 // Default: $XDG_CACHE_HOME/parallaxes/calibration (or ~/.cache/...).
 std::string default_calibration_dir();
-// Every readable table in `dir` (broken files are skipped with a warning
-// on stderr naming the file).
-std::vector<CostTable> load_calibrations(const std::string& dir);
+// The planner's lookup into `dir` (PlannerOptions::find_calibration): a
+// material's calibration is the file `plan --calibrate` wrote for its
+// relief (calibration_file), and only that file is read, bounded in size
+// and rows; no other file of the folder is opened. One that cannot be
+// read, parsed or planned with (no relief matching its name, no
+// normal-mapping row) is not used, and the note says so. Null for "" or
+// "off".
+std::function<std::optional<CostTable>(const ReliefFeatures&, std::string&)> calibration_finder(const std::string& dir);
 std::string calibration_file(const std::string& dir, const ReliefFeatures& features);
 
 // `plan --verify` and `render --verify`: the scene camera's plan drawn (the

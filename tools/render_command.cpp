@@ -130,8 +130,8 @@ int run_render(const RenderArgs& a) {
     renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
     renderer_options.force_texture_decode = a.decode_textures;
     renderer_options.preserve_host_state = !a.no_state_restore;
-    renderer_options.planner.calibrations = std::make_shared<const std::vector<CostTable>>(
-        load_calibrations(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache));
+    renderer_options.planner.find_calibration =
+        calibration_finder(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
     if (!cache_dir.empty() && cache_dir != "off") renderer_options.program_binaries = file_program_store(cache_dir);
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -107,6 +108,39 @@ Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std
             ++filled;
             continue;
         }
+        const ssize_t n = ::read(fd, bytes.data() + filled, bytes.size() - filled);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
+        if (n == 0) break;
+        filled += static_cast<std::size_t>(n);
+    }
+    bytes.resize(filled);
+    return bytes;
+}
+
+Result<std::vector<std::uint8_t>> read_file_prefix(const std::string& path, std::size_t max_bytes,
+                                                   const std::string& what) {
+    const std::string name = echo_path(path);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return make_error(name + ": cannot open " + what + ": " + reason(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
+    if (S_ISDIR(st.st_mode)) return make_error(name + ": cannot read " + what + ": it is a folder");
+    if (!S_ISREG(st.st_mode))
+        return make_error(name + ": cannot read " + what + ": not a regular file (a pipe, socket or device)");
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags >= 0) (void)::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    const std::size_t want =
+        st.st_size > 0 ? std::min(max_bytes, static_cast<std::size_t>(std::min<std::uint64_t>(
+                                                 static_cast<std::uint64_t>(st.st_size), SIZE_MAX)))
+                       : 0;
+    std::vector<std::uint8_t> bytes(want);
+    std::size_t filled = 0;
+    while (filled < bytes.size()) {
         const ssize_t n = ::read(fd, bytes.data() + filled, bytes.size() - filled);
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));

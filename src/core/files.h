@@ -23,6 +23,12 @@ inline Status write_file_atomically(const std::string& path, const std::string& 
     return write_file_atomically(path, text.data(), text.size());
 }
 
+// The first max_bytes bytes of a regular file (all of it if shorter),
+// refused as read_file_bounded refuses (missing, folder, FIFO, device), with
+// no limit on the file's size: what a header is read from.
+Result<std::vector<std::uint8_t>> read_file_prefix(const std::string& path, std::size_t max_bytes,
+                                                   const std::string& what);
+
 // Reads a whole regular file of at most max_bytes. Refused, naming the path
 // and `what` ("scene file", "image"): a missing or unreadable file, a folder,
 // a FIFO or device (which could block or never end), a file over the limit

@@ -17,6 +17,8 @@ using json = nlohmann::json;
 // Rows are arrays, to keep the shipped file small:
 // [relief, angle, technique, samples, shadow, shadow_samples, error_p95, visibility_error, cost]
 constexpr int kRowFields = 9;
+constexpr double kMaxTableError = 1e6;
+constexpr double kMaxTableCost = 1e4;
 
 Result<double> number_at(const json& j, const std::string& path) {
     if (!j.is_number()) return make_error(path + ": expected a number");
@@ -116,7 +118,13 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
             if (*v < 0.0) return make_error(path + "[" + std::to_string(6 + k) + "]: negative");
             *outs[k] = *v;
         }
+        // Past these a row is not a measurement: errors of a million
+        // texels, a visibility difference outside [0, 1], a variant ten
+        // thousand times normal mapping's time.
+        if (s.error_p95 > kMaxTableError) return make_error(path + "[6]: a hit error over 1e6 texels");
+        if (s.visibility_error > 1.0) return make_error(path + "[7]: a visibility difference over 1");
         if (!(s.cost > 0.0)) return make_error(path + "[8]: the cost must be positive");
+        if (s.cost > kMaxTableCost) return make_error(path + "[8]: a cost over 10000 times normal mapping's");
         if (r.size() > kRowFields) {
             Result<double> e = number_at(r[kRowFields], path + "[9]");
             if (!e) return e.error();

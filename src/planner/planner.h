@@ -11,6 +11,7 @@
 // alone cost, not yet mended).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -82,6 +83,9 @@ struct ObjectPlan {
     // "search model on this relief (...)", "calibrated on this relief (...)"
     // or "table 'bricks' (...)".
     std::string prediction_source;
+    // The material's relief as the planner measured it (planned objects):
+    // its field's hash and depth name its calibration (`plan --calibrate`).
+    ReliefFeatures relief;
     // Where a calibration changed the choice: what the planner picks without
     // it (from the search model, or the generic table).
     std::optional<VariantKey> generic_key;
@@ -109,6 +113,12 @@ struct PlannerOptions {
     // Shared and immutable, so that copying options (RendererOptions is
     // copied into each renderer) copies no table.
     std::shared_ptr<const std::vector<CostTable>> calibrations;
+    // Or found per material: asked once for each material with a relief
+    // to trace when the planner is made, it returns the calibration of that
+    // relief if the host keeps one (nothing else need be read or parsed),
+    // or nullopt; `note` says why one that matched could not be used (a
+    // broken file, say), and the planner prints it in that material's plans.
+    std::function<std::optional<CostTable>(const ReliefFeatures&, std::string& note)> find_calibration;
 };
 
 // What the planner plans for: one frame as the host draws it. The view and

@@ -376,6 +376,7 @@ struct ScenePlanner::Impl {
     std::vector<CostTable> calibrations;
     std::map<CurveKey, Curve> generic_curves;
     std::vector<std::map<CurveKey, Curve>> calibration_curves;
+    std::vector<std::string> calibration_notes;  // per material: why its calibration file was not used
     std::vector<ObjectSurvey> surveys;
     std::vector<float> units_per_uv;  // per object: world units per mesh uv unit
     // Per material with a search model: its curves as a one-relief table
@@ -546,6 +547,18 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
         m.model_curves[mi] = std::move(curves);
     }
     if (options.calibrations) m.calibrations = *options.calibrations;
+    m.calibration_notes.resize(m.reliefs.size());
+    if (options.find_calibration) {
+        std::vector<std::uint64_t> asked;
+        for (size_t mi = 0; mi < m.reliefs.size() && mi < scene.materials.size(); ++mi) {
+            const ReliefFeatures& f = m.reliefs[mi].features;
+            if (!(f.range > 0.0) || !scene.materials[mi].effects || !scene.materials[mi].effects->parallax) continue;
+            if (std::find(asked.begin(), asked.end(), f.field_hash) != asked.end()) continue;
+            asked.push_back(f.field_hash);
+            std::optional<CostTable> found = options.find_calibration(f, m.calibration_notes[mi]);
+            if (found) m.calibrations.push_back(std::move(*found));
+        }
+    }
     for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         if (!meshes.empty()) {
@@ -933,6 +946,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     const EffectRequest& request = *material.effects;
     plan.planned = true;
     plan.request = request;
+    plan.relief = relief.features;
     VariantKey& key = plan.key;
     key.es_major = static_cast<std::uint8_t>(caps.es_major);
     key.no_fragment_highp = caps.es_major < 3 && !caps.fragment_highp;
@@ -980,6 +994,8 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     const std::optional<Source> calibrated =
         calibrated_source(relief, views[oi].visible ? views[oi].angle_max_deg : 0.0, &calibration_skipped);
     if (!calibrated && !calibration_skipped.empty()) plan.notes.push_back(calibration_skipped);
+    if (!calibrated && mi < calibration_notes.size() && !calibration_notes[mi].empty())
+        plan.notes.push_back(calibration_notes[mi]);
     const Source& source = calibrated ? *calibrated : uncalibrated;
     if (source.relief < 0) return make_error(who + ": the cost table has no relief to predict from");
     plan.prediction_source = source.label;

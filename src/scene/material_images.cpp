@@ -73,6 +73,14 @@ Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_d
 }
 
 // Texels per side of a source; 0 x 0 for a file whose header is not read.
+// A material's texture is one 2D image with its mip levels: arrays and
+// cube maps are refused from the header, before their data is read.
+Status single_image(const TextureShape& t, const std::string& path) {
+    if (t.layers == 1 && t.faces == 1) return {};
+    return make_error("'" + echo_path(path) + "' holds " + std::to_string(t.layers) + " layers and " +
+                      std::to_string(t.faces) + " faces; a material's texture is one 2D image (with its mip levels)");
+}
+
 Result<ImageInfo> source_size(const TextureSource& s, const std::string& base_dir, const TextureFileReaders* files) {
     switch (s.kind) {
         case TextureSource::Kind::none:
@@ -81,8 +89,10 @@ Result<ImageInfo> source_size(const TextureSource& s, const std::string& base_di
         case TextureSource::Kind::file: {
             if (!files) return ImageInfo{0, 0};
             if (!is_texture_file(s.path)) return files->read_image_info(resolve(base_dir, s.path));
-            Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
+            // The header alone: nothing is inflated to learn a size.
+            Result<TextureShape> t = files->read_texture_shape(resolve(base_dir, s.path));
             if (!t) return t.error();
+            if (Status one = single_image(*t, s.path); !one) return one.error();
             return ImageInfo{static_cast<int>(t->width), static_cast<int>(t->height)};
         }
     }
@@ -289,6 +299,11 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         return s.kind == TextureSource::Kind::file && is_texture_file(s.path);
     };
     const auto read_texture_source = [&](const TextureSource& s, const char* slot) -> Result<TextureData> {
+        // Kind and size from the header first: an array of 2048 layers is
+        // refused before anything of it is inflated.
+        Result<TextureShape> shape = files->read_texture_shape(resolve(base_dir, s.path));
+        if (!shape) return with_context(where + " " + slot, shape.error());
+        if (Status one = single_image(*shape, s.path); !one) return with_context(where + " " + slot, one.error());
         Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
         if (!t) return with_context(where + " " + slot, t.error());
         if (s.first_row != TextureSource::FirstRow::file) {
@@ -297,10 +312,11 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
             t->rows_source = std::string("the scene's first_row \"") + (top ? "top" : "bottom") + "\" (the file says " +
                              t->rows_source + ")";
         }
-        if (t->layers != 1 || t->faces != 1)
-            return make_error(where + " " + slot + ": '" + echo_path(s.path) + "' holds " + std::to_string(t->layers) +
-                              " layers and " + std::to_string(t->faces) +
-                              " faces; a material's texture is one 2D image (with its mip levels)");
+        if (Status one = single_image(TextureShape{t->container, t->format, t->width, t->height, t->layers, t->faces,
+                                                   static_cast<std::uint32_t>(t->levels.size()), t->bytes.size()},
+                                      s.path);
+            !one)
+            return with_context(where + " " + slot, one.error());
         return t;
     };
     // Texture files are never packed: each keeps its own layout (height in

@@ -45,6 +45,9 @@ struct TextureFileReaders {
     Result<Image> (*load_image)(const std::string& path, int channels);
     Result<ImageInfo> (*read_image_info)(const std::string& path);
     Result<TextureData> (*read_texture_file)(const std::string& path);
+    // Its header only (texture/containers.h): kind and size checked before
+    // anything is inflated.
+    Result<TextureShape> (*read_texture_shape)(const std::string& path);
     Result<Image> (*decode_level)(const TextureData& data, std::size_t level);  // RGBA8
     // A height map's level 0 as the GPU samples it (texture/decode.h), and
     // the bits of height its format holds (8 or 11).

@@ -10,13 +10,14 @@ namespace px {
 namespace {
 
 Result<TextureData> read_container(const std::string& path) { return read_texture_file(path); }
+Result<TextureShape> read_container_shape(const std::string& path) { return read_texture_file_shape(path); }
 Result<Image> decode_level(const TextureData& data, std::size_t level) { return decode_rgba8(data, level); }
 Result<HeightField> height_map(const TextureData& data) {
     return height_field_from_texture(data, HeightConvention::height);
 }
 int channels(TextureFormat format) { return format_info(format).channels; }
 
-const TextureFileReaders kReaders{load_image, read_image_info, read_container, decode_level,
+const TextureFileReaders kReaders{load_image, read_image_info, read_container, read_container_shape, decode_level,
                                   height_map,  height_bits,     channels};
 
 }  // namespace

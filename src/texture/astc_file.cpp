@@ -4,6 +4,7 @@
 
 #include "parallaxes/core/limits.h"
 #include "parallaxes/texture/containers.h"
+#include "container_shape.h"
 
 namespace px {
 
@@ -20,7 +21,8 @@ std::string num(std::uint64_t v) { return std::to_string(v); }
 
 }  // namespace
 
-Result<TextureData> read_astc(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+Result<TextureData> container_detail::read_astc(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes,
+                                             TextureShape* header_only) {
     const std::string c = ".astc ";
     if (!bytes || size < kHeaderBytes)
         return make_error(c + "file of " + num(bytes ? size : 0) + " bytes is shorter than its 16-byte header");
@@ -42,6 +44,10 @@ Result<TextureData> read_astc(const std::uint8_t* bytes, std::size_t size, std::
     const std::uint32_t max = static_cast<std::uint32_t>(kMaxTextureSize);
     if (width == 0 || width > max) return make_error(c + "width " + num(width) + " is outside 1.." + num(max));
     if (height == 0 || height > max) return make_error(c + "height " + num(height) + " is outside 1.." + num(max));
+    if (header_only) {
+        *header_only = TextureShape{ContainerKind::astc, format->format, width, height, 1, 1, 1, 0};
+        return TextureData{};
+    }
     const std::optional<std::uint64_t> need = image_bytes(format->format, width, height);
     if (!need || *need > max_bytes)
         return make_error(c + "the texture needs more than the " + num(max_bytes) + " bytes allowed");
@@ -58,6 +64,10 @@ Result<TextureData> read_astc(const std::uint8_t* bytes, std::size_t size, std::
     t.rows_source = ".astc declares none: top row first, as astcenc writes and decodes it";
     std::memcpy(t.bytes.data(), bytes + kHeaderBytes, t.bytes.size());
     return t;
+}
+
+Result<TextureData> read_astc(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+    return container_detail::read_astc(bytes, size, max_bytes, nullptr);
 }
 
 }  // namespace px

@@ -50,6 +50,19 @@ Result<TextureData> read_texture(const std::uint8_t* bytes, std::size_t size,
 // prefixed with the path.
 Result<TextureData> read_texture_file(const std::string& path, std::uint64_t max_bytes = kMaxTextureFileBytes);
 
+// What a container's header says, read before anything is allocated or
+// inflated: enough to refuse a texture of the wrong kind (an array, a cube
+// map) or size before reading its data. `bytes` is what it decodes to (every
+// level, layer and face), from the format's block arithmetic (TextureShape,
+// texture_data.h).
+// The header fields are checked as the full readers check them (the same
+// errors); nothing past the header is read, so the first
+// kTextureHeaderBytes of a file are enough.
+inline constexpr std::size_t kTextureHeaderBytes = 128;
+Result<TextureShape> read_texture_shape(const std::uint8_t* bytes, std::size_t size);
+// Reads only the file's first kTextureHeaderBytes; errors name the path.
+Result<TextureShape> read_texture_file_shape(const std::string& path);
+
 // Writers: little-endian, the data as `texture.rows` says and declared so:
 // KTX 1.1 KTXorientation "S=r,T=d" (top row first) or "S=r,T=u"; KTX 2.0 "rd"
 // or "ru", with a basic data format descriptor and optional zstd

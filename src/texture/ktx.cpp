@@ -29,6 +29,7 @@
 #include "parallaxes/core/text.h"
 #include "parallaxes/texture/codecs.h"
 #include "parallaxes/texture/containers.h"
+#include "container_shape.h"
 
 namespace px {
 
@@ -217,7 +218,8 @@ std::uint32_t gl_base_internal_format(const FormatInfo& f) {
 
 // ---------------------------------------------------------------- KTX 1.1
 
-Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+Result<TextureData> container_detail::read_ktx1(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes,
+                                             TextureShape* header_only) {
     const std::string c = "KTX 1.1 ";
     if (size < kKtx1HeaderBytes)
         return make_error(c + "header: the file has " + num(size) + " bytes, fewer than the 64-byte header");
@@ -254,6 +256,10 @@ Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::
     const ShapeFields names{"pixelWidth",  "pixelHeight",    "pixelDepth",
                             "numberOfArrayElements", "numberOfFaces", "numberOfMipmapLevels"};
     if (Status s = check_shape(c, names, width, height, depth, layers, faces, level_count); !s) return s.error();
+    if (header_only) {
+        *header_only = TextureShape{ContainerKind::ktx1, format, width, height, layers, faces, level_count, 0};
+        return TextureData{};
+    }
     if (kv_bytes > size - kKtx1HeaderBytes)
         return make_error(c + "bytesOfKeyValueData " + num(kv_bytes) + " passes the end of the " + num(size) +
                           "-byte file (" + num(size - kKtx1HeaderBytes) + " bytes follow the header)");
@@ -496,7 +502,8 @@ std::size_t level_alignment(const FormatInfo& f) {
 
 }  // namespace
 
-Result<TextureData> read_ktx2(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+Result<TextureData> container_detail::read_ktx2(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes,
+                                             TextureShape* header_only) {
     const std::string c = "KTX 2.0 ";
     if (size < kKtx2HeaderBytes)
         return make_error(c + "header: the file has " + num(size) + " bytes, fewer than the 80-byte header and index");
@@ -520,6 +527,10 @@ Result<TextureData> read_ktx2(const std::uint8_t* bytes, std::size_t size, std::
     if (scheme != kSchemeNone && scheme != kSchemeZstd)
         return make_error(c + "supercompressionScheme " + num(scheme) +
                           " is not a known scheme (only 0, none, and 2, Zstandard, are supported)");
+    if (header_only) {
+        *header_only = TextureShape{ContainerKind::ktx2, format, width, height, layers, faces, level_count, 0};
+        return TextureData{};
+    }
 
     const std::string file = "the " + num(size) + "-byte file";
     const std::uint32_t dfd_offset = rd32(bytes + 48), dfd_length = rd32(bytes + 52), kvd_offset = rd32(bytes + 56),
@@ -665,6 +676,14 @@ Result<std::vector<std::uint8_t>> write_ktx2(const TextureData& t, int zstd_leve
         }
         return out;
     });
+}
+
+Result<TextureData> read_ktx1(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+    return container_detail::read_ktx1(bytes, size, max_bytes, nullptr);
+}
+
+Result<TextureData> read_ktx2(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+    return container_detail::read_ktx2(bytes, size, max_bytes, nullptr);
 }
 
 }  // namespace px

@@ -11,6 +11,7 @@
 
 #include "parallaxes/core/limits.h"
 #include "parallaxes/texture/containers.h"
+#include "container_shape.h"
 
 namespace px {
 
@@ -46,7 +47,8 @@ std::uint64_t pvr_pixel_format(const FormatInfo& f) {
 
 }  // namespace
 
-Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+Result<TextureData> container_detail::read_pvr3(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes,
+                                             TextureShape* header_only) {
     const std::string c = "PVR v3 ";
     if (size < kHeaderBytes)
         return make_error(c + "header: the file has " + num(size) + " bytes, fewer than the 52-byte header");
@@ -89,6 +91,10 @@ Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size, std::
         return make_error(c + "MIPMapCount " + num(mip_count) + " is more than the " +
                           num(static_cast<std::uint64_t>(chain)) + " levels of a " + num(width) + "x" + num(height) +
                           " texture's full chain");
+    if (header_only) {
+        *header_only = TextureShape{ContainerKind::pvr3, format, width, height, surfaces, faces, mip_count, 0};
+        return TextureData{};
+    }
     if (meta_size > size - kHeaderBytes)
         return make_error(c + "metaDataSize " + num(meta_size) + " passes the end of the " + num(size) +
                           "-byte file (" + num(size - kHeaderBytes) + " bytes follow the header)");
@@ -178,6 +184,10 @@ Result<std::vector<std::uint8_t>> write_pvr3(const TextureData& t) {
         out.insert(out.end(), t.bytes.begin(), t.bytes.end());
         return out;
     });
+}
+
+Result<TextureData> read_pvr3(const std::uint8_t* bytes, std::size_t size, std::uint64_t max_bytes) {
+    return container_detail::read_pvr3(bytes, size, max_bytes, nullptr);
 }
 
 }  // namespace px

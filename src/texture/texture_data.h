@@ -22,6 +22,14 @@ enum class ContainerKind : std::uint8_t { ktx1, ktx2, pvr3, image, astc };
 
 const char* container_name(ContainerKind kind);  // "KTX 1.1", "KTX 2.0", "PVR v3", "image", ".astc"
 
+// What a container's header says (texture/containers.h read_texture_shape).
+struct TextureShape {
+    ContainerKind container = ContainerKind::image;
+    TextureFormat format{};
+    std::uint32_t width = 0, height = 0, layers = 1, faces = 1, levels = 1;
+    std::uint64_t bytes = 0;  // decoded: every level, layer and face
+};
+
 // Which stored row is the top of the image. The field's tools store the top
 // row first (PVRTexToolCLI and crunch declare KTXorientation "S=r,T=d", KTX
 // 2.0 files "rd", PVR v3 metadata "y down"; astcenc and basisu declare

@@ -1,12 +1,14 @@
 // Texture files by their identifier (texture/containers.h).
 #include <cctype>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "parallaxes/core/files.h"
 #include "parallaxes/core/limits.h"
 #include "parallaxes/core/text.h"
 #include "parallaxes/texture/containers.h"
+#include "container_shape.h"
 
 namespace px {
 
@@ -70,6 +72,44 @@ Result<TextureData> read_texture(const std::uint8_t* bytes, std::size_t size, st
     return make_error("not a texture container: " + describe_start(bytes, size) +
                       "; the containers read are KTX 1.1 (\\xABKTX 11\\xBB), KTX 2.0 (\\xABKTX 20\\xBB), PVR v3 "
                       "(PVR\\x03) and astcenc's .astc (13 AB A1 5C)");
+}
+
+Result<TextureShape> read_texture_shape(const std::uint8_t* bytes, std::size_t size) {
+    if (!bytes) size = 0;
+    TextureShape shape;
+    const auto header = [&](auto reader) -> Status {
+        Result<TextureData> r = reader(bytes, size, 0, &shape);
+        if (!r) return r.error();
+        return {};
+    };
+    Status read;
+    switch (sniff_container(bytes, size)) {
+    case ContainerKind::ktx1: read = header(container_detail::read_ktx1); break;
+    case ContainerKind::ktx2: read = header(container_detail::read_ktx2); break;
+    case ContainerKind::pvr3: read = header(container_detail::read_pvr3); break;
+    case ContainerKind::astc: read = header(container_detail::read_astc); break;
+    case ContainerKind::image: return read_texture(bytes, size).error();  // its "not a texture container" error
+    }
+    if (!read) return read.error();
+    // What it decodes to, from the block arithmetic: at most 4096 x 4096
+    // x 16 bytes per level image, times at most 2048 layers x 6 faces x 13
+    // levels, far inside 64 bits.
+    for (std::uint32_t level = 0; level < shape.levels; ++level) {
+        const std::optional<std::uint64_t> one = image_bytes(shape.format, mip_extent(shape.width, static_cast<int>(level)),
+                                                            mip_extent(shape.height, static_cast<int>(level)));
+        if (!one) return make_error(std::string(container_name(shape.container)) + ": level " + std::to_string(level) +
+                                    " has no size in " + format_name(shape.format));
+        shape.bytes += *one * shape.layers * shape.faces;
+    }
+    return shape;
+}
+
+Result<TextureShape> read_texture_file_shape(const std::string& path) {
+    Result<std::vector<std::uint8_t>> head = read_file_prefix(path, kTextureHeaderBytes, "texture file");
+    if (!head) return head.error();
+    Result<TextureShape> shape = read_texture_shape(head->data(), head->size());
+    if (!shape) return with_context(echo_path(path), shape.error());
+    return shape;
 }
 
 Result<TextureData> read_texture_file(const std::string& path, std::uint64_t max_bytes) {

@@ -13,6 +13,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const px::Result<px::TextureData> texture = px::read_ktx1(data, size, px_fuzz::kFuzzMaxBytes);
     px_fuzz::check_texture(texture, px::ContainerKind::ktx1);
+    px_fuzz::check_shape(data, size, texture);
     px_fuzz::check_round_trip(
         texture, [](const px::TextureData& t) { return px::write_ktx1(t); },
         [](const std::uint8_t* p, std::size_t n, std::uint64_t max) { return px::read_ktx1(p, n, max); });

@@ -58,4 +58,22 @@ void check_round_trip(const px::Result<px::TextureData>& result, Write write, Re
         __builtin_trap();
 }
 
+// The header alone (read_texture_shape, what scene checks look at before
+// inflating anything) agrees with the full read: a header it refuses is
+// refused by the full read too, and a texture read whole has the shape the
+// header gave, from the first kTextureHeaderBytes alone.
+inline void check_shape(const std::uint8_t* data, std::size_t size, const px::Result<px::TextureData>& result) {
+    const px::Result<px::TextureShape> whole = px::read_texture_shape(data, size);
+    const std::size_t head_size = size < px::kTextureHeaderBytes ? size : px::kTextureHeaderBytes;
+    const px::Result<px::TextureShape> head = px::read_texture_shape(data, head_size);
+    if (!whole && result) __builtin_trap();
+    if (whole.ok() != head.ok()) __builtin_trap();
+    if (!result) return;
+    const px::TextureData& t = result.value();
+    const px::TextureShape& s = whole.value();
+    if (s.container != t.container || s.format != t.format || s.width != t.width || s.height != t.height ||
+        s.layers != t.layers || s.faces != t.faces || s.levels != t.levels.size() || s.bytes != t.bytes.size())
+        __builtin_trap();
+}
+
 }  // namespace px_fuzz
