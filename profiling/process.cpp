@@ -1,5 +1,7 @@
 #include "parallaxes/profiling/process.h"
 
+#include "parallaxes/core/interrupts.h"
+
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -19,12 +21,14 @@ namespace px::profiling {
 
 Result<ProcessResult> run_process(const std::vector<std::string>& argv, const ProcessOptions& options) {
     if (argv.empty() || argv[0].empty()) return make_error("run_process: no program given");
-    // The environment: ours, with the extra entries replacing same-named ones.
+    // The environment: ours, less the names removed, with the extra entries replacing same-named ones.
     std::vector<std::string> env;
     for (char** e = environ; e && *e; ++e) {
         const std::string entry = *e;
         const std::string name = entry.substr(0, entry.find('='));
         bool replaced = false;
+        for (const std::string& x : options.remove_env)
+            if (x == name) replaced = true;
         for (const std::string& x : options.extra_env)
             if (x.substr(0, x.find('=')) == name) replaced = true;
         if (!replaced) env.push_back(entry);
@@ -55,10 +59,15 @@ Result<ProcessResult> run_process(const std::vector<std::string>& argv, const Pr
     posix_spawnattr_setpgroup(&attributes, 0);
     posix_spawnattr_setsigmask(&attributes, &no_signals);
     posix_spawnattr_setsigdefault(&attributes, &all_signals);
-    pid_t pid = -1;
-    const int spawned = argv[0].find('/') == std::string::npos
-                            ? posix_spawnp(&pid, argv[0].c_str(), &actions, &attributes, args.data(), envp.data())
-                            : posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, args.data(), envp.data());
+    // Registered while it runs: an interrupt (SIGINT, SIGTERM, SIGHUP) kills
+    // its whole group before this program dies (core/interrupts.h).
+    interrupts::ChildGroup group;
+    const int spawned = group.start([&](pid_t& child) {
+        return argv[0].find('/') == std::string::npos
+                   ? posix_spawnp(&child, argv[0].c_str(), &actions, &attributes, args.data(), envp.data())
+                   : posix_spawn(&child, argv[0].c_str(), &actions, &attributes, args.data(), envp.data());
+    });
+    const pid_t pid = group.pgid();
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
     close(fds[1]);

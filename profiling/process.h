@@ -15,6 +15,7 @@ struct ProcessOptions {
     double timeout_s = 60.0;              // the child is killed (SIGKILL) past this
     std::size_t max_output = 4u << 20;    // past this the child is killed and the output marked truncated
     std::vector<std::string> extra_env;   // "NAME=value", added to (or replacing in) this environment
+    std::vector<std::string> remove_env;  // names left out of the child's environment
     bool capture_stdout = true;
     bool capture_stderr = true;           // both into one stream, in the order written
 };

@@ -1,8 +1,10 @@
 #include "parallaxes/profiling/vendor_compilers.h"
 
+#include "parallaxes/core/interrupts.h"
 #include "parallaxes/profiling/process.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -10,6 +12,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -684,28 +687,6 @@ std::string describe_end(const ProcessOutcome& outcome) {
     return "exited with status " + std::to_string(outcome.exit_status);
 }
 
-// A temporary folder, removed with what is in it when the run ends.
-class TemporaryFolder {
-public:
-    TemporaryFolder() {
-        std::error_code ec;
-        std::filesystem::path base = std::filesystem::temp_directory_path(ec);
-        if (ec) base = "/tmp";
-        std::string pattern = (base / "parallax-vendor-XXXXXX").string();
-        if (mkdtemp(pattern.data())) path_ = pattern;
-    }
-    ~TemporaryFolder() {
-        std::error_code ec;
-        if (!path_.empty()) std::filesystem::remove_all(path_, ec);
-    }
-    TemporaryFolder(const TemporaryFolder&) = delete;
-    TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-    const std::string& path() const { return path_; }
-
-private:
-    std::string path_;
-};
-
 // Runs argv[0] with stdout and stderr into one pipe (profiling/process.h:
 // its own process group, killed whole at the time limit or the output cap).
 Result<ProcessOutcome> run_captured(const std::vector<std::string>& argv, std::chrono::milliseconds time_limit) {
@@ -729,19 +710,119 @@ bool write_file(const std::string& path, const std::string& text) {
     return static_cast<bool>(out);
 }
 
-std::string read_file_if_any(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return {};
-    std::string text;
-    text.resize(kOutputCap);
-    in.read(text.data(), static_cast<std::streamsize>(kOutputCap));
-    text.resize(static_cast<std::size_t>(in.gcount()));
+// What kind of file a mode is, for messages.
+const char* file_kind(mode_t mode) {
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISDIR(mode)) return "a folder";
+    if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+// A file a tool wrote (PowerVR's <out>.prof), read only if it is a regular
+// file: O_NONBLOCK so that opening a FIFO planted at the name returns at
+// once (then fstat refuses it, as it refuses a device that would never
+// end), O_NOFOLLOW so that a symlink is not followed, at most kOutputCap
+// bytes. A missing file is no text: the report may be on stdout.
+Result<std::string> read_tool_file(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) {
+        if (errno == ENOENT) return std::string();
+        if (errno == ELOOP) return make_error(path + " is a symbolic link: not followed");
+        return make_error("cannot open " + path + ": " + std::strerror(errno));
+    }
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st;
+    if (::fstat(fd, &st) != 0) return make_error("cannot read " + path + ": " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) return make_error(path + " is " + file_kind(st.st_mode) + ", not a regular file: not read");
+    if (static_cast<std::uint64_t>(st.st_size) > kOutputCap)
+        return make_error(path + " is " + std::to_string(st.st_size) + " bytes, past the " +
+                          std::to_string(kOutputCap >> 20) + " MiB a report may have");
+    std::string text(kOutputCap + 1, '\0');
+    std::size_t got = 0;
+    while (got < text.size()) {
+        const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return make_error("cannot read " + path + ": " + std::strerror(errno));
+        if (n == 0) break;
+        got += static_cast<std::size_t>(n);
+    }
+    if (got > kOutputCap) return make_error(path + " grew past " + std::to_string(kOutputCap >> 20) + " MiB while read");
+    text.resize(got);
     return text;
 }
 
 bool looks_like_json(const std::string& output) {
     const std::string t = trim(output);
     return !t.empty() && t[0] == '{';
+}
+
+// --- Text from a tool ------------------------------------------------------------
+
+// The length of the valid UTF-8 sequence at s[i] and its code point; 0 when
+// the bytes there are not one (a stray continuation byte, a truncated or
+// overlong sequence, a surrogate, past U+10FFFF).
+std::size_t utf8_sequence(const std::string& s, std::size_t i, char32_t& code) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char lead = byte(i);
+    std::size_t length = 0;
+    char32_t smallest = 0;
+    if (lead < 0x80) {
+        code = lead;
+        return 1;
+    }
+    if ((lead & 0xE0) == 0xC0) {
+        length = 2;
+        smallest = 0x80;
+    } else if ((lead & 0xF0) == 0xE0) {
+        length = 3;
+        smallest = 0x800;
+    } else if ((lead & 0xF8) == 0xF0) {
+        length = 4;
+        smallest = 0x10000;
+    } else {
+        return 0;
+    }
+    code = lead & (0x7Fu >> length);  // the lead byte's payload bits
+    if (i + length > s.size()) return 0;
+    for (std::size_t k = 1; k < length; ++k) {
+        if ((byte(i + k) & 0xC0) != 0x80) return 0;
+        code = (code << 6) | (byte(i + k) & 0x3F);
+    }
+    if (code < smallest || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
+    return length;
+}
+
+// Past a control sequence's parameters and final byte (ECMA-48 5.4): the
+// index after it, from the index after "ESC [" (or the 8-bit CSI).
+std::size_t skip_csi(const std::string& s, std::size_t i) {
+    while (i < s.size() && s[i] >= 0x20 && s[i] <= 0x3F) ++i;
+    if (i < s.size() && s[i] >= 0x40 && s[i] <= 0x7E) ++i;
+    return i;
+}
+
+// Past a control string (OSC, DCS, ...: a terminal title, a hyperlink) up
+// to its terminator, BEL or ST ("ESC \\", the 8-bit ST); a newline ends it
+// here too, so that an unterminated one cannot swallow the whole report.
+std::size_t skip_control_string(const std::string& s, std::size_t i) {
+    for (; i < s.size(); ++i) {
+        if (s[i] == '\a') return i + 1;
+        if (s[i] == '\n') return i;
+        if (s[i] == '\x1b' && i + 1 < s.size() && s[i + 1] == '\\') return i + 2;
+        if (s.compare(i, 2, "\xc2\x9c") == 0) return i + 2;
+    }
+    return i;
+}
+
+// Past an escape sequence from the index after its ESC.
+std::size_t skip_escape(const std::string& s, std::size_t i) {
+    if (i >= s.size()) return i;
+    if (s[i] == '[') return skip_csi(s, i + 1);
+    if (s[i] == ']' || s[i] == 'P' || s[i] == 'X' || s[i] == '^' || s[i] == '_') return skip_control_string(s, i + 1);
+    return s[i] >= 0x20 && s[i] <= 0x7E ? i + 1 : i;  // a two-byte escape (ESC c, ESC 7, ...)
 }
 
 }  // namespace
@@ -788,24 +869,38 @@ std::vector<VendorTool> find_vendor_tools() {
     return found;
 }
 
-Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& source, ShaderStage stage, int es_major,
-                                     std::chrono::milliseconds time_limit) {
-    const std::string name = tool.name.empty() ? std::string("vendor compiler") : tool.name;
-    const bool malioc = tool.name == "malioc";
-    const bool powervr = starts_with(tool.name, kPowerVrPrefix) && tool.name.size() > std::strlen(kPowerVrPrefix);
-    if (!malioc && !powervr) return make_error(name + ": not a vendor compiler this build knows");
-    if (tool.path.empty() || tool.path[0] != '/') return make_error(name + ": needs an absolute path, got '" + tool.path + "'");
-    // Both tools read the language version from the source's #version line;
-    // es_major is checked so that a caller's mistake is not hidden.
-    if (es_major != 2 && es_major != 3) return make_error(name + ": OpenGL ES " + std::to_string(es_major) + " is not 2 or 3");
+std::string clean_tool_text(const std::string& raw) {
+    std::string out;
+    out.reserve(raw.size());
+    std::size_t i = 0;
+    while (i < raw.size()) {
+        char32_t code = 0;
+        const std::size_t length = utf8_sequence(raw, i, code);
+        if (length == 0) {
+            out += "\xEF\xBF\xBD";  // U+FFFD REPLACEMENT CHARACTER
+            ++i;
+        } else if (code == 0x1B) {
+            i = skip_escape(raw, i + 1);
+        } else if (code == 0x9B) {  // 8-bit CSI
+            i = skip_csi(raw, i + length);
+        } else if (code == 0x90 || code == 0x98 || code == 0x9D || code == 0x9E || code == 0x9F) {  // 8-bit DCS, SOS, OSC, PM, APC
+            i = skip_control_string(raw, i + length);
+        } else if ((code < 0x20 && code != '\n' && code != '\t') || (code >= 0x7F && code <= 0x9F)) {
+            i += length;  // C0 (but newline and tab), DEL, C1
+        } else {
+            out.append(raw, i, length);
+            i += length;
+        }
+    }
+    return out;
+}
 
-    TemporaryFolder folder;
-    if (folder.path().empty()) return make_error(name + ": cannot create a temporary folder");
-    const std::string source_path = folder.path() + (stage == ShaderStage::vertex ? "/shader.vert" : "/shader.frag");
-    if (!write_file(source_path, source)) return make_error(name + ": cannot write " + source_path);
+namespace {
 
+// The tool's command line for one source file in `folder`.
+std::vector<std::string> tool_command(const VendorTool& tool, bool malioc, const std::string& source_path,
+                                      const std::string& profile_base, ShaderStage stage) {
     std::vector<std::string> argv{tool.path};
-    const std::string profile_base = folder.path() + "/profile";
     if (malioc) {
         // The stage is given as well as implied by the extension; JSON is
         // the format with named fields (older versions without it print
@@ -815,11 +910,49 @@ Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& 
         // `<in> <out> -v|-f -profile`: the profile goes to <out>.prof.
         argv.insert(argv.end(), {source_path, profile_base, stage == ShaderStage::vertex ? "-v" : "-f", "-profile"});
     }
+    return argv;
+}
 
-    auto ran = run_captured(argv, time_limit);
+// The tool's figures from its (cleaned) output; `profile_base` for PowerVR's .prof.
+Result<VendorCycles> parse_tool_output(const VendorTool& tool, bool malioc, const std::string& output,
+                                       const std::string& profile_base) {
+    if (malioc) return looks_like_json(output) ? parse_malioc_json(output) : parse_malioc_text(output);
+    Result<std::string> profile = read_tool_file(profile_base + ".prof");
+    if (!profile) return profile.error();
+    Result<VendorCycles> parsed = parse_powervr_output(output + "\n" + clean_tool_text(*profile));
+    if (parsed) {
+        parsed->tool = tool.name;
+        parsed->target = tool.name.substr(std::strlen(kPowerVrPrefix));
+    }
+    return parsed;
+}
+
+// run_vendor_tool, telling the caller whether the tool ran out of time.
+Result<VendorCycles> run_tool_once(const VendorTool& tool, const std::string& source, ShaderStage stage, int es_major,
+                                   std::chrono::milliseconds time_limit, bool& timed_out) {
+    const std::string name = tool.name.empty() ? std::string("vendor compiler") : tool.name;
+    const bool malioc = tool.name == "malioc";
+    const bool powervr = starts_with(tool.name, kPowerVrPrefix) && tool.name.size() > std::strlen(kPowerVrPrefix);
+    if (!malioc && !powervr) return make_error(name + ": not a vendor compiler this build knows");
+    if (tool.path.empty() || tool.path[0] != '/') return make_error(name + ": needs an absolute path, got '" + tool.path + "'");
+    // Both tools read the language version from the source's #version line;
+    // es_major is checked so that a caller's mistake is not hidden.
+    if (es_major != 2 && es_major != 3) return make_error(name + ": OpenGL ES " + std::to_string(es_major) + " is not 2 or 3");
+
+    // Registered: an interrupt removes it too (core/interrupts.h).
+    Result<interrupts::TempFolder> folder = interrupts::TempFolder::create("parallax-vendor-");
+    if (!folder) return with_context(name, folder.error());
+    const std::string source_path = folder->path() + (stage == ShaderStage::vertex ? "/shader.vert" : "/shader.frag");
+    if (!write_file(source_path, source)) return make_error(name + ": cannot write " + source_path);
+    const std::string profile_base = folder->path() + "/profile";
+
+    auto ran = run_captured(tool_command(tool, malioc, source_path, profile_base, stage), time_limit);
     if (!ran) return with_context(name, ran.error());
-    const ProcessOutcome& outcome = *ran;
+    ProcessOutcome& outcome = *ran;
+    // Whatever the tool printed, before any parser or message sees it.
+    outcome.output = clean_tool_text(outcome.output);
     const std::string heading = name + " (" + tool.path + ")";
+    timed_out = outcome.timed_out;
     if (outcome.timed_out)
         return make_error(heading + ": killed after the " + std::to_string(time_limit.count()) +
                           " ms limit; first lines of its output:\n" + first_lines(outcome.output));
@@ -835,21 +968,66 @@ Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& 
         return make_error(heading + ": " + describe_end(outcome) + reason + "; first lines of its output:\n" +
                           first_lines(outcome.output));
     }
-
-    Result<VendorCycles> parsed = make_error("");
-    if (malioc) {
-        parsed = looks_like_json(outcome.output) ? parse_malioc_json(outcome.output) : parse_malioc_text(outcome.output);
-    } else {
-        parsed = parse_powervr_output(outcome.output + "\n" + read_file_if_any(profile_base + ".prof"));
-        if (parsed) {
-            parsed->tool = tool.name;
-            parsed->target = tool.name.substr(std::strlen(kPowerVrPrefix));
-        }
-    }
+    Result<VendorCycles> parsed = parse_tool_output(tool, malioc, outcome.output, profile_base);
     if (!parsed)
         return make_error(heading + ": " + describe_end(outcome) + " but " + parsed.error().message +
                           "; first lines of its output:\n" + first_lines(outcome.output));
     return parsed;
+}
+
+// Every string of a result or an error through clean_tool_text: names the
+// tool's JSON carried (its escapes decode to any character), the tool's
+// path from $PATH.
+Result<VendorCycles> cleaned(Result<VendorCycles> r) {
+    if (!r) return make_error(clean_tool_text(r.error().message));
+    for (std::string* s : {&r->tool, &r->target, &r->bound}) *s = clean_tool_text(*s);
+    for (std::string& s : r->pipes) s = clean_tool_text(s);
+    for (std::string& s : r->notes) s = clean_tool_text(s);
+    return r;
+}
+
+std::string seconds_text(std::chrono::steady_clock::duration d) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.1f s", std::chrono::duration<double>(d).count());
+    return buffer;
+}
+
+}  // namespace
+
+Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& source, ShaderStage stage, int es_major,
+                                     std::chrono::milliseconds time_limit) {
+    bool timed_out = false;
+    return cleaned(run_tool_once(tool, source, stage, es_major, time_limit, timed_out));
+}
+
+VendorRun::VendorRun(std::vector<VendorTool> tools, std::chrono::milliseconds budget)
+    : tools_(std::move(tools)), budget_(budget) {}
+
+Result<VendorCycles> VendorRun::run(const VendorTool& tool, const std::string& source, ShaderStage stage, int es_major) {
+    const std::string name = clean_tool_text(tool.name);
+    if (std::find(timed_out_.begin(), timed_out_.end(), tool.name) != timed_out_.end())
+        return make_error("skipped: " + name + " ran out of time earlier in this run");
+    using std::chrono::milliseconds;
+    const auto left = std::chrono::duration_cast<milliseconds>(budget_ - used_);
+    // Less than 100 ms is no time to start a compiler in.
+    if (left < milliseconds(100)) {
+        if (!budget_noted_)
+            notes_.push_back("the vendor compilers' time (--vendor-timeout " + seconds_text(budget_) +
+                             ") was spent: the remaining runs were skipped");
+        budget_noted_ = true;
+        return make_error("skipped: the vendor compilers' time (" + seconds_text(budget_) + ") was spent");
+    }
+    const milliseconds limit = std::min(left, std::max(milliseconds(100), budget_ / 2));
+    const auto start = std::chrono::steady_clock::now();
+    bool timed_out = false;
+    Result<VendorCycles> r = cleaned(run_tool_once(tool, source, stage, es_major, limit, timed_out));
+    used_ += std::chrono::steady_clock::now() - start;
+    if (timed_out) {
+        timed_out_.push_back(tool.name);
+        notes_.push_back(name + " did not finish within " + seconds_text(limit) + " and was not run again (--vendor-timeout " +
+                         seconds_text(budget_) + " in all)");
+    }
+    return r;
 }
 
 std::string vendor_tools_absent_line() {

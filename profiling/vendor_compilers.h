@@ -52,10 +52,43 @@ std::vector<VendorTool> find_vendor_tools();
 // (posix_spawn, stdout+stderr captured through a pipe, a wall-clock limit after which the child and
 // anything it started are killed, output capped at 4 MiB), parses the output. Errors name the tool,
 // its exit status and the first lines of its output. `es_major` 2 or 3 (the source's #version says
-// it anyway).
+// it anyway). A file the tool writes (PowerVR's <out>.prof) is read only when it is a regular file,
+// not through a symlink, at most 4 MiB. Every string in the result and the error has been through
+// clean_tool_text.
 Result<VendorCycles> run_vendor_tool(const VendorTool& tool, const std::string& source, ShaderStage stage,
                                      int es_major,
                                      std::chrono::milliseconds time_limit = std::chrono::seconds(60));
+
+// The vendor tools over a whole `parallax profile` run: one time budget for
+// all their runs together, and a tool that runs out of time once is not
+// started again in that run (a hanging compiler would otherwise cost the
+// limit once per variant). One run may take what is left of the budget, but
+// at most half the whole budget, so that one hang leaves time for the others.
+class VendorRun {
+public:
+    VendorRun(std::vector<VendorTool> tools, std::chrono::milliseconds budget);
+    const std::vector<VendorTool>& tools() const { return tools_; }
+    // run_vendor_tool within the budget. A tool that timed out before, or
+    // that finds the budget spent, is not started: the error says so and
+    // starts with "skipped:".
+    Result<VendorCycles> run(const VendorTool& tool, const std::string& source, ShaderStage stage, int es_major);
+    // One line per tool that was stopped or skipped, for the report; empty when none was.
+    const std::vector<std::string>& notes() const { return notes_; }
+
+private:
+    std::vector<VendorTool> tools_;
+    std::chrono::milliseconds budget_;
+    std::chrono::steady_clock::duration used_{};
+    std::vector<std::string> timed_out_;  // tool names
+    std::vector<std::string> notes_;
+    bool budget_noted_ = false;
+};
+
+// Text from a tool (its output, or a name or path it gave) made safe for a
+// report: valid UTF-8 (each invalid byte becomes U+FFFD, so JSON can carry
+// it), with terminal escape sequences and control characters removed except
+// newline and tab (so that printing it cannot drive the terminal).
+std::string clean_tool_text(const std::string& raw);
 
 // One line for reports when no vendor tool is on PATH.
 std::string vendor_tools_absent_line();  // "no vendor compiler on PATH (looked for malioc, GLSLESCompiler_...)"

@@ -5,7 +5,7 @@
 # (a fake malioc printing a report written for the tests).
 # Usage: profile_cli.sh PARALLAX_BINARY SOURCE_DIR
 set -uo pipefail
-parallax=$1
+parallax=$(readlink -f "$1")
 source_dir=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -78,6 +78,69 @@ if [ -d "$source_dir/.git" ] || git -C "$source_dir" rev-parse HEAD >/dev/null 2
     else fail "profile --against: $out"; fi
 else
     echo "skip: profile --against (not a git checkout)"
+fi
+
+# --against with a hostile git configuration: prefixes dropped or renamed,
+# an external diff program, a textconv driver, colour and quoting forced,
+# an fsmonitor hook, context lines from the environment. A repository of
+# its own: the commit holds pom.frag with one line more than the program's
+# shaders (the working tree), so the changed-line costs are known to be
+# non-zero. The report must be the same as with no configuration at all,
+# and none of the configured programs may run.
+repo="$work/against"
+mkdir -p "$repo"
+cp -r "$source_dir/shaders_es" "$repo/"
+sed -i '0,/^    return hit;$/s//    hit.height = hit.height * 0.5 + 0.25;\n    return hit;/' "$repo/shaders_es/techniques/pom.frag"
+if cmp -s "$repo/shaders_es/techniques/pom.frag" "$source_dir/shaders_es/techniques/pom.frag"; then
+    fail "profile --against (hostile git): pom.frag has no 'return hit;' line to change any more: update this test"
+else
+    (cd "$repo" && git init -q . && git add -A && git -c user.name=t -c user.email=t@example.com commit -qm old &&
+        cp "$source_dir/shaders_es/techniques/pom.frag" shaders_es/techniques/pom.frag)
+    against() {  # ENV... : the report of --against HEAD in the repository
+        (cd "$repo" && env "$@" "$parallax" profile --no-time --no-nir --variants 'pom es3' --against HEAD 2>&1)
+    }
+    plain=$(against GIT_CONFIG_GLOBAL=/dev/null GIT_CONFIG_NOSYSTEM=1)
+    cat >"$work/hostile.sh" <<SH
+#!/bin/sh
+touch "$work/ran"
+echo '--- x/shaders_es/techniques/pom.frag'
+echo '@@ -1,1000 +1,1000 @@'
+SH
+    chmod +x "$work/hostile.sh"
+    cat >"$work/gitconfig" <<CFG
+[diff]
+    noprefix = true
+    mnemonicPrefix = true
+    external = $work/hostile.sh
+    relative = true
+    interHunkContext = 20
+    context = 9
+    renames = copies
+[diff "hostile"]
+    textconv = $work/hostile.sh
+[color]
+    ui = always
+    diff = always
+[core]
+    quotePath = true
+    fsmonitor = $work/hostile.sh
+    pager = $work/hostile.sh
+[pager]
+    diff = $work/hostile.sh
+CFG
+    echo '*.frag diff=hostile' >"$repo/.gitattributes"
+    echo '*.glsl diff=hostile' >>"$repo/.gitattributes"
+    hostile=$(against GIT_CONFIG_GLOBAL="$work/gitconfig" GIT_CONFIG_NOSYSTEM=1 GIT_EXTERNAL_DIFF="$work/hostile.sh" \
+        GIT_DIFF_OPTS=--unified=7 GIT_PAGER="$work/hostile.sh" PAGER="$work/hostile.sh")
+    if ! grep -Eq "Changed lines, fragment stage: [1-9][0-9]* ops" <<<"$plain"; then
+        fail "profile --against (no git configuration): the removed line's cost is not reported: $plain"
+    elif [ -e "$work/ran" ]; then
+        fail "profile --against ran a program from the git configuration"
+    elif [ "$plain" != "$hostile" ]; then
+        fail "profile --against: a hostile git configuration changed the report: $(diff <(echo "$plain") <(echo "$hostile") | head -20)"
+    else
+        echo "ok: profile --against reads the same changed lines under a hostile git configuration, running nothing of it"
+    fi
 fi
 
 # A vendor compiler on PATH: its cycles in the same table.

@@ -476,5 +476,109 @@ TEST_F(FakeTools, BadArgumentsAreErrors) {
         {"malioc"});
 }
 
+
+// --- Hostile tools: files that are not files, text that is not text, time --------
+
+TEST(CleanToolText, KeepsTextAndRemovesWhatDrivesATerminal) {
+    EXPECT_EQ(clean_tool_text("Work registers: 32\n\tnext"), "Work registers: 32\n\tnext");
+    EXPECT_EQ(clean_tool_text("caf\xc3\xa9 \xe2\x86\x92 \xf0\x9f\x99\x82"), "caf\xc3\xa9 \xe2\x86\x92 \xf0\x9f\x99\x82");
+    EXPECT_EQ(clean_tool_text("\x1b[31mred\x1b[0m"), "red");
+    EXPECT_EQ(clean_tool_text("a\x1b]0;window title\x07" "b"), "ab");
+    EXPECT_EQ(clean_tool_text("a\x1b]8;;http://x\x1b\\link\x1b]8;;\x1b\\"), "alink");
+    EXPECT_EQ(clean_tool_text("\x1b" "cclear\x1b[2J\x1b[H"), "clear");
+    EXPECT_EQ(clean_tool_text("a\rb\x08" "c\x07" "d\x7f"), "abcd");
+    EXPECT_EQ(clean_tool_text("x\xc2\x9b" "31my"), "xy");      // C1 CSI, encoded
+    EXPECT_EQ(clean_tool_text("x\xc2\x9d" "0;t\x07y"), "xy");  // C1 OSC, encoded
+    // An unterminated control string stops at the line's end, not the text's.
+    EXPECT_EQ(clean_tool_text("a\x1b]0;never ends\nnext line"), "a\nnext line");
+    // Bytes that are not UTF-8 become U+FFFD, one each.
+    const std::string r = "\xef\xbf\xbd";
+    EXPECT_EQ(clean_tool_text("bad\xff\xfe"), "bad" + r + r);
+    EXPECT_EQ(clean_tool_text("\xc0\xaf"), r + r);              // overlong '/'
+    EXPECT_EQ(clean_tool_text("\xed\xa0\x80"), r + r + r);      // a surrogate
+    EXPECT_EQ(clean_tool_text("\xf4\x90\x80\x80"), r + r + r + r);  // past U+10FFFF
+    EXPECT_EQ(clean_tool_text("trunc\xe2\x86"), "trunc" + r + r);
+}
+
+TEST(CleanToolText, AnyBytesMakeValidJsonAndNoEscape) {
+    // Every pair of bytes, and each behind an escape: the result is always
+    // valid UTF-8 (nlohmann::json's dump throws otherwise) and holds no ESC.
+    for (int a = 0; a < 256; ++a) {
+        for (int b = 0; b < 256; ++b) {
+            const std::string raw{static_cast<char>(a), static_cast<char>(b), '\x1b', static_cast<char>(b)};
+            const std::string clean = clean_tool_text(raw);
+            ASSERT_EQ(clean.find('\x1b'), std::string::npos) << a << " " << b;
+            ASSERT_NO_THROW((void)nlohmann::json(clean).dump()) << a << " " << b;
+        }
+    }
+}
+
+TEST_F(FakeTools, OutputThatIsNotTextIsCleanedBeforeAnyoneSeesIt) {
+    script("malioc", "printf 'ERROR: \\033[2J\\033]0;pwned\\007bad \\377\\376 bytes\\n'\nexit 1\n");
+    put_first_on_path();
+    auto r = run_vendor_tool(find("malioc"), kFragment, ShaderStage::fragment, 3);
+    expect_error_mentions(r, {"exited with status 1", "ERROR: bad \xef\xbf\xbd\xef\xbf\xbd bytes"});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message.find('\x1b'), std::string::npos);
+    EXPECT_EQ(r.error().message.find("pwned"), std::string::npos);
+    EXPECT_NO_THROW((void)nlohmann::json(r.error().message).dump());
+}
+
+TEST_F(FakeTools, AProfileFileThatIsNotARegularFileIsNotOpened) {
+    // A FIFO at <out>.prof: opening it for reading would wait for a writer for ever.
+    script("GLSLESCompiler_Rogue", "mkfifo \"$2.prof\"\necho 'Compilation successful'\n");
+    put_first_on_path();
+    expect_error_mentions(run_vendor_tool(find("GLSLESCompiler_Rogue"), kFragment, ShaderStage::fragment, 3),
+                          {"GLSLESCompiler_Rogue", "profile.prof is a FIFO, not a regular file"});
+    script("GLSLESCompiler_Rogue", "ln -s '" + kData + "powervr_rogue.prof' \"$2.prof\"\necho 'Compilation successful'\n");
+    expect_error_mentions(run_vendor_tool(find("GLSLESCompiler_Rogue"), kFragment, ShaderStage::fragment, 3),
+                          {"profile.prof is a symbolic link: not followed"});
+    script("GLSLESCompiler_Rogue", "mkdir \"$2.prof\"\necho 'Compilation successful'\n");
+    expect_error_mentions(run_vendor_tool(find("GLSLESCompiler_Rogue"), kFragment, ShaderStage::fragment, 3),
+                          {"profile.prof is a folder"});
+}
+
+TEST_F(FakeTools, ARunHasOneBudgetAndAToolThatRanOutIsNotStartedAgain) {
+    // Two compilers that hang (each counts its starts) and one that works.
+    const std::string starts = (folder_ / "starts").string();
+    script("malioc", "echo malioc >>'" + starts + "'\nsleep 30\n");
+    script("GLSLESCompiler_Rogue", "echo rogue >>'" + starts + "'\nsleep 30\n");
+    script("GLSLESCompiler_Series6", "echo series6 >>'" + starts + "'\ncp '" + kData +
+                                         "powervr_rogue.prof' \"$2.prof\"\n");
+    put_first_on_path();
+    VendorRun run({find("malioc"), find("GLSLESCompiler_Rogue"), find("GLSLESCompiler_Series6")},
+                  std::chrono::milliseconds(1000));
+    // One run gets at most half the budget.
+    expect_error_mentions(run.run(run.tools()[0], kFragment, ShaderStage::fragment, 3), {"killed after the 500 ms limit"});
+    Result<VendorCycles> again = run.run(run.tools()[0], kFragment, ShaderStage::fragment, 3);
+    ASSERT_FALSE(again.ok());
+    EXPECT_EQ(again.error().message.rfind("skipped: malioc ran out of time", 0), 0u) << again.error().message;
+    // The second hang takes the rest: the budget is spent for every tool.
+    expect_error_mentions(run.run(run.tools()[1], kFragment, ShaderStage::fragment, 3), {"killed after"});
+    Result<VendorCycles> spent = run.run(run.tools()[2], kFragment, ShaderStage::fragment, 3);
+    ASSERT_FALSE(spent.ok());
+    EXPECT_EQ(spent.error().message.rfind("skipped: the vendor compilers' time", 0), 0u) << spent.error().message;
+    std::ifstream in(starts);
+    std::stringstream started;
+    started << in.rdbuf();
+    EXPECT_EQ(started.str(), "malioc\nrogue\n");
+    ASSERT_EQ(run.notes().size(), 3u);
+    EXPECT_NE(run.notes()[0].find("malioc did not finish within 0.5 s and was not run again"), std::string::npos)
+        << run.notes()[0];
+    EXPECT_NE(run.notes()[2].find("was spent"), std::string::npos) << run.notes()[2];
+}
+
+TEST_F(FakeTools, ARunWithinItsBudgetRunsEveryTool) {
+    script("GLSLESCompiler_Rogue", "cp '" + kData + "powervr_rogue.prof' \"$2.prof\"\n");
+    put_first_on_path();
+    VendorRun run({find("GLSLESCompiler_Rogue")}, std::chrono::seconds(60));
+    for (int i = 0; i < 3; ++i) {
+        auto r = run.run(run.tools()[0], kFragment, ShaderStage::fragment, 3);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        EXPECT_EQ(r->cycles, 13.0);
+    }
+    EXPECT_TRUE(run.notes().empty());
+}
+
 }  // namespace
 }  // namespace px::profiling

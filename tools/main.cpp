@@ -10,8 +10,11 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "parallaxes/core/interrupts.h"
 
 int main(int argc, char** argv) {
+    // Before any thread starts: SIGINT/SIGTERM/SIGHUP kill our children and remove our temporary folders.
+    if (px::Status s = px::interrupts::install(); !s) std::fprintf(stderr, "parallax: warning: %s\n", s.error().message.c_str());
     CLI::App app{"ParallaxES: parallax-mapping renderer for OpenGL ES 2.0/3.0, headless on EGL"};
     app.require_subcommand(1);
     px::tools::add_render_command(app);
@@ -21,6 +24,7 @@ int main(int argc, char** argv) {
     px::tools::add_plan_command(app, argc, argv);
     px::tools::add_profile_command(app, argc, argv);
     px::tools::add_texture_commands(app);
+    px::tools::add_compare_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

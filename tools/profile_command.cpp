@@ -1,10 +1,12 @@
 // parallax profile [--variants PATTERN] [--es 2|3] [--format table|md|json] [--out DIR]
 //                  [--compare A B] [--against REV] [--ladder] [--no-nir] [--no-time]
+//                  [--vendor-timeout SECONDS]
 // Static shader costs from glslang's SPIR-V and Mesa's NIR, the mobile cost
 // model's estimate, vendor compilers' figures where one is on PATH, and the
 // measured llvmpipe time on a bench scene (docs/profiling.md).
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -49,6 +51,7 @@ struct ProfileArgs {
     std::string size = "256x256";
     int frames = 5;
     std::string doc;        // write docs/profiling.md from this run
+    double vendor_timeout = 120.0;  // seconds for all vendor compiler runs together
     std::string nir_child;  // internal: the child that prints NIR for these variants (hex bits, comma-separated)
     std::string command;
 };
@@ -210,22 +213,27 @@ Status capture_nir(std::vector<profiling::VariantProfile>& profiles, int es) {
 
 // --- Vendor compilers ------------------------------------------------------
 
-std::string run_vendor_tools(std::vector<profiling::VariantProfile>& profiles) {
-    const std::vector<profiling::VendorTool> tools = profiling::find_vendor_tools();
+// Each tool on each variant's fragment stage, within the run's one time
+// budget (a tool that runs out of time is not started again: VendorRun).
+std::string run_vendor_tools(std::vector<profiling::VariantProfile>& profiles, profiling::VendorRun& vendor) {
+    const std::vector<profiling::VendorTool>& tools = vendor.tools();
     if (tools.empty()) return profiling::vendor_tools_absent_line();
     std::string line;
     for (const profiling::VendorTool& t : tools) line += (line.empty() ? "" : ", ") + t.name + " (" + t.path + ")";
+    const std::size_t notes_before = vendor.notes().size();
     for (profiling::VariantProfile& p : profiles) {
         Result<VariantSources> sources = assemble_variant(p.key);
         if (!sources) continue;
         for (const profiling::VendorTool& t : tools) {
-            Result<profiling::VendorCycles> c =
-                profiling::run_vendor_tool(t, sources->fragment.text, ShaderStage::fragment, p.key.es_major);
+            Result<profiling::VendorCycles> c = vendor.run(t, sources->fragment.text, ShaderStage::fragment, p.key.es_major);
             profiling::VendorFigures f;
             f.tool = t.name;
             if (!c) {
-                f.target = "failed: " + c.error().message.substr(0, 200);
-                std::fprintf(stderr, "parallax: warning: %s on %s: %s\n", t.name.c_str(), p.name.c_str(), c.error().message.c_str());
+                const bool skipped = c.error().message.rfind("skipped:", 0) == 0;
+                f.target = skipped ? c.error().message.substr(0, 200) : "failed: " + c.error().message.substr(0, 200);
+                if (!skipped)  // a skip is said once, in the notes
+                    std::fprintf(stderr, "parallax: warning: %s on %s: %s\n", t.name.c_str(), p.name.c_str(),
+                                 c.error().message.c_str());
             } else {
                 f.target = c->target;
                 f.work_registers = c->work_registers;
@@ -239,7 +247,12 @@ std::string run_vendor_tools(std::vector<profiling::VariantProfile>& profiles) {
             p.vendor_fragment.push_back(f);
         }
     }
-    return line;
+    for (std::size_t i = notes_before; i < vendor.notes().size(); ++i) {
+        std::fprintf(stderr, "parallax: warning: %s\n", vendor.notes()[i].c_str());
+        line += "; " + vendor.notes()[i];
+    }
+    // A tool's path comes from $PATH: printable, valid UTF-8, like what the tools print.
+    return profiling::clean_tool_text(line);
 }
 
 // --- Time and error on a bench scene ----------------------------------------
@@ -305,11 +318,24 @@ Result<std::string> measure(std::vector<profiling::VariantProfile>& profiles, co
 
 // --- --against: the shaders of another commit ------------------------------
 
+// git, with what its output must look like fixed on the command line, so
+// that the user's or the repository's configuration can neither change what
+// we parse nor run a program: no pager, names unquoted, no fsmonitor hook;
+// diff_options() for every diff. The configuration itself is kept
+// (GIT_CONFIG_GLOBAL=/dev/null and GIT_CONFIG_NOSYSTEM would drop it): it
+// holds safe.directory, without which git refuses a checkout another user
+// owns, and the repository's own .git/config is read whatever those say, so
+// only options can make the calls immune.
 Result<std::string> git(const std::vector<std::string>& args) {
-    std::vector<std::string> argv = {"git"};
+    std::vector<std::string> argv = {"git", "--no-pager", "-c", "core.quotePath=false", "-c", "core.fsmonitor=false",
+                                     "-c", "color.ui=never"};
     argv.insert(argv.end(), args.begin(), args.end());
     profiling::ProcessOptions o;
     o.capture_stderr = true;
+    // Variables git reads that change a diff whatever its options say:
+    // GIT_DIFF_OPTS overrides -U0 (context lines would count as changed),
+    // GIT_EXTERNAL_DIFF names a program (--no-ext-diff also refuses it).
+    o.remove_env = {"GIT_DIFF_OPTS", "GIT_EXTERNAL_DIFF", "GIT_PAGER", "PAGER"};
     o.timeout_s = 60.0;
     o.max_output = 64u << 20;
     Result<profiling::ProcessResult> r = profiling::run_process(argv, o);
@@ -317,7 +343,7 @@ Result<std::string> git(const std::vector<std::string>& args) {
     if (r->exit_status != 0 || r->timed_out) {
         std::string command;
         for (const std::string& s : argv) command += (command.empty() ? "" : " ") + s;
-        return make_error("'" + command + "' failed: " + r->output.substr(0, 400));
+        return make_error("'" + command + "' failed: " + profiling::clean_tool_text(r->output.substr(0, 400)));
     }
     return r->output;
 }
@@ -328,15 +354,35 @@ struct ChangedLines {
     std::map<std::string, std::set<int>> old_lines, new_lines;
 };
 
+// A diff git prints the same whatever the configuration says (diff.noprefix,
+// diff.mnemonicPrefix, diff.external, diff.relative, diff.interHunkContext,
+// color.diff, textconv drivers, rename detection): "a/" and "b/" names,
+// every changed line in a hunk of its own run, nothing run but git.
+const std::vector<std::string> kDiffOptions = {"--no-ext-diff", "--no-textconv", "--no-color", "--no-renames",
+                                               "--no-relative", "--src-prefix=a/", "--dst-prefix=b/",
+                                               "--inter-hunk-context=0", "-U0"};
+
+// The file a "--- a/NAME" or "+++ b/NAME" line names; "" for /dev/null.
+std::string diff_file(const std::string& line, const char* prefix) {
+    std::string name = line.substr(4);
+    if (name.rfind(prefix, 0) != 0) return "";
+    name = name.substr(2);
+    if (!name.empty() && name.back() == '\t') name.pop_back();  // git ends a name holding a space with a tab
+    return name;
+}
+
 Result<ChangedLines> changed_lines(const std::string& rev) {
-    Result<std::string> diff = git({"diff", "--no-color", "-U0", rev, "--", "shaders_es"});
+    std::vector<std::string> args = {"diff"};
+    args.insert(args.end(), kDiffOptions.begin(), kDiffOptions.end());
+    args.insert(args.end(), {rev, "--", "shaders_es"});
+    Result<std::string> diff = git(args);
     if (!diff) return diff.error();
     ChangedLines c;
     std::istringstream in(*diff);
     std::string line, old_file, new_file;
     while (std::getline(in, line)) {
-        if (line.rfind("--- ", 0) == 0) old_file = line.size() > 6 ? line.substr(6) : "";
-        else if (line.rfind("+++ ", 0) == 0) new_file = line.size() > 6 ? line.substr(6) : "";
+        if (line.rfind("--- ", 0) == 0) old_file = diff_file(line, "a/");
+        else if (line.rfind("+++ ", 0) == 0) new_file = diff_file(line, "b/");
         else if (line.rfind("@@ ", 0) == 0) {
             int a = 0, b = 1, cc = 0, d = 1;
             const std::size_t minus = line.find('-'), plus = line.find('+');
@@ -353,14 +399,16 @@ Result<ChangedLines> changed_lines(const std::string& rev) {
 }
 
 Result<ShaderFiles> shader_files_at(const std::string& rev) {
-    Result<std::string> names = git({"ls-tree", "-r", "--name-only", rev, "--", "shaders_es"});
+    // -z: names as they are, whatever core.quotePath; cat-file: the blob's
+    // bytes, never through a textconv driver.
+    Result<std::string> names = git({"ls-tree", "-r", "-z", "--name-only", rev, "--", "shaders_es"});
     if (!names) return names.error();
     ShaderFiles files;
     std::istringstream in(*names);
     std::string path;
-    while (std::getline(in, path)) {
+    while (std::getline(in, path, '\0')) {
         if (path.rfind("shaders_es/", 0) != 0) continue;
-        Result<std::string> text = git({"show", rev + ":" + path});
+        Result<std::string> text = git({"cat-file", "blob", rev + ":" + path});
         if (!text) return text.error();
         files[path.substr(11)] = *text;
     }
@@ -440,14 +488,14 @@ Status write_file(const std::string& path, const std::string& text) { return wri
 // Counts, NIR, vendor figures and (unless --no-time) measurements for keys.
 Result<std::vector<profiling::VariantProfile>> profile_all(const std::vector<VariantKey>& keys, const ProfileArgs& a,
                                                            const profiling::CostModel& model, int width, int height,
-                                                           profiling::ReportContext& context) {
+                                                           profiling::ReportContext& context, profiling::VendorRun& vendor) {
     std::vector<profiling::VariantProfile> profiles;
     for (const VariantKey& k : keys) {
         Result<profiling::VariantProfile> p = profiling::profile_variant(k, model);
         if (!p) return p.error();
         profiles.push_back(std::move(*p));
     }
-    context.vendor_line = run_vendor_tools(profiles);
+    context.vendor_line = run_vendor_tools(profiles, vendor);
     if (!a.no_nir) {
         Status nir = capture_nir(profiles, a.es);
         if (!nir) return nir.error();
@@ -479,7 +527,7 @@ std::vector<VariantKey> ladder_keys(int es) {
 }
 
 // docs/profiling.md: every table from one run, the command beside it.
-int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, int height) {
+int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, int height, profiling::VendorRun& vendor) {
     const profiling::ReportFormat md = profiling::ReportFormat::markdown;
     std::ostringstream doc;
     doc << "# Shader cost profiling\n\n"
@@ -505,7 +553,7 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
         profiling::ReportContext context;
         context.model = &model;
         context.command = a.command;
-        Result<std::vector<profiling::VariantProfile>> profiles = profile_all(default_variants(es), e, model, width, height, context);
+        Result<std::vector<profiling::VariantProfile>> profiles = profile_all(default_variants(es), e, model, width, height, context, vendor);
         if (!profiles) return fail(profiles.error().message);
         doc << "## Each technique's default variant, OpenGL ES " << es << ".0\n\n"
             << profiling::profile_report(*profiles, md, context) << "\n";
@@ -526,7 +574,7 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
         profiling::ReportContext context;
         context.model = &model;
         context.command = a.command;
-        Result<std::vector<profiling::VariantProfile>> ladder = profile_all(ladder_keys(3), a, model, width, height, context);
+        Result<std::vector<profiling::VariantProfile>> ladder = profile_all(ladder_keys(3), a, model, width, height, context, vendor);
         if (!ladder) return fail(ladder.error().message);
         doc << "## The PowerVR optimisation ladder\n\n"
             << "The Parallax Bumpmapping whitepaper's offset-limited shader as its baseline, then each step it took, "
@@ -542,7 +590,7 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
         Result<VariantKey> pom32 = VariantKey::parse("pom es3 samples<=32 exact-view packed");
         Result<VariantKey> pom64 = VariantKey::parse("pom es3 samples<=64 exact-view packed");
         if (!pom32 || !pom64) return fail("internal: the comparison's variants");
-        Result<std::vector<profiling::VariantProfile>> pair = profile_all({*pom32, *pom64}, a, model, width, height, context);
+        Result<std::vector<profiling::VariantProfile>> pair = profile_all({*pom32, *pom64}, a, model, width, height, context, vendor);
         if (!pair) return fail(pair.error().message);
         doc << "## A comparison: POM at 32 and 64 samples\n\n"
             << "`parallax profile --compare 'pom es3 samples<=32 exact-view packed' 'pom es3 samples<=64 exact-view "
@@ -568,6 +616,8 @@ int run_profile(ProfileArgs a) {
     int width = 0, height = 0;
     if (!parse_size(a.size, width, height, 2048)) return fail("--size: '" + a.size + "' is not WIDTHxHEIGHT within 1..2048");
     if (a.frames < 1 || a.frames > 1000) return fail("--frames: must be within 1..1000");
+    if (!(a.vendor_timeout > 0.0 && a.vendor_timeout <= 86400.0))
+        return fail("--vendor-timeout: must be within (0, 86400] seconds");
     if (!(a.angle >= 0.0 && a.angle < 90.0)) return fail("--angle: must be within [0, 90) degrees");
     profiling::CostModel model = profiling::default_cost_model();
     if (!a.model_file.empty()) {
@@ -578,7 +628,10 @@ int run_profile(ProfileArgs a) {
         if (!parsed) return fail(parsed.error().message);
         model = *parsed;
     }
-    if (!a.doc.empty()) return run_doc(a, model, width, height);
+    // One time budget for every vendor compiler run of this command.
+    profiling::VendorRun vendor(profiling::find_vendor_tools(),
+                                std::chrono::milliseconds(static_cast<long long>(a.vendor_timeout * 1000.0)));
+    if (!a.doc.empty()) return run_doc(a, model, width, height, vendor);
     profiling::ReportContext context;
     context.command = a.command;
     context.model = &model;
@@ -599,7 +652,7 @@ int run_profile(ProfileArgs a) {
     }
     if (!a.against.empty()) return run_against(a, keys, model, *format, context);
 
-    Result<std::vector<profiling::VariantProfile>> profiled = profile_all(keys, a, model, width, height, context);
+    Result<std::vector<profiling::VariantProfile>> profiled = profile_all(keys, a, model, width, height, context, vendor);
     if (!profiled) return fail(profiled.error().message);
     std::vector<profiling::VariantProfile>& profiles = *profiled;
 
@@ -651,6 +704,10 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--angle", args->angle, "View angle of the timing, degrees off the normal")->capture_default_str();
     cmd->add_option("--size", args->size, "Timing target size")->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed frames per variant (median)")->capture_default_str();
+    cmd->add_option("--vendor-timeout", args->vendor_timeout,
+                    "Seconds for all vendor compiler runs together (one run gets at most half); a compiler that runs "
+                    "out of time is not started again")
+        ->capture_default_str();
     cmd->add_option("--doc", args->doc, "Write the profiling document (docs/profiling.md) from one run");
     cmd->add_option("--nir-child", args->nir_child, "internal")->group("");
     cmd->callback([args]() { set_exit_status(run_profile(*args)); });

@@ -1,24 +1,17 @@
 #include "texture_assets.h"
 
-#include <cstdlib>
-#include <filesystem>
-#include <vector>
+#include "parallaxes/core/interrupts.h"
 
 namespace px::tools {
 
+// Made and removed through the interrupt registry: SIGINT or SIGTERM while
+// textures are converted removes the folder too (core/interrupts.h).
 Result<TempFolder> TempFolder::create() {
-    const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp && tmp[0] == '/' ? tmp : "/tmp") + "/parallax-textures-XXXXXX";
-    std::vector<char> buffer(pattern.begin(), pattern.end());
-    buffer.push_back('\0');
-    if (!mkdtemp(buffer.data())) return make_error("cannot make a temporary folder from '" + pattern + "'");
-    return TempFolder(std::string(buffer.data()));
+    Result<std::string> path = interrupts::make_registered_folder("parallax-textures-");
+    if (!path) return path.error();
+    return TempFolder(std::move(*path));
 }
 
-TempFolder::~TempFolder() {
-    if (path_.empty()) return;
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-}
+TempFolder::~TempFolder() { interrupts::remove_registered_folder(path_); }
 
 }  // namespace px::tools
