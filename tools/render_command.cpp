@@ -1,5 +1,5 @@
 // parallax render [SCENE] [-o OUT.png] [--size WxH] [--technique NAME] [--es 2|3] [--list]
-//                 [--program-cache DIR|off]
+//                 [--program-cache DIR|off] [--golden GOLDEN.png [tolerance options, as compare's]]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -12,6 +12,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "compare_command.h"
 #include "parallaxes/core/counters.h"
 #include "parallaxes/platform/headless_context.h"
 #include "program_binary_files.h"
@@ -45,7 +46,16 @@ struct RenderArgs {
     bool stats = false;
     bool no_state_restore = false;
     bool verify = false;
+    std::string golden;            // compare the image with this golden (compare_command.h)
+    GoldenOptions golden_options;  // its tolerance entry: the scene's name, this --es
+    bool size_given = false;       // --size given; else --golden's size
 };
+
+// A built-in scene's name, or a scene file's stem: the default output's name
+// and the tolerance entry --golden reads.
+std::string scene_stem(const RenderArgs& a) {
+    return a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
+}
 
 // The camera of frame i of n along a path: orbit turns it around the
 // target's vertical axis through 60 degrees (-30 to +30); dolly moves it
@@ -76,14 +86,31 @@ void list_everything() {
     for (const std::string& name : builtin_scene_names()) std::printf("  %s\n", name.c_str());
 }
 
-int run_render(const RenderArgs& a) {
+// `compared`: the --golden comparison's exit status, once it was made.
+int run_render(const RenderArgs& a, std::optional<int>& compared) {
     if (a.list) {
         list_everything();
         return 0;
     }
+    // --golden: its tolerances and its size (the render's, unless --size is
+    // given) before anything is drawn.
+    std::optional<Tolerance> tolerance;
+    std::string size = a.size;
+    std::string golden_size;
+    if (!a.golden.empty()) {
+        Result<Tolerance> t = resolve_tolerance(a.golden_options);
+        if (!t) return bad_input(t.error().message);
+        tolerance = *t;
+        Result<ImageInfo> info = read_image_info(a.golden);
+        if (!info) return bad_input("golden image: " + info.error().message);
+        golden_size = std::to_string(info->width) + "x" + std::to_string(info->height);
+        if (!a.size_given) size = golden_size;
+    }
     int width = 0, height = 0;
-    if (!parse_size(a.size, width, height))
-        return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
+    if (!parse_size(size, width, height))
+        return fail("--size '" + size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
+    if (tolerance && std::to_string(width) + "x" + std::to_string(height) != golden_size)
+        return bad_input("size mismatch: --size " + size + ", golden image " + a.golden + " is " + golden_size);
     if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
 
     if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
@@ -195,10 +222,7 @@ int run_render(const RenderArgs& a) {
 
     // Default output: out/<scene>.png, named after the built-in scene or file.
     std::string output = a.output;
-    if (output.empty()) {
-        std::string stem = a.scene.empty() ? "default" : std::filesystem::path(a.scene).stem().string();
-        output = "out/" + stem + ".png";
-    }
+    if (output.empty()) output = "out/" + scene_stem(a) + ".png";
     Result<Image> image = target->read_pixels();
     if (!image) return fail(image.error().message);
     const std::filesystem::path out(output);
@@ -260,8 +284,18 @@ int run_render(const RenderArgs& a) {
     const std::string last = stats.rejected ? " (last: " + stats.last_rejection + ")" : "";
     std::printf("programs   %d compiled, %d from the binary cache (%s), %d stale entries rebuilt%s\n", stats.compiled,
                 stats.from_binary, where.c_str(), stats.rejected, last.c_str());
+    if (tolerance) compared = compare_with_golden(*image, output, a.golden, *tolerance, a.golden_options);
     if (a.verify) return verify_plan(**renderer, *scene, width, height);
     return 0;
+}
+
+// With --golden, compare's exit statuses: the comparison's (then --verify's
+// miss, 1, after a pass), and kCompareBadInput for a render that failed
+// before it could be compared.
+int golden_exit_status(const RenderArgs& a, int rendered, const std::optional<int>& compared) {
+    if (a.golden.empty() || a.list) return rendered;
+    if (!compared) return kCompareBadInput;
+    return *compared != 0 ? *compared : rendered;
 }
 
 }  // namespace
@@ -274,7 +308,8 @@ void add_render_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to a PNG");
     cmd->add_option("scene", args->scene, "A scene file (.json) or the name of a built-in scene (default: default)");
     cmd->add_option("-o,--output", args->output, "Output PNG (default: out/<scene>.png)");
-    cmd->add_option("--size", args->size, "Image size WIDTHxHEIGHT")->capture_default_str();
+    CLI::Option* size = cmd->add_option("--size", args->size, "Image size WIDTHxHEIGHT (with --golden: the golden's)")
+                            ->capture_default_str();
     cmd->add_option("--technique", args->technique, "Override every material's technique (and any effects it declares)");
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed frames after the warm-up frame")->capture_default_str();
@@ -302,7 +337,21 @@ void add_render_command(CLI::App& app) {
                     "planning every frame");
     cmd->add_option("--calibration-cache", args->calibration_cache,
                     "Folder of `parallax plan --calibrate` results (default $XDG_CACHE_HOME/parallaxes/calibration; off: none)");
-    cmd->callback([args]() { set_exit_status(run_render(*args)); });
+    CLI::Option* golden = cmd->add_option(
+        "--golden", args->golden,
+        "Compare the image with this golden as `parallax compare` does (the tolerance file's entry: the scene's "
+        "name, this --es); exit 0 within the tolerances, 1 not, 2 when it cannot be compared or rendered");
+    add_tolerance_options(cmd, args->golden_options);
+    for (const char* name : {"--tolerances", "--threshold", "--max-share", "--max-mean", "--diff"})
+        cmd->get_option(name)->needs(golden);
+    cmd->callback([args, size]() {
+        args->size_given = size->count() > 0;
+        if (!args->golden_options.tolerances.empty()) args->golden_options.scene = scene_stem(*args);
+        args->golden_options.es = args->es;
+        std::optional<int> compared;
+        const int rendered = run_render(*args, compared);
+        set_exit_status(golden_exit_status(*args, rendered, compared));
+    });
 }
 
 }  // namespace px::tools
