@@ -176,6 +176,13 @@ TEST(Tolerances, UnknownSceneListsTheFilesScenes) {
     EXPECT_EQ(error_of(kFile, "brick"), "t.json: no entry for scene 'brick' (the file has: bricks, pit)");
 }
 
+TEST(Tolerances, NotesAreNeverAnEntry) {
+    const std::string file =
+        R"({"_made_on": {"pixel_threshold": 1, "max_differing_share": 0, "max_mean_difference": 0}, )"
+        R"("pit": {"pixel_threshold": 8, "max_differing_share": 0.001, "max_mean_difference": 0.3}})";
+    EXPECT_EQ(error_of(file, "_made_on"), "t.json: no entry for scene '_made_on' (the file has: pit)");
+}
+
 TEST(Tolerances, MalformedJsonGivesLineAndColumn) {
     const std::string message = error_of("{\n  \"s\": {,}\n}\n");
     EXPECT_EQ(message.rfind("t.json:2:9: malformed JSON", 0), 0u) << message;

@@ -154,7 +154,8 @@ Result<Tolerance> parse_tolerances(const std::string& json_text, const std::stri
     }
     if (!doc.is_object())
         return make_error(origin + ": expected an object of scene entries at the top level, got " + describe(doc));
-    if (!doc.contains(scene))
+    // Members named with a leading '_' are notes ("_comment", "_made_on"), never entries.
+    if (!doc.contains(scene) || (!scene.empty() && scene[0] == '_'))
         return make_error(origin + ": no entry for scene '" + echo(scene) + "' (the file has: " + scene_names(doc) + ")");
     Result<Tolerance> t = read_entry(doc.at(scene), echo(scene), es_major);
     if (!t) return with_context(origin, t.error());

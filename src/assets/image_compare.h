@@ -28,8 +28,9 @@ struct Tolerance {
 // max_mean_difference (all three required), and optionally "es2" / "es3"
 // objects that override any of them for that OpenGL ES version (applied
 // when es_major is 2 or 3; es_major 0 applies none; both are checked).
-// Other members of the file or of an entry (the "_comment" notes) are
-// ignored; an override holds those three fields only. Errors name `origin` and the JSON path:
+// Other members of an entry are ignored, and so are members of the file
+// whose names start with '_' (the "_comment" notes, "_made_on"): they are
+// never a scene's entry. An override holds those three fields only. Errors name `origin` and the JSON path:
 // malformed JSON (with line and column), an unknown scene (with the ones
 // the file has), a wrong type, a negative or out-of-range value.
 Result<Tolerance> parse_tolerances(const std::string& json_text, const std::string& origin,
