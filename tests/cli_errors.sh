@@ -58,6 +58,14 @@ expect_error "unknown bench technique" "unknown technique 'bump'" bench --techni
 # measured (not after the sweep).
 echo "not a folder" >"$work/a-file"
 expect_error "bench into a file" "cannot create the output folder '$work/a-file'" bench --quick --out "$work/a-file"
+# The same for every command that writes into a folder or a file's folder,
+# each refused before it compiles, measures or converts anything.
+expect_error "shaders into a file" "cannot create the output folder '$work/a-file'" shaders --out "$work/a-file"
+expect_error "profile --out into a file" "--out: cannot create the output folder '$work/a-file'" profile --out "$work/a-file"
+expect_error "profile --doc under a file" "--doc: cannot create the output folder '$work/a-file'" profile --doc "$work/a-file/p.md"
+expect_error "stability --out under a file" "--out: cannot create the output folder '$work/a-file'" stability --out "$work/a-file/s.md"
+expect_error "stability --out naming a folder" "names a folder, not a file" stability --out "$work/"
+expect_error "convert into a file" "--out: cannot create the output folder '$work/a-file'" convert --scene default --out "$work/a-file"
 
 # Texture files: texinfo, convert, render --textures, and scenes naming them.
 fuzz_corpus=$(dirname "$0")/fuzz/corpus

@@ -35,6 +35,14 @@ inline std::string check_output_folder(const std::string& dir) {
     return {};
 }
 
+// The same for the folder a file is written into (".", when the path names
+// no folder), so that a report's destination is refused before the run.
+inline std::string check_output_file(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    if (std::filesystem::path(path).filename().empty()) return "'" + path + "' names a folder, not a file";
+    return check_output_folder(parent.empty() ? std::string(".") : parent.string());
+}
+
 // An error about a scene, prefixed with the scene file it came from (when
 // it came from one and the message does not name it already).
 inline std::string in_scene_file(const std::string& source, const std::string& message) {

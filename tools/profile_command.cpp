@@ -619,6 +619,11 @@ int run_profile(ProfileArgs a) {
     if (!(a.vendor_timeout > 0.0 && a.vendor_timeout <= 86400.0))
         return fail("--vendor-timeout: must be within (0, 86400] seconds");
     if (!(a.angle >= 0.0 && a.angle < 90.0)) return fail("--angle: must be within [0, 90) degrees");
+    // Where the reports go, checked before anything is compiled or timed.
+    if (!a.out.empty())
+        if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
+    if (!a.doc.empty())
+        if (const std::string unwritable = check_output_file(a.doc); !unwritable.empty()) return fail("--doc: " + unwritable);
     profiling::CostModel model = profiling::default_cost_model();
     if (!a.model_file.empty()) {
         Result<std::vector<std::uint8_t>> bytes = read_file_bounded(a.model_file, 1u << 20, "cost model");

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "cli_common.h"
 #include "commands.h"
 #include "parallaxes/emulation/precision.h"
 #include "parallaxes/gl/program.h"
@@ -25,12 +26,6 @@ struct ShadersArgs {
 };
 
 int run_shaders(const ShadersArgs& a) {
-    std::error_code ec;
-    std::filesystem::create_directories(a.out, ec);
-    if (ec) {
-        std::fprintf(stderr, "parallax: error: cannot create '%s': %s\n", a.out.c_str(), ec.message().c_str());
-        return 1;
-    }
     std::optional<emulation::PrecisionProfile> profile;
     if (!a.emulate.empty()) {
         Result<emulation::PrecisionProfile> parsed = emulation::parse_profile(a.emulate);
@@ -40,6 +35,7 @@ int run_shaders(const ShadersArgs& a) {
         }
         profile = *parsed;
     }
+    if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail(unwritable);
     int count = 0;
     for (const VariantKey& key : enumerate_variants(a.es)) {
         Result<VariantSources> sources = assemble_variant(key);

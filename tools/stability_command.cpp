@@ -56,6 +56,8 @@ int run(const StabilityArgs& a) {
     if (a.format != "table" && a.format != "md" && a.format != "json")
         return fail("--format '" + a.format + "': expected table, md or json");
     if (a.size != 0 && (a.size < 16 || a.size > 1024)) return fail("--size must be within 16..1024");
+    if (!a.out.empty())
+        if (const std::string unwritable = check_output_file(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
 
     std::string text = profiling::embedded_catalogue_text();
     std::string origin = "built-in catalogue (tests/stability/catalogue.jsonc)";

@@ -170,6 +170,8 @@ int run_convert(const ConvertArgs& a) {
     }
     Status resources = check_scene_resources(scene, true);
     if (!resources) return fail(in_scene_file(scene.source, resources.error().message));
+    // The folder made and checked writable once the arguments are known good, before any encoding.
+    if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
     Result<std::vector<ConvertedFile>> files = convert_scene_textures(scene, options, a.out, show_progress);
     if (!files) return fail(in_scene_file(scene.source, files.error().message));
     std::uint64_t total = 0, rgba = 0;
