@@ -771,6 +771,86 @@ TEST(SearchModel, StepsOverThinLinesWithFewSamplesOnly) {
     EXPECT_EQ(again.find(Technique::pom, 4)->error, coarse->error);
 }
 
+// Azimuth sectors: the view's direction folded by both mirror axes.
+TEST(SearchModel, SectorsFoldTheAzimuthByBothMirrorAxes) {
+    EXPECT_EQ(search_sector(1.0, 0.0), 0);
+    EXPECT_EQ(search_sector(-1.0, 0.0), 0);
+    EXPECT_EQ(search_sector(0.0, 1.0), kSearchSectors - 1);
+    EXPECT_EQ(search_sector(0.0, -1.0), kSearchSectors - 1);
+    for (double x : {0.3, -0.3})
+        for (double y : {0.8, -0.8}) EXPECT_EQ(search_sector(x, y), search_sector(0.3, 0.8)) << x << " " << y;
+    EXPECT_EQ(search_sector(1.0, 1.0), kSearchSectors / 2);
+    EXPECT_EQ(search_sector(0.0, 0.0), 0);
+    EXPECT_EQ(search_sector(std::nan(""), 1.0), 0);
+}
+
+// Lines along y (FieldKind::lines) are stepped over by a view across them
+// (along x, sector 0), never by one along them (the last sector): the
+// model keeps the two apart where the pooled curve mixes them.
+TEST(SearchModel, LinesSeenAlongThemAreNotSteppedOver) {
+    FieldSpec spec;
+    spec.kind = FieldKind::lines;
+    spec.size = 128;
+    spec.count = 16;
+    spec.line_width = 3;
+    Result<HeightField> field = make_height_field(spec);
+    ASSERT_TRUE(field.ok()) << field.error().message;
+    SearchModelOptions o;
+    o.angles = {75};
+    o.samples = {4};
+    o.rays = 128;
+    const SearchModel m = simulate_searches(quantized_8bit(*field), 0.08, 1.0, o);
+    const SearchCurve* pom = m.find(Technique::pom, 4);
+    ASSERT_TRUE(pom);
+    ASSERT_EQ(pom->sector_levels.size(), 1u);
+    ASSERT_EQ(pom->sector_levels[0].size(), static_cast<size_t>(kSearchSectors));
+    const double across = pom->sector_levels[0][0][5], along = pom->sector_levels[0][kSearchSectors - 1][5];
+    EXPECT_GT(across, 3.0);          // steps of 9.6 texels over 3-texel lines
+    EXPECT_LT(along, 0.5 * across);  // within 15 degrees of the lines: steps of at most 2.5 texels across
+    EXPECT_GT(pom->error[0], along);  // the pooled p95 holds the across rays' misses
+    // Exactly along a line the height never changes: no search misses.
+    std::vector<SearchRay> rays;
+    for (int i = 0; i < 64; ++i)
+        rays.push_back({glm::dvec2((i + 0.5) / 64.0, 0.37), glm::dvec3(0.0, std::sin(glm::radians(75.0)), std::cos(glm::radians(75.0)))});
+    const std::vector<std::vector<double>> exact = simulate_rays(quantized_8bit(*field), 0.08, 1.0, rays, {4}, 5);
+    const std::vector<SearchCurve> order = search_candidates({4});
+    for (size_t c = 0; c < order.size(); ++c)
+        if (order[c].technique == Technique::pom) EXPECT_LT(exact[0][c], 0.05);
+}
+
+// Minified pixels: the coarse model runs the searches on mip level 2 and is
+// in its texels. On a flat field every level is the same plane, so normal
+// mapping's error (the ray's travel to the plane) is the fine one over 4.
+TEST(SearchModel, TheCoarseLevelIsInItsOwnTexels) {
+    HeightField flat;
+    flat.width = flat.height = 64;
+    flat.texels.assign(64 * 64, 100.0f / 255.0f);
+    const HeightField mip = mip_level_8bit(flat, 2);
+    ASSERT_EQ(mip.width, 16);
+    ASSERT_EQ(mip.height, 16);
+    EXPECT_FLOAT_EQ(mip.texels[5], 100.0f / 255.0f);
+    SearchModelOptions o;
+    o.angles = {0, 60};
+    o.samples = {8};
+    o.rays = 64;
+    const SearchModel m = simulate_searches(flat, 0.1, 1.0, o);
+    const SearchCurve* normal = m.find(Technique::normal, 0);
+    ASSERT_TRUE(normal);
+    ASSERT_EQ(normal->coarse_levels.size(), 2u);
+    for (int level = 0; level < kSearchLevelCount; ++level)
+        EXPECT_NEAR(normal->coarse_levels[1][0][static_cast<size_t>(level)],
+                    normal->sector_levels[1][0][static_cast<size_t>(level)] / 4.0, 1e-6)
+            << level;
+    // 2x2 averages, rounded to 8 bits.
+    HeightField steps;
+    steps.width = 2;
+    steps.height = 2;
+    steps.texels = {0.0f, 1.0f, 1.0f, 1.0f};
+    const HeightField one = mip_level_8bit(steps, 1);
+    ASSERT_EQ(one.texels.size(), 1u);
+    EXPECT_FLOAT_EQ(one.texels[0], std::round(0.75 * 255.0) / 255.0f);
+}
+
 // The planner with the search model: its prediction comes from the relief
 // itself (the source says so), it offers the single-fetch techniques too,
 // and a shallow relief with a loose target gets one of them where the

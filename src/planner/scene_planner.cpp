@@ -254,6 +254,7 @@ struct PointView {
     double pv_offset;   // per-vertex view: |delta V.xy| (offset limiting)
     unsigned lit;       // bit per light: the light is above this point's horizon
     double light_elevation_deg;  // the lowest light above the horizon: what shadows depend on
+    int sector = 0;     // the view's azimuth sector in the field (search_sector)
 };
 
 // Linear interpolation in a table sorted by x, clamped at the ends.
@@ -271,6 +272,10 @@ struct Curve {
     // A search model's curve: per angle, the raw simulated error at each of
     // kSearchLevels (base texels), pooled over an object's pixels.
     std::vector<std::vector<double>> levels;
+    // The same per angle and azimuth sector (search_sector).
+    std::vector<std::vector<std::vector<double>>> sector_levels;
+    // The same on mip level kSearchCoarseLevel, for minified pixels.
+    std::vector<std::vector<std::vector<double>>> coarse_levels;
 };
 
 // relief, technique, samples, shadow, shadow samples, light elevation (tenths of a degree; 0 unshadowed)
@@ -353,6 +358,33 @@ std::string candidate_name(const Candidate& c) {
 }
 
 // The p95 of (value, weight) pairs, by weight.
+// The value at which the weights of the values up to it first reach
+// `share` of `total` (values, weights), as a sort followed by a running sum
+// would find it, in expected linear time: quickselect, keeping the weight
+// of everything left of the part still searched. Reorders `v`.
+double weighted_quantile(std::vector<std::pair<double, double>>& v, double share, double total) {
+    if (v.empty()) return 0.0;
+    const double target = share * total;
+    auto lo = v.begin(), hi = v.end();
+    double before = 0.0;  // the weight of [begin, lo): values no larger than those in [lo, hi)
+    while (hi - lo > 1) {
+        const auto middle = lo + (hi - lo) / 2;
+        std::nth_element(lo, middle, hi, [](const auto& a, const auto& b) { return a.first < b.first; });
+        double below = 0.0;  // [lo, middle): values up to the middle one
+        for (auto it = lo; it < middle; ++it) below += it->second;
+        if (before + below >= target) {
+            hi = middle;
+        } else if (before + below + middle->second >= target) {
+            return middle->first;
+        } else {
+            before += below + middle->second;
+            lo = middle + 1;
+        }
+    }
+    // One left; or none, where rounding kept the sum under the target to the end.
+    return lo != v.end() ? lo->first : std::max_element(v.begin(), v.end())->first;
+}
+
 double weighted_p95(std::vector<std::pair<double, double>>& v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -527,6 +559,8 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
             Curve c;
             c.angles = r.search->angles;
             if (sc.levels.size() == c.angles.size()) c.levels = sc.levels;
+            if (sc.sector_levels.size() == c.angles.size()) c.sector_levels = sc.sector_levels;
+            if (sc.coarse_levels.size() == c.angles.size()) c.coarse_levels = sc.coarse_levels;
             for (size_t k = 0; k < c.angles.size(); ++k) {
                 // The margin without its floor here; the floor (texels of
                 // the level sampled) after the division by texels per
@@ -610,7 +644,7 @@ std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::model_source(size_
     s.simulated = true;
     const int nearest = generic_source(r).relief;
     s.label = "search model on this relief (" + describe(r.features) + "; " + std::to_string(r.search->rays) +
-              " rays per angle; margin fitted by `parallax bench --search-model`; costs from table '" +
+              " rays per angle and azimuth sector; margin fitted by `parallax bench --search-model`; costs from table '" +
               (nearest >= 0 ? generic.reliefs[static_cast<size_t>(nearest)].name : std::string("?")) + "')";
     return s;
 }
@@ -803,6 +837,13 @@ ObjectView ScenePlanner::Impl::view_object(size_t oi, const PlanView& frame,
                                  static_cast<double>(sp.bary.z) * corner_to_eye[2];
         const glm::dvec3 interpolated(glm::dot(mixed, glm::dvec3(t)), glm::dot(mixed, glm::dvec3(b)),
                                       glm::dot(mixed, glm::dvec3(n)));
+        // The view's azimuth in the field's uv (as the search model's rays
+        // are given): the frame's x is +u, its y +v with the mesh's
+        // handedness (surface.vert), then the material's uv transform.
+        const double handed = (sp.tangent.w < 0.0f ? -1.0 : 1.0) * (glm::determinant(model3) < 0.0f ? -1.0 : 1.0);
+        const glm::dvec2 mesh_uv(exact.x, exact.y * handed);
+        const glm::dvec2 in_uv = material ? material->uv.matrix<double>() * mesh_uv : mesh_uv;
+        pv.sector = search_sector(in_uv.x, in_uv.y);
         if (interpolated.z > 1e-9) {
             pv.pv_parallax = glm::length(glm::dvec2(interpolated) / interpolated.z - glm::dvec2(exact) / exact.z);
             pv.pv_offset = glm::length(glm::dvec2(interpolated) - glm::dvec2(exact));
@@ -1137,11 +1178,9 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
             const SearchMargin margin = search_margin(c.technique);
             const SearchMargin normal_margin = search_margin(Technique::normal);
             // Minified pixels (4 texels or more per pixel) sample coarser mip
-            // levels of the height map than the simulation walks: there the
-            // prediction is at least the generic table's (measured on the GPU
-            // at such levels) for the candidate on the nearest relief.
-            const Curve* table_curve = curve(table_source, c.technique, c.samples, ShadowMode::none, 0);
-            const Basis* table_basis = table_curve ? &basis_for(table_curve->angles) : nullptr;
+            // levels of the height map: there the searches simulated on mip
+            // level kSearchCoarseLevel against the full field's exact hit.
+            constexpr double kCoarseTexels = 1 << kSearchCoarseLevel;
             std::vector<std::pair<double, double>> pooled;
             pooled.reserve(points.size() * static_cast<size_t>(kSearchLevelCount));
             for (size_t i = 0; i < points.size(); ++i) {
@@ -1153,15 +1192,26 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
                                                 : 0.0;
                 const double per_level = 1.0 / std::max(1.0, p.rho);
                 double below = 0.0;
+                const auto sector = static_cast<size_t>(p.sector);
+                const bool minified = p.rho >= kCoarseTexels;
                 for (int k = 0; k < kSearchLevelCount; ++k) {
-                    const auto at = [k](const Curve& cv, size_t idx, double t) {
-                        const double lo = cv.levels[idx][static_cast<size_t>(k)];
-                        return t > 0.0 ? lo + t * (cv.levels[idx + 1][static_cast<size_t>(k)] - lo) : lo;
+                    // The point's azimuth sector where the model has them;
+                    // the coarse level's where the pixel is minified.
+                    const auto at = [k, sector, minified](const Curve& cv, size_t idx, double t) {
+                        const bool coarse = minified && cv.coarse_levels.size() == cv.levels.size() &&
+                                            sector < cv.coarse_levels[idx].size();
+                        const bool sectors = !coarse && cv.sector_levels.size() == cv.levels.size() &&
+                                             sector < cv.sector_levels[idx].size();
+                        const double unit = coarse ? kCoarseTexels : 1.0;  // to texels of the field
+                        const auto& a = coarse ? cv.coarse_levels[idx][sector]
+                                               : sectors ? cv.sector_levels[idx][sector] : cv.levels[idx];
+                        const double lo = a[static_cast<size_t>(k)];
+                        if (!(t > 0.0)) return unit * lo;
+                        const auto& next = coarse ? cv.coarse_levels[idx + 1][sector]
+                                                  : sectors ? cv.sector_levels[idx + 1][sector] : cv.levels[idx + 1];
+                        return unit * (lo + t * (next[static_cast<size_t>(k)] - lo));
                     };
                     double v = (at(*tc, ti, tt) + added) * per_level;
-                    if (table_basis && p.rho >= 4.0)
-                        v = std::max(v, (value(*table_basis, table_curve->error, i) * table_source.depth_scale + added) *
-                                            per_level - margin.floor);
                     if (c.lod)
                         v = (1.0 - blends[i]) * v +
                             blends[i] * (at(*nc, ni, nt) * per_level + normal_margin.floor - margin.floor);
@@ -1169,18 +1219,11 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
                     below = kSearchLevels[k];
                 }
             }
-            std::sort(pooled.begin(), pooled.end());
             double total = 0.0;
             for (const auto& e : pooled) total += e.second;
-            auto quantile = [&](double q) {
-                double sum = 0.0;
-                for (const auto& e : pooled) {
-                    sum += e.second;
-                    if (sum >= q * total) return e.first;
-                }
-                return pooled.empty() ? 0.0 : pooled.back().first;
-            };
-            return std::max(quantile(0.95) * margin.scale, quantile(0.97)) + margin.floor;
+            const double p95 = weighted_quantile(pooled, 0.95, total);
+            const double p97 = weighted_quantile(pooled, 0.97, total);
+            return std::max(p95 * margin.scale, p97) + margin.floor;
         }
         std::vector<std::pair<double, double>> errors;
         errors.reserve(points.size());
