@@ -467,6 +467,31 @@ TEST(Planner, CalibrationsAreLookedUpPerMaterial) {
     EXPECT_EQ(without.prediction_source.find("calibrated"), std::string::npos) << without.prediction_source;
     EXPECT_NE(std::find(without.notes.begin(), without.notes.end(), "calibration not used: broken.json: not a JSON object"),
               without.notes.end());
+
+    // Two materials on one height map at two depths are two reliefs: each
+    // is asked for (the showcase's floor and back wall share their bricks).
+    SceneDesc two = scene;
+    MaterialDesc deeper = two.materials[0];
+    deeper.name = "deeper";
+    deeper.height_scale *= 2.0f;
+    two.materials.push_back(deeper);
+    ObjectDesc second = two.objects[0];
+    second.name = "second";
+    second.material = "deeper";
+    two.objects.push_back(second);
+    MaterialRelief deeper_relief = material_relief(quantized_8bit(images->field), deeper);
+    deeper_relief.search.reset();
+    ASSERT_EQ(deeper_relief.features.field_hash, relief.features.field_hash);
+    std::vector<double> depths;
+    PlannerOptions options;
+    options.table = &generic;
+    options.find_calibration = [&](const ReliefFeatures& f, std::string&) -> std::optional<CostTable> {
+        depths.push_back(f.depth_texels);
+        return std::nullopt;
+    };
+    ASSERT_TRUE(ScenePlanner::create(two, es3_caps(), {relief, deeper_relief}, options).ok());
+    ASSERT_EQ(depths.size(), 2u);
+    EXPECT_NEAR(depths[1], 2.0 * depths[0], 1e-3 * depths[1]);
 }
 
 // A calibration knows what it measured: the view angles it was run at and

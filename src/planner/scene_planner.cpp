@@ -583,12 +583,18 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
     if (options.calibrations) m.calibrations = *options.calibrations;
     m.calibration_notes.resize(m.reliefs.size());
     if (options.find_calibration) {
-        std::vector<std::uint64_t> asked;
+        // Once per relief: the field and its depth (two materials may share
+        // a height map at different depths, and a calibration is of both).
+        std::vector<std::pair<std::uint64_t, double>> asked;
         for (size_t mi = 0; mi < m.reliefs.size() && mi < scene.materials.size(); ++mi) {
             const ReliefFeatures& f = m.reliefs[mi].features;
             if (!(f.range > 0.0) || !scene.materials[mi].effects || !scene.materials[mi].effects->parallax) continue;
-            if (std::find(asked.begin(), asked.end(), f.field_hash) != asked.end()) continue;
-            asked.push_back(f.field_hash);
+            const auto same = [&](const std::pair<std::uint64_t, double>& a) {
+                return a.first == f.field_hash &&
+                       std::fabs(a.second - f.depth_texels) <= 1e-3 * std::max(1.0, f.depth_texels);
+            };
+            if (std::find_if(asked.begin(), asked.end(), same) != asked.end()) continue;
+            asked.emplace_back(f.field_hash, f.depth_texels);
             std::optional<CostTable> found = options.find_calibration(f, m.calibration_notes[mi]);
             if (found) m.calibrations.push_back(std::move(*found));
         }
