@@ -843,39 +843,6 @@ TEST(SearchModel, LinesSeenAlongThemAreNotSteppedOver) {
         if (order[c].technique == Technique::pom) EXPECT_LT(exact[0][c], 0.05);
 }
 
-// Minified pixels: the coarse model runs the searches on mip level 2 and is
-// in its texels. On a flat field every level is the same plane, so normal
-// mapping's error (the ray's travel to the plane) is the fine one over 4.
-TEST(SearchModel, TheCoarseLevelIsInItsOwnTexels) {
-    HeightField flat;
-    flat.width = flat.height = 64;
-    flat.texels.assign(64 * 64, 100.0f / 255.0f);
-    const HeightField mip = mip_level_8bit(flat, 2);
-    ASSERT_EQ(mip.width, 16);
-    ASSERT_EQ(mip.height, 16);
-    EXPECT_FLOAT_EQ(mip.texels[5], 100.0f / 255.0f);
-    SearchModelOptions o;
-    o.angles = {0, 60};
-    o.samples = {8};
-    o.rays = 64;
-    const SearchModel m = simulate_searches(flat, 0.1, 1.0, o);
-    const SearchCurve* normal = m.find(Technique::normal, 0);
-    ASSERT_TRUE(normal);
-    ASSERT_EQ(normal->coarse_levels.size(), 2u);
-    for (int level = 0; level < kSearchLevelCount; ++level)
-        EXPECT_NEAR(normal->coarse_levels[1][0][static_cast<size_t>(level)],
-                    normal->sector_levels[1][0][static_cast<size_t>(level)] / 4.0, 1e-6)
-            << level;
-    // 2x2 averages, rounded to 8 bits.
-    HeightField steps;
-    steps.width = 2;
-    steps.height = 2;
-    steps.texels = {0.0f, 1.0f, 1.0f, 1.0f};
-    const HeightField one = mip_level_8bit(steps, 1);
-    ASSERT_EQ(one.texels.size(), 1u);
-    EXPECT_FLOAT_EQ(one.texels[0], std::round(0.75 * 255.0) / 255.0f);
-}
-
 // The planner with the search model: its prediction comes from the relief
 // itself (the source says so), it offers the single-fetch techniques too,
 // and a shallow relief with a loose target gets one of them where the

@@ -6,8 +6,8 @@
 // material's targets, from what the camera sees of the object: hit errors
 // from the search model simulated on the material's own relief
 // (planner/search_model.h), costs from the measured cost table
-// (planner/cost_table.h). GL-free; about 0.6 to 0.8 ms per object and plan
-// on this 2-core host, and about 110 ms per modelled material when the
+// (planner/cost_table.h). GL-free; about 0.7 to 0.8 ms per object and plan
+// on this 2-core host, and about 80 ms per modelled material when the
 // planner is made (docs/planner.md, "Planning time").
 #pragma once
 

@@ -274,8 +274,6 @@ struct Curve {
     std::vector<std::vector<double>> levels;
     // The same per angle and azimuth sector (search_sector).
     std::vector<std::vector<std::vector<double>>> sector_levels;
-    // The same on mip level kSearchCoarseLevel, for minified pixels.
-    std::vector<std::vector<std::vector<double>>> coarse_levels;
 };
 
 // relief, technique, samples, shadow, shadow samples, light elevation (tenths of a degree; 0 unshadowed)
@@ -560,7 +558,6 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
             c.angles = r.search->angles;
             if (sc.levels.size() == c.angles.size()) c.levels = sc.levels;
             if (sc.sector_levels.size() == c.angles.size()) c.sector_levels = sc.sector_levels;
-            if (sc.coarse_levels.size() == c.angles.size()) c.coarse_levels = sc.coarse_levels;
             for (size_t k = 0; k < c.angles.size(); ++k) {
                 // The margin without its floor here; the floor (texels of
                 // the level sampled) after the division by texels per
@@ -1183,10 +1180,17 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
             // level's share of the rays is put at its upper end.
             const SearchMargin margin = search_margin(c.technique);
             const SearchMargin normal_margin = search_margin(Technique::normal);
-            // Minified pixels (4 texels or more per pixel) sample coarser mip
-            // levels of the height map: there the searches simulated on mip
-            // level kSearchCoarseLevel against the full field's exact hit.
-            constexpr double kCoarseTexels = 1 << kSearchCoarseLevel;
+            // Pixels 8 texels across or more sample mip levels 3 and coarser,
+            // whose smoothing the simulation on the base level knows nothing
+            // of: there the prediction is at least the generic table's for the
+            // candidate on the nearest relief (measured on the GPU at such
+            // levels). (Simulating the searches on mip level 2 against the
+            // full field's exact hit was tried and over-predicted: 0.5+ texels
+            // for POM x64 on the fine sine at 128x128, where the GPU measures
+            // 0.022; docs/planner.md.)
+            constexpr double kPastSimulated = 8.0;
+            const Curve* table_curve = curve(table_source, c.technique, c.samples, ShadowMode::none, 0);
+            const Basis* table_basis = table_curve ? &basis_for(table_curve->angles) : nullptr;
             std::vector<std::pair<double, double>> pooled;
             pooled.reserve(points.size() * static_cast<size_t>(kSearchLevelCount));
             for (size_t i = 0; i < points.size(); ++i) {
@@ -1199,25 +1203,21 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
                 const double per_level = 1.0 / std::max(1.0, p.rho);
                 double below = 0.0;
                 const auto sector = static_cast<size_t>(p.sector);
-                const bool minified = p.rho >= kCoarseTexels;
                 for (int k = 0; k < kSearchLevelCount; ++k) {
-                    // The point's azimuth sector where the model has them;
-                    // the coarse level's where the pixel is minified.
-                    const auto at = [k, sector, minified](const Curve& cv, size_t idx, double t) {
-                        const bool coarse = minified && cv.coarse_levels.size() == cv.levels.size() &&
-                                            sector < cv.coarse_levels[idx].size();
-                        const bool sectors = !coarse && cv.sector_levels.size() == cv.levels.size() &&
+                    // The point's azimuth sector where the model has them.
+                    const auto at = [k, sector](const Curve& cv, size_t idx, double t) {
+                        const bool sectors = cv.sector_levels.size() == cv.levels.size() &&
                                              sector < cv.sector_levels[idx].size();
-                        const double unit = coarse ? kCoarseTexels : 1.0;  // to texels of the field
-                        const auto& a = coarse ? cv.coarse_levels[idx][sector]
-                                               : sectors ? cv.sector_levels[idx][sector] : cv.levels[idx];
+                        const auto& a = sectors ? cv.sector_levels[idx][sector] : cv.levels[idx];
                         const double lo = a[static_cast<size_t>(k)];
-                        if (!(t > 0.0)) return unit * lo;
-                        const auto& next = coarse ? cv.coarse_levels[idx + 1][sector]
-                                                  : sectors ? cv.sector_levels[idx + 1][sector] : cv.levels[idx + 1];
-                        return unit * (lo + t * (next[static_cast<size_t>(k)] - lo));
+                        if (!(t > 0.0)) return lo;
+                        const auto& next = sectors ? cv.sector_levels[idx + 1][sector] : cv.levels[idx + 1];
+                        return lo + t * (next[static_cast<size_t>(k)] - lo);
                     };
                     double v = (at(*tc, ti, tt) + added) * per_level;
+                    if (table_basis && p.rho >= kPastSimulated)
+                        v = std::max(v, (value(*table_basis, table_curve->error, i) * table_source.depth_scale + added) *
+                                            per_level - margin.floor);
                     if (c.lod)
                         v = (1.0 - blends[i]) * v +
                             blends[i] * (at(*nc, ni, nt) * per_level + normal_margin.floor - margin.floor);

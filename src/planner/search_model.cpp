@@ -71,14 +71,11 @@ std::vector<int> usable_counts(const std::vector<int>& samples) {
 
 std::vector<std::vector<double>> simulate_rays(const HeightField& field, double height_scale, double polygon_height,
                                                const std::vector<SearchRay>& rays, const std::vector<int>& samples,
-                                               int refine_steps, const std::vector<double>& quantiles,
-                                               const HeightField* truth) {
+                                               int refine_steps, const std::vector<double>& quantiles) {
     const std::vector<int> counts = usable_counts(samples);
     const size_t curve_count = search_candidates(counts).size();
-    auto well_formed = [](const HeightField& f) {
-        return f.width > 0 && f.height > 0 && f.texels.size() == static_cast<size_t>(f.width) * static_cast<size_t>(f.height);
-    };
-    const bool usable = well_formed(field) && (!truth || well_formed(*truth)) &&
+    const bool usable = field.width > 0 && field.height > 0 &&
+                        field.texels.size() == static_cast<size_t>(field.width) * static_cast<size_t>(field.height) &&
                         height_scale > 0.0 && std::isfinite(height_scale);
     if (!usable || rays.empty()) return std::vector<std::vector<double>>(quantiles.size(), std::vector<double>(curve_count, 0.0));
 
@@ -104,13 +101,10 @@ std::vector<std::vector<double>> simulate_rays(const HeightField& field, double 
         if (!(glm::length(view) > 0.0) || !std::isfinite(view.x + view.y + view.z)) continue;
         view = glm::normalize(view);
         if (view.z <= 1e-6) continue;  // the polygon is seen edge-on or from behind: nothing to draw
-        const HeightField& exact_field = truth ? *truth : field;
-        const reference::Ray exact_ray = reference::view_ray(exact_field, start.uv, view, height_scale, ph);
-        const reference::Hit exact = reference::first_hit(exact_field, exact_ray, 0.0, 1.0);
-        // In texels of the searched field.
+        const reference::Ray exact_ray = reference::view_ray(field, start.uv, view, height_scale, ph);
+        const reference::Hit exact = reference::first_hit(field, exact_ray, 0.0, 1.0);
         const glm::dvec2 truth_position =
-            (exact.hit ? glm::dvec2(exact.position) : glm::dvec2(exact_ray.origin + exact_ray.direction)) *
-            glm::dvec2(w / exact_field.width, h / exact_field.height);
+            exact.hit ? glm::dvec2(exact.position) : glm::dvec2(exact_ray.origin + exact_ray.direction);
 
         // The shaders' ray (march.glsl): uv at ray height r is uv + (r - ph) P,
         // P = height_scale view.xy / max(view.z, 1/64), here in texels.
@@ -183,25 +177,6 @@ std::vector<std::vector<double>> simulate_rays(const HeightField& field, double 
     return out;
 }
 
-HeightField mip_level_8bit(const HeightField& field, int level) {
-    HeightField f = field;
-    for (int l = 0; l < level && (f.width > 1 || f.height > 1); ++l) {
-        HeightField next;
-        next.width = std::max(1, f.width / 2);
-        next.height = std::max(1, f.height / 2);
-        next.texels.resize(static_cast<size_t>(next.width) * static_cast<size_t>(next.height));
-        for (int y = 0; y < next.height; ++y)
-            for (int x = 0; x < next.width; ++x) {
-                const int x0 = std::min(2 * x, f.width - 1), x1 = std::min(2 * x + 1, f.width - 1);
-                const int y0 = std::min(2 * y, f.height - 1), y1 = std::min(2 * y + 1, f.height - 1);
-                const double mean = 0.25 * (static_cast<double>(f.ref(x0, y0)) + f.ref(x1, y0) + f.ref(x0, y1) + f.ref(x1, y1));
-                next.ref(x, y) = static_cast<float>(std::round(std::clamp(mean, 0.0, 1.0) * 255.0) / 255.0);
-            }
-        f = std::move(next);
-    }
-    return f;
-}
-
 int search_sector(double view_x, double view_y) {
     if (!std::isfinite(view_x) || !std::isfinite(view_y) || (view_x == 0.0 && view_y == 0.0)) return 0;
     const double folded = std::atan2(std::fabs(view_y), std::fabs(view_x));  // [0, pi/2]
@@ -242,18 +217,15 @@ SearchModel simulate_searches(const HeightField& field, double height_scale, dou
     model.angles = options.angles;
     std::sort(model.angles.begin(), model.angles.end());
     model.rays = std::clamp(options.rays, 1, 1 << 16);
-    model.coarse_rays = std::clamp(options.coarse_rays, 1, model.rays);
     const std::vector<int> counts = usable_counts(options.samples);
     model.curves = search_candidates(counts);
     std::vector<SearchRay> rays(static_cast<size_t>(model.rays));
     const std::vector<double> levels(kSearchLevels, kSearchLevels + kSearchLevelCount);
     const double sector_width = 0.5 * M_PI / kSearchSectors;
-    const HeightField coarse = mip_level_8bit(field, kSearchCoarseLevel);
-    const bool has_coarse = coarse.width < field.width || coarse.height < field.height;
     for (double angle : model.angles) {
         const double theta = glm::radians(std::clamp(angle, 0.0, 89.9));
         // Per curve, per sector, the error at each level.
-        std::vector<std::vector<std::vector<double>>> by_sector(model.curves.size()), coarse_by_sector(model.curves.size());
+        std::vector<std::vector<std::vector<double>>> by_sector(model.curves.size());
         for (int sector = 0; sector < kSearchSectors; ++sector) {
             for (int k = 0; k < model.rays; ++k) {
                 // Spread over the tile and the sector's azimuths (Halton),
@@ -273,17 +245,6 @@ SearchModel simulate_searches(const HeightField& field, double height_scale, dou
                 for (size_t k = 0; k < at.size(); ++k) at[k] = p[k][c];
                 by_sector[c].push_back(std::move(at));
             }
-            if (!has_coarse) continue;
-            // The first coarse_rays of the sector's rays: the sequence is
-            // stratified at any length, and its mirror images alternate.
-            const std::vector<SearchRay> coarse_set(rays.begin(), rays.begin() + model.coarse_rays);
-            const std::vector<std::vector<double>> q =
-                simulate_rays(coarse, height_scale, polygon_height, coarse_set, counts, options.refine_steps, levels, &field);
-            for (size_t c = 0; c < model.curves.size(); ++c) {
-                std::vector<double> at(static_cast<size_t>(kSearchLevelCount));
-                for (size_t k = 0; k < at.size(); ++k) at[k] = q[k][c];
-                coarse_by_sector[c].push_back(std::move(at));
-            }
         }
         for (size_t c = 0; c < model.curves.size(); ++c) {
             // Over every azimuth: the sectors' distributions pooled.
@@ -293,7 +254,6 @@ SearchModel simulate_searches(const HeightField& field, double height_scale, dou
             model.curves[c].upper.push_back(at[6]);  // 0.97
             model.curves[c].levels.push_back(std::move(at));
             model.curves[c].sector_levels.push_back(std::move(by_sector[c]));
-            if (has_coarse) model.curves[c].coarse_levels.push_back(std::move(coarse_by_sector[c]));
         }
     }
     return model;

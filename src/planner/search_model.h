@@ -36,11 +36,6 @@ struct SearchCurve {
     // kSearchLevels over that sector's rays: a relief of lines seen along
     // them is stepped over far less than one seen across them.
     std::vector<std::vector<std::vector<double>>> sector_levels;
-    // The same searches run on the field's mip level kSearchCoarseLevel
-    // (2x2 averages, 8-bit, as glGenerateMipmap makes it) against the exact
-    // hit on the full field, in texels of that level: what a minified pixel,
-    // which samples a coarser level, draws. Per angle, per sector, per level.
-    std::vector<std::vector<std::vector<double>>> coarse_levels;
 };
 
 // Azimuth sectors: the view's direction in the field's plane, folded by
@@ -49,15 +44,12 @@ struct SearchCurve {
 // x axis, then cut into kSearchSectors equal parts. Lines along x are seen
 // in sector 0, lines along y in the last.
 inline constexpr int kSearchSectors = 6;
-// The mip level the coarse model runs on (4 texels of the field per texel).
-inline constexpr int kSearchCoarseLevel = 2;
 int search_sector(double view_x, double view_y);
 
 struct SearchModel {
     std::vector<double> angles;  // view angles from the normal, degrees, increasing
     std::vector<SearchCurve> curves;
     int rays = 0;                // per angle and sector
-    int coarse_rays = 0;         // per angle and sector on the coarse level
     // The curve of a candidate, or null.
     const SearchCurve* find(Technique technique, int samples) const;
 };
@@ -66,7 +58,6 @@ struct SearchModelOptions {
     std::vector<double> angles{0, 20, 40, 55, 65, 72, 78, 82, 85, 87, 89};
     std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
     int rays = 128;         // per angle and azimuth sector: stratified over the tile, azimuths spread
-    int coarse_rays = 64;   // the same on the coarse level (minified pixels: their errors are divided by 4 or more)
     int refine_steps = 5;   // relief's binary search (TechniqueOptions' default)
 };
 
@@ -88,17 +79,11 @@ struct SearchRay {
     double texels_per_pixel = 1.0;
 };
 // Quantiles over `rays` of each candidate's hit error, in the order of
-// search_candidates(samples) (texels of the field). With `truth`, the
-// searches run on `field` and the exact hit is traced on `truth` (the same
-// tile at a finer level): the error is then in texels of `field`.
+// search_candidates(samples) (texels of the field).
 // `quantiles` (default: the p95) give one vector each, in their order.
 std::vector<std::vector<double>> simulate_rays(const HeightField& field, double height_scale, double polygon_height,
                                                const std::vector<SearchRay>& rays, const std::vector<int>& samples,
-                                               int refine_steps, const std::vector<double>& quantiles = {0.95},
-                                               const HeightField* truth = nullptr);
-// The field's mip level `level`: 2x2 averages (odd sizes keep their last
-// row or column), rounded to 8 bits as an 8-bit texture's mips are.
-HeightField mip_level_8bit(const HeightField& field, int level);
+                                               int refine_steps, const std::vector<double>& quantiles = {0.95});
 // The candidates simulate_rays measures, in its order (errors left empty).
 std::vector<SearchCurve> search_candidates(const std::vector<int>& samples);
 
