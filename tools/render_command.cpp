@@ -137,7 +137,7 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     if (!a.textures.empty()) {
         Result<AssetFormats> formats = asset_formats(a.textures);
         if (!formats) return fail("--textures: " + formats.error().message);
-        Result<TempFolder> folder = TempFolder::create();
+        Result<TempFolder> folder = make_texture_folder();
         if (!folder) return fail(folder.error().message);
         texture_folder.emplace(std::move(*folder));
         ConvertOptions convert;

@@ -1,27 +1,20 @@
-// Temporary folders for the commands that convert textures on the way.
+// Temporary folders for the commands that convert textures on the way:
+// core/interrupts.h's, so that SIGINT, SIGTERM or SIGHUP removes them too.
 #pragma once
 
 #include <string>
 
+#include "parallaxes/core/interrupts.h"
 #include "parallaxes/core/result.h"
 #include "parallaxes/scene/scene_textures.h"
 
 namespace px::tools {
 
-// A fresh private folder under $TMPDIR (or /tmp) for converted textures,
-// removed with everything in it when the value goes.
-class TempFolder {
-public:
-    static Result<TempFolder> create();
-    TempFolder(TempFolder&& o) noexcept : path_(std::move(o.path_)) { o.path_.clear(); }
-    TempFolder& operator=(TempFolder&&) = delete;
-    TempFolder(const TempFolder&) = delete;
-    ~TempFolder();
-    const std::string& path() const { return path_; }
+using TempFolder = interrupts::TempFolder;
 
-private:
-    explicit TempFolder(std::string path) : path_(std::move(path)) {}
-    std::string path_;
-};
+// A fresh private folder $TMPDIR/parallax-textures-XXXXXX (or under /tmp),
+// removed with everything in it when the value goes or the program is
+// interrupted.
+inline Result<TempFolder> make_texture_folder() { return TempFolder::create("parallax-textures-"); }
 
 }  // namespace px::tools

@@ -51,7 +51,7 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
     if (!context) return fail(context.error().message);
     auto target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
-    Result<TempFolder> folder = TempFolder::create();
+    Result<TempFolder> folder = make_texture_folder();
     if (!folder) return fail(folder.error().message);
 
     const std::vector<std::string> variants = {"raw", "etc1", "etc2", "astc", "astc_8x8", "bc", "pvrtc"};

@@ -20,6 +20,33 @@ namespace {
 
 std::string reason(int err) { return err != 0 ? std::string(std::strerror(err)) : "unknown error"; }
 
+// An open descriptor, closed when the value goes.
+struct OpenFile {
+    int fd = -1;
+    struct stat st {};
+    OpenFile() = default;
+    OpenFile(const OpenFile&) = delete;
+    OpenFile& operator=(const OpenFile&) = delete;
+    ~OpenFile() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+// Opens `path` for reading if it is a regular file (O_NONBLOCK, so that a
+// FIFO does not wait for a writer; blocking again once it is known to be a
+// file), filling `file`; otherwise an error naming it (`name`) and `what`.
+Status open_regular(const std::string& path, const std::string& name, const std::string& what, OpenFile& file) {
+    file.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (file.fd < 0) return make_error(name + ": cannot open " + what + ": " + reason(errno));
+    if (::fstat(file.fd, &file.st) != 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
+    if (S_ISDIR(file.st.st_mode)) return make_error(name + ": cannot read " + what + ": it is a folder");
+    if (!S_ISREG(file.st.st_mode))
+        return make_error(name + ": cannot read " + what + ": not a regular file (a pipe, socket or device)");
+    const int flags = ::fcntl(file.fd, F_GETFL);
+    if (flags >= 0) (void)::fcntl(file.fd, F_SETFL, flags & ~O_NONBLOCK);
+    return {};
+}
+
 }  // namespace
 
 Status write_file_atomically(const std::string& path, const void* bytes, std::size_t size) {
@@ -73,25 +100,15 @@ Status write_file_atomically(const std::string& path, const void* bytes, std::si
 Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std::size_t max_bytes,
                                                     const std::string& what) {
     const std::string name = echo_path(path);
-    // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer.
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) return make_error(name + ": cannot open " + what + ": " + reason(errno));
-    struct Closer {
-        int fd;
-        ~Closer() { ::close(fd); }
-    } closer{fd};
-    struct stat st {};
-    if (::fstat(fd, &st) != 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
-    if (S_ISDIR(st.st_mode)) return make_error(name + ": cannot read " + what + ": it is a folder");
-    if (!S_ISREG(st.st_mode))
-        return make_error(name + ": cannot read " + what + ": not a regular file (a pipe, socket or device)");
+    OpenFile file;
+    if (Status opened = open_regular(path, name, what, file); !opened) return opened.error();
+    const int fd = file.fd;
+    const struct stat& st = file.st;
     const auto limit_error = [&] {
         return make_error(name + ": " + what + " is larger than the limit of " + std::to_string(max_bytes >> 20) +
                           " MiB (" + std::to_string(max_bytes) + " bytes)");
     };
     if (st.st_size < 0 || static_cast<std::uint64_t>(st.st_size) > max_bytes) return limit_error();
-    const int flags = ::fcntl(fd, F_GETFL);
-    if (flags >= 0) (void)::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(st.st_size));
     std::size_t filled = 0;
     for (;;) {
@@ -121,19 +138,10 @@ Result<std::vector<std::uint8_t>> read_file_bounded(const std::string& path, std
 Result<std::vector<std::uint8_t>> read_file_prefix(const std::string& path, std::size_t max_bytes,
                                                    const std::string& what) {
     const std::string name = echo_path(path);
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) return make_error(name + ": cannot open " + what + ": " + reason(errno));
-    struct Closer {
-        int fd;
-        ~Closer() { ::close(fd); }
-    } closer{fd};
-    struct stat st {};
-    if (::fstat(fd, &st) != 0) return make_error(name + ": cannot read " + what + ": " + reason(errno));
-    if (S_ISDIR(st.st_mode)) return make_error(name + ": cannot read " + what + ": it is a folder");
-    if (!S_ISREG(st.st_mode))
-        return make_error(name + ": cannot read " + what + ": not a regular file (a pipe, socket or device)");
-    const int flags = ::fcntl(fd, F_GETFL);
-    if (flags >= 0) (void)::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    OpenFile file;
+    if (Status opened = open_regular(path, name, what, file); !opened) return opened.error();
+    const int fd = file.fd;
+    const struct stat& st = file.st;
     const std::size_t want =
         st.st_size > 0 ? std::min(max_bytes, static_cast<std::size_t>(std::min<std::uint64_t>(
                                                  static_cast<std::uint64_t>(st.st_size), SIZE_MAX)))
