@@ -766,6 +766,18 @@ TEST(SearchModel, AFlatFieldGivesTheClosedFormErrors) {
         if (order3[i].technique == Technique::steep) EXPECT_NEAR(three[i], p / 6.0, 1e-6);
 }
 
+// 16 lines 3 texels wide along y on a 128-texel tile, as the GPU samples it (8-bit).
+HeightField three_texel_lines() {
+    FieldSpec spec;
+    spec.kind = FieldKind::lines;
+    spec.size = 128;
+    spec.count = 16;
+    spec.line_width = 3;
+    Result<HeightField> field = make_height_field(spec);
+    EXPECT_TRUE(field.ok()) << field.error().message;
+    return field.ok() ? quantized_8bit(*field) : HeightField{};
+}
+
 // A search that steps over thin features: 3-texel flat-topped lines 8
 // texels apart, seen low. Few samples stride past the lines (errors of
 // many texels), many do not; the model sees it from the field, with no
@@ -773,18 +785,13 @@ TEST(SearchModel, AFlatFieldGivesTheClosedFormErrors) {
 // can graze near the top between any two samples: even 256 samples leave a
 // few rays texels off there, as the exact reference sees it.)
 TEST(SearchModel, StepsOverThinLinesWithFewSamplesOnly) {
-    FieldSpec spec;
-    spec.kind = FieldKind::lines;
-    spec.size = 128;
-    spec.count = 16;
-    spec.line_width = 3;
-    Result<HeightField> field = make_height_field(spec);
-    ASSERT_TRUE(field.ok()) << field.error().message;
+    const HeightField field = three_texel_lines();
+    ASSERT_GT(field.width, 0);
     SearchModelOptions o;
     o.angles = {0, 75};
     o.samples = {4, 256};
     o.rays = 256;
-    const SearchModel m = simulate_searches(quantized_8bit(*field), 0.08, 1.0, o);
+    const SearchModel m = simulate_searches(field, 0.08, 1.0, o);
     const SearchCurve* coarse = m.find(Technique::pom, 4);
     const SearchCurve* fine = m.find(Technique::pom, 256);
     ASSERT_TRUE(coarse && fine);
@@ -792,7 +799,7 @@ TEST(SearchModel, StepsOverThinLinesWithFewSamplesOnly) {
     EXPECT_LT(fine->error[1], 0.5);
     EXPECT_LT(fine->error[0], 1e-3);
     // Deterministic.
-    const SearchModel again = simulate_searches(quantized_8bit(*field), 0.08, 1.0, o);
+    const SearchModel again = simulate_searches(field, 0.08, 1.0, o);
     EXPECT_EQ(again.find(Technique::pom, 4)->error, coarse->error);
 }
 
@@ -813,18 +820,13 @@ TEST(SearchModel, SectorsFoldTheAzimuthByBothMirrorAxes) {
 // (along x, sector 0), never by one along them (the last sector): the
 // model keeps the two apart where the pooled curve mixes them.
 TEST(SearchModel, LinesSeenAlongThemAreNotSteppedOver) {
-    FieldSpec spec;
-    spec.kind = FieldKind::lines;
-    spec.size = 128;
-    spec.count = 16;
-    spec.line_width = 3;
-    Result<HeightField> field = make_height_field(spec);
-    ASSERT_TRUE(field.ok()) << field.error().message;
+    const HeightField field = three_texel_lines();
+    ASSERT_GT(field.width, 0);
     SearchModelOptions o;
     o.angles = {75};
     o.samples = {4};
     o.rays = 128;
-    const SearchModel m = simulate_searches(quantized_8bit(*field), 0.08, 1.0, o);
+    const SearchModel m = simulate_searches(field, 0.08, 1.0, o);
     const SearchCurve* pom = m.find(Technique::pom, 4);
     ASSERT_TRUE(pom);
     ASSERT_EQ(pom->sector_levels.size(), 1u);
@@ -837,7 +839,7 @@ TEST(SearchModel, LinesSeenAlongThemAreNotSteppedOver) {
     std::vector<SearchRay> rays;
     for (int i = 0; i < 64; ++i)
         rays.push_back({glm::dvec2((i + 0.5) / 64.0, 0.37), glm::dvec3(0.0, std::sin(glm::radians(75.0)), std::cos(glm::radians(75.0)))});
-    const std::vector<std::vector<double>> exact = simulate_rays(quantized_8bit(*field), 0.08, 1.0, rays, {4}, 5);
+    const std::vector<std::vector<double>> exact = simulate_rays(field, 0.08, 1.0, rays, {4}, 5);
     const std::vector<SearchCurve> order = search_candidates({4});
     for (size_t c = 0; c < order.size(); ++c)
         if (order[c].technique == Technique::pom) EXPECT_LT(exact[0][c], 0.05);

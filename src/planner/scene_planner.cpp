@@ -384,16 +384,9 @@ double weighted_quantile(std::vector<std::pair<double, double>>& v, double share
 }
 
 double weighted_p95(std::vector<std::pair<double, double>>& v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
     double total = 0.0;
     for (const auto& e : v) total += e.second;
-    double sum = 0.0;
-    for (const auto& e : v) {
-        sum += e.second;
-        if (sum >= 0.95 * total) return e.first;
-    }
-    return v.back().first;
+    return weighted_quantile(v, 0.95, total);
 }
 
 }  // namespace
