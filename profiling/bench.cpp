@@ -264,8 +264,12 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
             normal_scene.materials[0].technique.technique = Technique::normal;
             RendererOptions baseline_options = options.renderer;
             baseline_options.variant_transform = nullptr;
-            Result<std::unique_ptr<Renderer>> normal = load_renderer(normal_scene, baseline_options);
-            if (!normal) return normal.error();
+            std::unique_ptr<Renderer> normal;
+            if (options.timed) {
+                Result<std::unique_ptr<Renderer>> loaded = load_renderer(normal_scene, baseline_options);
+                if (!loaded) return loaded.error();
+                normal = std::move(*loaded);
+            }
 
             std::vector<Setting> scene_settings;
             for (const Setting& setting : settings) {
@@ -302,24 +306,30 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
 
                 // Colour, then time: warm both programs, then interleave
                 // normal mapping and the setting so both see the same machine.
-                Status drawn = (*renderer)->draw(target);
-                if (!drawn) return drawn.error();
-                Result<Image> color = read_color();
-                if (!color) return color.error();
-                Status warm = (*normal)->draw(target);
-                if (!warm) return warm.error();
-                glFinish();
-                std::vector<double> times, ratios;
-                for (int frame = 0; frame < options.frames; ++frame) {
-                    const auto t0 = std::chrono::steady_clock::now();
-                    (void)(*normal)->draw(target);
+                std::vector<double> times{0.0}, ratios{0.0};
+                double psnr = 0.0;
+                if (options.timed) {
+                    Status drawn = (*renderer)->draw(target);
+                    if (!drawn) return drawn.error();
+                    Result<Image> color = read_color();
+                    if (!color) return color.error();
+                    psnr = reference::color_psnr(*color, truth->color, truth->surface);
+                    Status warm = normal->draw(target);
+                    if (!warm) return warm.error();
                     glFinish();
-                    const auto t1 = std::chrono::steady_clock::now();
-                    (void)(*renderer)->draw(target);
-                    glFinish();
-                    const auto t2 = std::chrono::steady_clock::now();
-                    times.push_back(ms_between(t1, t2));
-                    ratios.push_back(ms_between(t1, t2) / std::max(ms_between(t0, t1), 1e-6));
+                    times.clear();
+                    ratios.clear();
+                    for (int frame = 0; frame < options.frames; ++frame) {
+                        const auto t0 = std::chrono::steady_clock::now();
+                        (void)normal->draw(target);
+                        glFinish();
+                        const auto t1 = std::chrono::steady_clock::now();
+                        (void)(*renderer)->draw(target);
+                        glFinish();
+                        const auto t2 = std::chrono::steady_clock::now();
+                        times.push_back(ms_between(t1, t2));
+                        ratios.push_back(ms_between(t1, t2) / std::max(ms_between(t0, t1), 1e-6));
+                    }
                 }
 
                 BenchRow row;
@@ -341,7 +351,7 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 row.depth_error_mean = error->depth_error_mean;
                 row.depth_error_max = error->depth_error_max;
                 row.shadow_disagreement = error->shadow_disagreement;
-                row.color_psnr_db = reference::color_psnr(*color, truth->color, truth->surface);
+                row.color_psnr_db = psnr;
                 row.frame_ms_median = median(times);
                 row.frame_ms_min = *std::min_element(times.begin(), times.end());
                 row.frame_ms_max = *std::max_element(times.begin(), times.end());

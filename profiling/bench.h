@@ -53,6 +53,9 @@ struct BenchOptions {
     int width = 256;
     int height = 256;
     int frames = 7;          // timed rounds per setting (each: normal mapping, then the setting)
+    // false: errors only (one debug-output draw per setting): no colour, no
+    // timing; the rows' times and ratios are 0 (a calibration without timing).
+    bool timed = true;
     std::string command;     // recorded in the results
     int threads = 0;         // recorded: llvmpipe's thread count
     int segments = 64;       // quads per side of each bench plane

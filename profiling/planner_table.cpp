@@ -167,6 +167,8 @@ Result<CostTable> calibrate_material(const MaterialDesc& material, const std::st
     BenchOptions o = grid_options(grid, command);
     o.angles = angles;
     o.scenes.clear();
+    o.timed = grid.frames > 0;
+    o.frames = std::max(1, grid.frames);
     const std::string name = "calibrated " + material.name;
     o.materials = {{name, material, base_dir, ShadowMode::none}};
     std::vector<BenchRun> runs;
@@ -191,6 +193,7 @@ Result<CostTable> calibrate_material(const MaterialDesc& material, const std::st
     Result<CostTable> table = cost_table_from_runs(runs, materials);
     if (!table) return table.error();
     table->command = command;
+    table->costs_measured = o.timed;
     return table;
 }
 

@@ -537,6 +537,57 @@ TEST(Planner, ACalibrationIsUsedOnlyWhereItMeasured) {
     EXPECT_TRUE(has_note(elsewhere, "was measured on 'Mali-G78', not this renderer ('llvmpipe (test)')"));
 }
 
+// A calibration that measured errors only ("costs": "table", the default of
+// `plan --calibrate`) is priced from the generic table: whatever costs its
+// rows hold, the plan's predicted cost is the table's, and its errors still
+// decide. The same file with measured costs is priced by its own rows.
+TEST(Planner, AnUntimedCalibrationIsPricedFromTheGenericTable) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    ASSERT_TRUE(images.ok());
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();
+    const CostTable generic = small_table();
+    CostTable calibration = small_table();
+    calibration.date = "calibrated";
+    calibration.reliefs[0].features = relief.features;
+    for (CostSample& s : calibration.rows) {
+        if (s.technique == Technique::pom && s.samples == 8) s.error_p95 *= 10.0;  // errors decide: POM x32
+        if (s.technique != Technique::normal) s.cost *= 7.0;                         // not timings, if untimed
+    }
+    auto plan_with = [&](const CostTable& c) {
+        PlannerOptions options;
+        options.table = &generic;
+        options.calibrations = std::make_shared<const std::vector<CostTable>>(std::vector<CostTable>{c});
+        Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
+        EXPECT_TRUE(planner.ok()) << planner.error().message;
+        Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 256, 256);
+        EXPECT_TRUE(p.ok()) << p.error().message;
+        return p ? (*p)[0] : ObjectPlan{};
+    };
+    const ObjectPlan timed = plan_with(calibration);
+    CostTable untimed = calibration;
+    untimed.costs_measured = false;
+    const ObjectPlan priced = plan_with(untimed);
+    EXPECT_EQ(timed.key.max_samples, 32);
+    EXPECT_EQ(priced.key.max_samples, 32);
+    ASSERT_GT(priced.predicted_cost, 0.0);
+    EXPECT_NEAR(timed.predicted_cost / priced.predicted_cost, 7.0, 0.7);
+    EXPECT_NE(priced.prediction_source.find("errors measured, costs from table"), std::string::npos)
+        << priced.prediction_source;
+    EXPECT_EQ(timed.prediction_source.find("costs from table"), std::string::npos) << timed.prediction_source;
+    // The file says which it is, and reads back the same.
+    Result<CostTable> back = parse_cost_table(cost_table_json(untimed), "untimed.json");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_FALSE(back->costs_measured);
+    back = parse_cost_table(cost_table_json(calibration), "timed.json");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_TRUE(back->costs_measured);
+}
+
 TEST(Planner, ACalibrationWithNothingToPlanWithFallsBackToTheGenericTable) {
     EffectRequest e;
     e.max_error_texels = 2.0f;

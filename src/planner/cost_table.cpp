@@ -46,6 +46,12 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
     }
     if (doc.contains("width") && doc["width"].is_number_integer()) t.width = doc["width"].get<int>();
     if (doc.contains("height") && doc["height"].is_number_integer()) t.height = doc["height"].get<int>();
+    if (doc.contains("costs")) {
+        const json& costs = doc["costs"];
+        if (!costs.is_string() || (costs.get<std::string>() != "measured" && costs.get<std::string>() != "table"))
+            return make_error(origin + ": costs: expected \"measured\" or \"table\"");
+        t.costs_measured = costs.get<std::string>() == "measured";
+    }
     const json& reliefs = doc.contains("reliefs") ? doc["reliefs"] : json();
     if (!reliefs.is_array() || reliefs.empty()) return make_error(origin + ": reliefs: expected a non-empty array");
     if (reliefs.size() > kMaxCostTableReliefs)
@@ -150,6 +156,7 @@ std::string cost_table_json(const CostTable& t) {
     out += "  \"version\": " + json(t.version).dump() + ",\n";
     out += "  \"command\": " + json(t.command).dump() + ",\n";
     out += "  \"width\": " + std::to_string(t.width) + ", \"height\": " + std::to_string(t.height) + ",\n";
+    if (!t.costs_measured) out += "  \"costs\": \"table\",\n";
     out += "  \"reliefs\": [\n";
     for (size_t i = 0; i < t.reliefs.size(); ++i) {
         const CostTableRelief& r = t.reliefs[i];

@@ -50,6 +50,11 @@ struct CostTable {
     std::string version;   // GL_VERSION
     std::string command;   // what regenerates it
     int width = 0, height = 0;
+    // false: the rows' errors were measured, their costs were not (a
+    // calibration without timing: `"costs": "table"` in the file); the
+    // planner prices each candidate from the generic table's relief nearest
+    // to this one, so the choice does not depend on this run's timing noise.
+    bool costs_measured = true;
     std::vector<CostTableRelief> reliefs;
     std::vector<CostSample> rows;
 };

@@ -338,6 +338,60 @@ int nearest_relief(const CostTable& table, const ReliefFeatures& f, const std::v
     return best;
 }
 
+// A calibration that measured errors but not times ("costs": "table"):
+// each curve priced from the generic table's curve of the same candidate on
+// the generic relief nearest to the calibrated one, at the calibration's
+// angles (a step-bounded technique at whatever bound the table measured). A
+// shadowed curve gets its unshadowed twin's price plus the shadow's
+// overhead the table measured on its nearest shadowed relief. Curves the
+// table cannot price are dropped (no candidate without a cost).
+void price_from_generic(const CostTable& calibration, std::map<CurveKey, Curve>& curves, const CostTable& generic,
+                        const std::map<CurveKey, Curve>& generic_curves) {
+    const auto find = [&](int relief, Technique t, int samples, ShadowMode shadow, int ss, int elevation) -> const Curve* {
+        const bool steps = technique_info(t).options & kOptSteps;
+        for (auto it = generic_curves.lower_bound(CurveKey{relief, t, 0, ShadowMode::none, 0, 0});
+             it != generic_curves.end(); ++it) {
+            const auto& [r, tt, n, sh, k, e] = it->first;
+            if (r != relief || tt != t) break;
+            if ((n == samples || steps) && sh == shadow && k == ss && e == elevation && !it->second.angles.empty())
+                return &it->second;
+        }
+        return nullptr;
+    };
+    std::vector<bool> all(generic.reliefs.size(), true);
+    std::map<CurveKey, Curve> priced;
+    // Unshadowed curves first: a shadowed one is priced over its twin.
+    for (const bool shadowed : {false, true})
+        for (const auto& [key, c] : curves) {
+            const auto& [relief, t, samples, shadow, ss, elevation] = key;
+            if ((shadow != ShadowMode::none) != shadowed) continue;
+            if (relief < 0 || static_cast<size_t>(relief) >= calibration.reliefs.size()) continue;
+            const ReliefFeatures& f = calibration.reliefs[static_cast<size_t>(relief)].features;
+            Curve out = c;
+            if (!shadowed) {
+                const Curve* g = find(nearest_relief(generic, f, all), t, samples, ShadowMode::none, 0, 0);
+                if (!g) continue;
+                for (size_t k = 0; k < out.angles.size(); ++k) out.cost[k] = interpolate(g->angles, g->cost, out.angles[k]);
+            } else {
+                std::vector<bool> eligible(generic.reliefs.size(), false);
+                for (const CostSample& row : generic.rows)
+                    if (row.shadow == shadow) eligible[static_cast<size_t>(row.relief)] = true;
+                const int near = nearest_relief(generic, f, eligible);
+                const Curve* g = find(near, t, samples, shadow, ss, elevation);
+                const Curve* g_twin = find(near, t, samples, ShadowMode::none, 0, 0);
+                auto twin = priced.find(CurveKey{relief, t, samples, ShadowMode::none, 0, 0});
+                if (!g || !g_twin || twin == priced.end()) continue;
+                for (size_t k = 0; k < out.angles.size(); ++k) {
+                    const double a = out.angles[k];
+                    out.cost[k] = interpolate(twin->second.angles, twin->second.cost, a) +
+                                  std::max(0.0, interpolate(g->angles, g->cost, a) - interpolate(g_twin->angles, g_twin->cost, a));
+                }
+            }
+            priced.emplace(key, std::move(out));
+        }
+    curves = std::move(priced);
+}
+
 // A candidate the planner weighs.
 struct Candidate {
     Technique technique;
@@ -589,7 +643,10 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
             if (found) m.calibrations.push_back(std::move(*found));
         }
     }
-    for (const CostTable& c : m.calibrations) m.calibration_curves.push_back(curves_of(c));
+    for (const CostTable& c : m.calibrations) {
+        m.calibration_curves.push_back(curves_of(c));
+        if (!c.costs_measured) price_from_generic(c, m.calibration_curves.back(), m.generic, m.generic_curves);
+    }
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         if (!meshes.empty()) {
             m.units_per_uv.push_back(meshes[i]->units_per_uv);
@@ -701,6 +758,12 @@ std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(
             s.relief = static_cast<int>(i);
             s.depth_scale = 1.0;
             s.label = "calibrated on this relief (" + hash_hex(f.field_hash) + ", " + calibrations[c].date + ")";
+            if (!calibrations[c].costs_measured) {
+                std::vector<bool> all(generic.reliefs.size(), true);
+                const int near = nearest_relief(generic, f, all);
+                s.label += "; errors measured, costs from table '" +
+                           (near >= 0 ? generic.reliefs[static_cast<size_t>(near)].name : std::string("?")) + "'";
+            }
             return s;
         }
     return std::nullopt;
