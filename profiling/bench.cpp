@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "parallaxes/gl/gl.h"
+#include "parallaxes/profiling/interleaved.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/reference/tracer.h"
 #include "parallaxes/render/renderer.h"
@@ -55,15 +56,6 @@ struct Setting {
     int samples = 0;
     int shadow_samples = 0;  // 0: the material's default
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-}
 
 std::string now_iso8601() {
     const std::time_t t = std::time(nullptr);
@@ -316,20 +308,12 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                     psnr = reference::color_psnr(*color, truth->color, truth->surface);
                     Status warm = normal->draw(target);
                     if (!warm) return warm.error();
-                    glFinish();
-                    times.clear();
-                    ratios.clear();
-                    for (int frame = 0; frame < options.frames; ++frame) {
-                        const auto t0 = std::chrono::steady_clock::now();
-                        (void)normal->draw(target);
-                        glFinish();
-                        const auto t1 = std::chrono::steady_clock::now();
-                        (void)(*renderer)->draw(target);
-                        glFinish();
-                        const auto t2 = std::chrono::steady_clock::now();
-                        times.push_back(ms_between(t1, t2));
-                        ratios.push_back(ms_between(t1, t2) / std::max(ms_between(t0, t1), 1e-6));
-                    }
+                    Result<InterleavedTimes> timed = time_interleaved(
+                        [&] { return normal->draw(target); }, [&] { return (*renderer)->draw(target); }, options.frames,
+                        false);
+                    if (!timed) return timed.error();
+                    times = timed->second_ms;
+                    ratios = timed->ratios;
                 }
 
                 BenchRow row;
@@ -352,11 +336,11 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
                 row.depth_error_max = error->depth_error_max;
                 row.shadow_disagreement = error->shadow_disagreement;
                 row.color_psnr_db = psnr;
-                row.frame_ms_median = median(times);
+                row.frame_ms_median = median_of(times);
                 row.frame_ms_min = *std::min_element(times.begin(), times.end());
                 row.frame_ms_max = *std::max_element(times.begin(), times.end());
                 row.ns_per_pixel = error->pixels > 0 ? row.frame_ms_median * 1e6 / static_cast<double>(error->pixels) : 0.0;
-                row.ratio_to_normal = median(ratios);
+                row.ratio_to_normal = median_of(ratios);
                 run.rows.push_back(row);
                 ++done;
                 if (progress) {

@@ -1,5 +1,6 @@
 #include "parallaxes/profiling/shader_profile.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -71,8 +72,14 @@ std::string vendor_text(const VariantProfile& p) {
         if (!out.empty()) out += "; ";
         out += v.tool + ":";
         if (v.cycles >= 0) out += " " + fixed(v.cycles, 2) + " cycles";
-        for (std::size_t i = 0; i < v.pipes.size() && i < v.longest.size(); ++i)
-            out += " " + v.pipes[i] + "=" + fixed(v.longest[i], 2);
+        // The longest path; where the tool cannot bound it (N/A: loops it
+        // cannot count), the total instruction cycles, its only bound.
+        const bool unbounded = !v.longest.empty() && std::all_of(v.longest.begin(), v.longest.end(),
+                                                                [](double x) { return std::isnan(x); });
+        const std::vector<double>& row = unbounded && !v.total.empty() ? v.total : v.longest;
+        if (unbounded) out += row.empty() ? " longest N/A" : " longest N/A, total";
+        for (std::size_t i = 0; i < v.pipes.size() && i < row.size(); ++i)
+            out += " " + v.pipes[i] + "=" + (std::isnan(row[i]) ? std::string("N/A") : fixed(row[i], 2));
         if (!v.bound.empty()) out += " (" + v.bound + ")";
         if (v.work_registers >= 0) out += " regs=" + std::to_string(v.work_registers);
     }
@@ -204,7 +211,7 @@ nlohmann::json profile_json(const VariantProfile& p) {
     if (!p.nir_note.empty()) j["nir_note"] = p.nir_note;
     for (const VendorFigures& v : p.vendor_fragment)
         j["vendor"].push_back({{"tool", v.tool}, {"target", v.target}, {"work_registers", v.work_registers},
-                               {"fp16_percent", v.fp16_percent}, {"pipes", v.pipes}, {"shortest", v.shortest},
+                               {"fp16_percent", v.fp16_percent}, {"pipes", v.pipes}, {"total", v.total}, {"shortest", v.shortest},
                                {"longest", v.longest}, {"bound", v.bound}, {"cycles", v.cycles}});
     if (p.measured)
         j["measured"] = {{"scene", p.measured->scene}, {"angle_deg", p.measured->angle_deg},

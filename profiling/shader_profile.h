@@ -22,8 +22,8 @@ struct VendorFigures {  // a vendor compiler's figures for one stage, as reporte
     int work_registers = -1;
     double fp16_percent = -1.0;
     std::vector<std::string> pipes;
-    std::vector<double> shortest, longest;
-    std::string bound;
+    std::vector<double> total, shortest, longest;  // NaN where the tool prints N/A
+    std::string bound;     // the longest path's; the total's where the longest is N/A
     double cycles = -1.0;  // a single figure where the tool gives one
 };
 

@@ -8,6 +8,7 @@
 
 #include "parallaxes/core/files.h"
 #include "parallaxes/gl/gl.h"
+#include "parallaxes/profiling/interleaved.h"
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
@@ -15,11 +16,6 @@
 namespace px::profiling {
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 std::string now_iso8601() {
     const std::time_t t = std::time(nullptr);
@@ -96,29 +92,12 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
 
     // Time: both warm, then interleaved rounds on the same machine state.
     say("timing");
-    for (Renderer* r : {planned->get(), all->get()}) {
-        Status drawn = r->draw(target);
-        if (!drawn) return drawn.error();
-    }
-    glFinish();
-    std::vector<double> planned_ms, all_ms, ratios;
-    for (int i = 0; i < frames; ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        (void)(*planned)->draw(target);
-        glFinish();
-        const auto t1 = std::chrono::steady_clock::now();
-        (void)(*all)->draw(target);
-        glFinish();
-        const auto t2 = std::chrono::steady_clock::now();
-        const double a = std::chrono::duration<double, std::milli>(t1 - t0).count();
-        const double b = std::chrono::duration<double, std::milli>(t2 - t1).count();
-        planned_ms.push_back(a);
-        all_ms.push_back(b);
-        ratios.push_back(b / std::max(a, 1e-6));
-    }
-    run.planned_ms = median(planned_ms);
-    run.all_ms = median(all_ms);
-    run.speedup = median(ratios);
+    Result<InterleavedTimes> timed = time_interleaved([&] { return (*planned)->draw(target); },
+                                                      [&] { return (*all)->draw(target); }, frames);
+    if (!timed) return timed.error();
+    run.planned_ms = timed->first_median_ms;
+    run.all_ms = timed->second_median_ms;
+    run.speedup = timed->ratio_median;
     run.planned_programs = static_cast<int>((*planned)->program_count());
     run.all_programs = static_cast<int>((*all)->program_count());
 

@@ -232,40 +232,52 @@ std::string pick_bound(const std::string& longest_bound, const std::string& tota
 
 struct TextSection {
     std::string title;               // "" for the lines before the first title
+    char rule = 0;                   // the title's underline: '=' (sections) or '-' (a vertex shader's variants)
     std::vector<std::string> lines;  // trimmed, title and underline left out
 };
 
-bool is_underline(const std::string& line) {
+bool is_rule(const std::string& line, char c) {
     const std::string t = trim(line);
-    return t.size() >= 3 && std::all_of(t.begin(), t.end(), [](char c) { return c == '='; });
+    return t.size() >= 3 && std::all_of(t.begin(), t.end(), [c](char x) { return x == c; });
 }
 
 std::vector<TextSection> split_sections(const std::string& output) {
     const std::vector<std::string> lines = split_lines(output);
     std::vector<TextSection> sections(1);
     for (std::size_t i = 0; i < lines.size(); ++i) {
-        if (i + 1 < lines.size() && !trim(lines[i]).empty() && is_underline(lines[i + 1])) {
-            sections.push_back(TextSection{trim(lines[i]), {}});
-            ++i;  // the underline
-            continue;
+        if (i + 1 < lines.size() && !trim(lines[i]).empty()) {
+            const char rule = is_rule(lines[i + 1], '=') ? '=' : is_rule(lines[i + 1], '-') ? '-' : 0;
+            if (rule) {
+                sections.push_back(TextSection{trim(lines[i]), rule, {}});
+                ++i;  // the underline
+                continue;
+            }
         }
         sections.back().lines.push_back(trim(lines[i]));
     }
     return sections;
 }
 
-bool is_variant_title(const std::string& title) {
+// "Main shader" -> "Main", "Position variant" -> "Position"; "" when the
+// title names no variant.
+std::string variant_name(const std::string& title) {
     const std::string t = lower(title);
-    return ends_with(t, " shader") || ends_with(t, " variant");
+    for (const char* suffix : {" shader", " variant"})
+        if (ends_with(t, suffix) && t.size() > std::strlen(suffix)) return title.substr(0, t.size() - std::strlen(suffix));
+    return "";
+}
+
+bool has_content(const TextSection& s) {
+    return std::any_of(s.lines.begin(), s.lines.end(), [](const std::string& l) { return !l.empty(); });
 }
 
 // One row of the cycles table: a figure (NaN for N/A) per pipe, then the bound.
-Status parse_cycles_row(const std::string& label, const std::string& values, std::size_t pipe_count,
-                        std::vector<double>& figures, std::string& bound) {
+Status parse_cycles_row(const std::string& line, const std::string& label, const std::string& values,
+                        std::size_t pipe_count, std::vector<double>& figures, std::string& bound) {
     const std::vector<std::string> words = split_words(values);
     if (words.size() < pipe_count + 1)
         return make_error("'" + label + ":' has " + std::to_string(words.size()) + " values, expected " +
-                          std::to_string(pipe_count) + " pipe figures and the bound");
+                          std::to_string(pipe_count) + " pipe figures and the bound: '" + line + "'");
     figures.clear();
     for (std::size_t i = 0; i < pipe_count; ++i) {
         if (words[i] == "N/A") {
@@ -273,12 +285,124 @@ Status parse_cycles_row(const std::string& label, const std::string& values, std
             continue;
         }
         auto value = parse_figure(words[i], "'" + label + ":' value " + std::to_string(i + 1));
-        if (!value) return value.error();
+        if (!value) return make_error(value.error().message + " in '" + line + "'");
         figures.push_back(*value);
     }
     bound = join(std::vector<std::string>(words.begin() + static_cast<std::ptrdiff_t>(pipe_count), words.end()), " ");
     if (bound == "N/A") bound.clear();
     return {};
+}
+
+// Whether a token reads as a figure or N/A (a table row's first value).
+bool looks_like_figure(const std::string& token) {
+    if (token == "N/A") return true;
+    char* end = nullptr;
+    (void)std::strtod(token.c_str(), &end);
+    return !token.empty() && end == token.c_str() + token.size();
+}
+
+// A register count, or -1 for N/A.
+Result<int> register_count(const std::string& first, const std::string& what) {
+    if (first == "N/A") return -1;
+    return parse_count(first, what);
+}
+
+// The lines of one variant's section: registers, spilling, 16-bit share and
+// the cycles table.
+Result<VendorVariant> parse_text_variant(const TextSection& section) {
+    VendorVariant v;
+    v.name = variant_name(section.title);
+    bool have_header = false, have_work = false, have_uniform = false;
+    bool have[3] = {false, false, false};  // total, shortest, longest
+    for (const std::string& line : section.lines) {
+        if (line.empty()) continue;
+        std::string label, value;
+        if (!split_field(line, label, value)) {
+            const std::vector<std::string> words = split_words(line);
+            if (words.size() >= 2 && lower(words.back()) == "bound") {
+                v.pipes.assign(words.begin(), words.end() - 1);
+                have_header = true;
+            } else if (!contains(line, " = ") && std::any_of(words.begin(), words.end(), looks_like_figure)) {
+                // Not a legend ("A = Arithmetic, ..."), not a header: figures in a layout not known here.
+                return make_error("a line the parser does not know: '" + line + "'");
+            }
+            continue;
+        }
+        const std::string key = lower(label);
+        const std::vector<std::string> words = split_words(value);
+        const std::string first = words.empty() ? "" : words[0];
+        if (key == "work registers" || key == "uniform registers") {
+            auto count = register_count(first, "'" + label + ":'");
+            if (!count) return make_error(count.error().message + " in '" + line + "'");
+            (key[0] == 'w' ? v.work_registers : v.uniform_registers) = *count;
+            (key[0] == 'w' ? have_work : have_uniform) = true;
+        } else if (key == "16-bit arithmetic") {
+            if (first != "N/A") {
+                auto percent = parse_percent(first, "'16-bit arithmetic:'");
+                if (!percent) return make_error(percent.error().message + " in '" + line + "'");
+                v.fp16_percent = *percent;
+            }
+        } else if (key == "stack spilling") {
+            // 7.x prints true/false; a byte count is read as spilling when above 0.
+            if (lower(first) == "true" || lower(first) == "false") {
+                v.stack_spilling = lower(first) == "true";
+            } else if (first != "N/A") {
+                auto bytes = parse_count(first, "'Stack spilling:'", std::numeric_limits<int>::max());
+                if (!bytes) return make_error(bytes.error().message + " in '" + line + "'");
+                v.stack_spilling = *bytes > 0;
+                if (*bytes > 0) v.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
+            }
+        } else if (key == "- spill region") {
+            auto bytes = parse_count(first, "'Spill region:'", std::numeric_limits<int>::max());
+            if (!bytes) return make_error(bytes.error().message + " in '" + line + "'");
+            v.stack_spilling = *bytes > 0;
+            if (*bytes > 0) v.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
+        } else if (key == "total instruction cycles" || key == "shortest path cycles" || key == "longest path cycles") {
+            if (!have_header) return make_error("'" + line + "' comes before the cycles table's pipe header");
+            const int row = key[0] == 't' ? 0 : key[0] == 's' ? 1 : 2;
+            std::vector<double>& figures = row == 0 ? v.total : row == 1 ? v.shortest : v.longest;
+            std::string& bound = row == 0 ? v.total_bound : row == 1 ? v.shortest_bound : v.longest_bound;
+            Status parsed = parse_cycles_row(line, label, value, v.pipes.size(), figures, bound);
+            if (!parsed) return parsed.error();
+            have[row] = true;
+        } else if (have_header && words.size() >= v.pipes.size() + 1 && looks_like_figure(first)) {
+            // A row of the table under a name not known here (a new path, a renamed row).
+            return make_error("a cycles row the parser does not know: '" + line + "'");
+        }
+        // Any other "label: value" (Stack use, per-variant properties) says nothing the profile reads.
+    }
+    if (!have_work) return make_error("no 'Work registers:' line");
+    if (!have_uniform) return make_error("no 'Uniform registers:' line");
+    if (!have_header) return make_error("no cycles table header (pipe names ending in 'Bound')");
+    if (!have[0]) return make_error("no 'Total instruction cycles:' row");
+    if (!have[1]) return make_error("no 'Shortest path cycles:' row");
+    if (!have[2]) return make_error("no 'Longest path cycles:' row");
+    v.bound = pick_bound(v.longest_bound, v.total_bound);
+    return v;
+}
+
+// The primary variant: Main, else Position (a vertex shader's), else the first.
+std::size_t primary_variant(const std::vector<VendorVariant>& variants) {
+    for (const char* name : {"main", "position"})
+        for (std::size_t i = 0; i < variants.size(); ++i)
+            if (lower(variants[i].name) == name) return i;
+    return 0;
+}
+
+// The report's variants as the primary's figures and the list.
+void set_variants(VendorCycles& out, std::vector<VendorVariant> variants) {
+    const std::size_t primary = primary_variant(variants);
+    std::vector<std::string> shader_notes = std::move(out.notes);
+    static_cast<VendorVariant&>(out) = variants[primary];
+    if (variants.size() > 1) {
+        std::vector<std::string> others;
+        for (std::size_t i = 0; i < variants.size(); ++i)
+            if (i != primary) others.push_back(variants[i].name + " variant");
+        out.notes.push_back("figures of the " + variants[primary].name + " variant; the report also has " +
+                            join(others, ", "));
+    }
+    out.notes.insert(out.notes.end(), shader_notes.begin(), shader_notes.end());
+    out.variants = std::move(variants);
 }
 
 Result<VendorCycles> parse_malioc_text_inner(const std::string& output) {
@@ -299,12 +423,12 @@ Result<VendorCycles> parse_malioc_text_inner(const std::string& output) {
 
     const TextSection* configuration = nullptr;
     const TextSection* properties = nullptr;
-    std::vector<const TextSection*> variants;
+    std::vector<const TextSection*> variant_sections;
     for (const TextSection& section : sections) {
         const std::string title = lower(section.title);
         if (title == "configuration") configuration = &section;
         else if (title == "shader properties") properties = &section;
-        else if (is_variant_title(section.title)) variants.push_back(&section);
+        else if (!variant_name(section.title).empty() && has_content(section)) variant_sections.push_back(&section);
     }
     if (!configuration) return make_error("no 'Configuration' section");
     std::string hardware, architecture;
@@ -313,89 +437,25 @@ Result<VendorCycles> parse_malioc_text_inner(const std::string& output) {
         if (!split_field(line, label, value)) continue;
         if (lower(label) == "hardware") hardware = value;
         if (lower(label) == "architecture") architecture = value;
+        if (lower(label) == "shader type") out.shader_type = value;
     }
     if (hardware.empty()) return make_error("no 'Hardware:' line in the Configuration section");
     out.target = target_name(hardware, architecture);
 
-    if (variants.empty()) return make_error("no 'Main shader' (or 'Position variant') section");
-    const TextSection* variant = variants.front();
-    for (const TextSection* v : variants)
-        if (lower(v->title) == "main shader") variant = v;
-    if (variants.size() > 1) {
-        std::vector<std::string> others;
-        for (const TextSection* v : variants)
-            if (v != variant) others.push_back(v->title);
-        out.notes.push_back("figures of the " + variant->title + "; the report also has " + join(others, ", "));
+    if (variant_sections.empty()) return make_error("no 'Main shader' (or 'Position variant') section with figures");
+    std::vector<VendorVariant> variants;
+    for (const TextSection* section : variant_sections) {
+        Result<VendorVariant> v = parse_text_variant(*section);
+        if (!v) return make_error(v.error().message + " in the " + section->title + " section");
+        variants.push_back(std::move(*v));
     }
-
-    bool have_header = false;
-    std::string total_bound, shortest_bound, longest_bound;
-    bool have_total = false, have_shortest = false, have_longest = false;
-    for (const std::string& line : variant->lines) {
-        std::string label, value;
-        if (!split_field(line, label, value)) {
-            const std::vector<std::string> words = split_words(line);
-            if (words.size() >= 2 && lower(words.back()) == "bound") {
-                out.pipes.assign(words.begin(), words.end() - 1);
-                have_header = true;
-            }
-            continue;
-        }
-        const std::string key = lower(label);
-        const std::vector<std::string> words = split_words(value);
-        const std::string first = words.empty() ? "" : words[0];
-        if (key == "work registers") {
-            auto count = parse_count(first, "'Work registers:'");
-            if (!count) return count.error();
-            out.work_registers = *count;
-        } else if (key == "uniform registers") {
-            auto count = parse_count(first, "'Uniform registers:'");
-            if (!count) return count.error();
-            out.uniform_registers = *count;
-        } else if (key == "16-bit arithmetic") {
-            auto percent = parse_percent(first, "'16-bit arithmetic:'");
-            if (!percent) return percent.error();
-            out.fp16_percent = *percent;
-        } else if (key == "stack spilling") {
-            // 7.x prints true/false; a byte count is read as spilling when above 0.
-            if (lower(first) == "true" || lower(first) == "false") {
-                out.stack_spilling = lower(first) == "true";
-            } else {
-                auto bytes = parse_count(first, "'Stack spilling:'", std::numeric_limits<int>::max());
-                if (!bytes) return bytes.error();
-                out.stack_spilling = *bytes > 0;
-                if (*bytes > 0) out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
-            }
-        } else if (key == "- spill region") {
-            auto bytes = parse_count(first, "'Spill region:'", std::numeric_limits<int>::max());
-            if (!bytes) return bytes.error();
-            out.stack_spilling = *bytes > 0;
-            if (*bytes > 0) out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
-        } else if (key == "total instruction cycles" || key == "shortest path cycles" ||
-                   key == "longest path cycles") {
-            if (!have_header) return make_error("'" + label + ":' comes before the cycles table's pipe header");
-            std::vector<double>& row = key[0] == 't' ? out.total : key[0] == 's' ? out.shortest : out.longest;
-            std::string& bound = key[0] == 't' ? total_bound : key[0] == 's' ? shortest_bound : longest_bound;
-            Status parsed = parse_cycles_row(label, value, out.pipes.size(), row, bound);
-            if (!parsed) return parsed.error();
-            (key[0] == 't' ? have_total : key[0] == 's' ? have_shortest : have_longest) = true;
-        }
-    }
-    const std::string where = " in the " + variant->title + " section";
-    if (out.work_registers < 0) return make_error("no 'Work registers:' line" + where);
-    if (out.uniform_registers < 0) return make_error("no 'Uniform registers:' line" + where);
-    if (!have_header) return make_error("no cycles table header (pipe names ending in 'Bound')" + where);
-    if (!have_total) return make_error("no 'Total instruction cycles:' row" + where);
-    if (!have_shortest) return make_error("no 'Shortest path cycles:' row" + where);
-    if (!have_longest) return make_error("no 'Longest path cycles:' row" + where);
-    out.bound = pick_bound(longest_bound, total_bound);
-
     if (properties) {
         for (const std::string& line : properties->lines) {
             std::string label, value;
             if (split_field(line, label, value) && lower(value) == "true") out.notes.push_back(property_note(label));
         }
     }
+    set_variants(out, std::move(variants));
     return out;
 }
 
@@ -475,6 +535,55 @@ Status read_json_path(const json& performance, const char* key, std::size_t pipe
     return {};
 }
 
+// One entry of a shader's "variants": its own pipelines (their order may
+// differ between variants), the three paths and its register properties.
+Result<VendorVariant> parse_json_variant(const json& variant, const std::string& name) {
+    VendorVariant out;
+    out.name = name;
+    const json* performance = member(variant, "performance");
+    if (!performance || !performance->is_object()) return make_error("no performance");
+    const json* pipelines = member(*performance, "pipelines");
+    if (!pipelines || !pipelines->is_array() || pipelines->empty()) return make_error("no performance.pipelines");
+    for (const json& p : *pipelines) {
+        if (!p.is_string()) return make_error("performance.pipelines holds a non-string");
+        out.pipes.push_back(short_pipe_name(p.get<std::string>()));
+    }
+    for (Status s : {read_json_path(*performance, "total_cycles", out.pipes.size(), out.total, out.total_bound),
+                     read_json_path(*performance, "shortest_path_cycles", out.pipes.size(), out.shortest, out.shortest_bound),
+                     read_json_path(*performance, "longest_path_cycles", out.pipes.size(), out.longest, out.longest_bound)})
+        if (!s) return s.error();
+    out.bound = pick_bound(out.longest_bound, out.total_bound);
+
+    const json* properties = member(variant, "properties");
+    if (!properties || !properties->is_array()) return make_error("no properties");
+    for (auto [key, field] : {std::pair{"work_registers_used", &out.work_registers},
+                              std::pair{"uniform_registers_used", &out.uniform_registers}}) {
+        const json* value = property(properties, key);
+        if (value && value->is_null()) continue;  // N/A
+        auto count = json_count(value, key);
+        if (!count) return count.error();
+        *field = *count;
+    }
+    if (const json* fp16 = property(properties, "fp16_arithmetic"); fp16 && !fp16->is_null()) {
+        if (!fp16->is_number()) return make_error("fp16_arithmetic is not a number");
+        const double d = fp16->get<double>();
+        if (!std::isfinite(d) || d < 0.0 || d > 100.0)
+            return make_error("fp16_arithmetic is " + fp16->dump() + ", not a percentage");
+        out.fp16_percent = d;
+    }
+    if (const json* spilling = property(properties, "has_stack_spilling"); spilling && spilling->is_boolean())
+        out.stack_spilling = spilling->get<bool>();
+    if (const json* spill = property(properties, "stack_spill_bytes"); spill && !spill->is_null()) {
+        auto bytes = json_count(spill, "stack_spill_bytes");
+        if (!bytes) return bytes.error();
+        if (*bytes > 0) {
+            out.stack_spilling = true;
+            out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
+        }
+    }
+    return out;
+}
+
 Result<VendorCycles> parse_malioc_json_inner(const std::string& output) {
     const json report = json::parse(output, nullptr, false);
     if (report.is_discarded()) return make_error("not valid JSON");
@@ -521,64 +630,23 @@ Result<VendorCycles> parse_malioc_json_inner(const std::string& output) {
     const json* architecture = member(*hardware, "architecture");
     out.target = target_name(hardware_name, architecture && architecture->is_string() ? architecture->get<std::string>() : "");
 
+    if (const json* info = member(shader, "shader"); info && info->is_object()) {
+        const json* api = member(*info, "api");
+        const json* type = member(*info, "type");
+        std::string t;
+        if (api && api->is_string()) t = api->get<std::string>();
+        if (type && type->is_string()) t += (t.empty() ? "" : " ") + type->get<std::string>();
+        out.shader_type = t;
+    }
     const json* variants = member(shader, "variants");
     if (!variants || !variants->is_array() || variants->empty()) return make_error("no shaders[0].variants");
-    std::size_t chosen = 0;
-    std::vector<std::string> names;
+    std::vector<VendorVariant> read;
     for (std::size_t i = 0; i < variants->size(); ++i) {
         const json* name = member((*variants)[i], "name");
-        names.push_back(name && name->is_string() ? name->get<std::string>() : "variant " + std::to_string(i));
-        if (names.back() == "Main") chosen = i;
-    }
-    if (variants->size() > 1) {
-        std::vector<std::string> others;
-        for (std::size_t i = 0; i < names.size(); ++i)
-            if (i != chosen) others.push_back(names[i] + " variant");
-        out.notes.push_back("figures of the " + names[chosen] + " variant; the report also has " + join(others, ", "));
-    }
-    const json& variant = (*variants)[chosen];
-    const std::string where = "variant '" + names[chosen] + "'";
-
-    const json* performance = member(variant, "performance");
-    if (!performance || !performance->is_object()) return make_error("no performance in " + where);
-    const json* pipelines = member(*performance, "pipelines");
-    if (!pipelines || !pipelines->is_array() || pipelines->empty())
-        return make_error("no performance.pipelines in " + where);
-    for (const json& p : *pipelines) {
-        if (!p.is_string()) return make_error("performance.pipelines holds a non-string in " + where);
-        out.pipes.push_back(short_pipe_name(p.get<std::string>()));
-    }
-    std::string total_bound, shortest_bound, longest_bound;
-    for (Status s : {read_json_path(*performance, "total_cycles", out.pipes.size(), out.total, total_bound),
-                     read_json_path(*performance, "shortest_path_cycles", out.pipes.size(), out.shortest, shortest_bound),
-                     read_json_path(*performance, "longest_path_cycles", out.pipes.size(), out.longest, longest_bound)})
-        if (!s) return with_context(where, s.error());
-    out.bound = pick_bound(longest_bound, total_bound);
-
-    const json* variant_properties = member(variant, "properties");
-    if (!variant_properties || !variant_properties->is_array()) return make_error("no properties in " + where);
-    auto work = json_count(property(variant_properties, "work_registers_used"), "work_registers_used");
-    if (!work) return with_context(where, work.error());
-    out.work_registers = *work;
-    auto uniform = json_count(property(variant_properties, "uniform_registers_used"), "uniform_registers_used");
-    if (!uniform) return with_context(where, uniform.error());
-    out.uniform_registers = *uniform;
-    if (const json* fp16 = property(variant_properties, "fp16_arithmetic"); fp16 && !fp16->is_null()) {
-        if (!fp16->is_number()) return make_error(where + ": fp16_arithmetic is not a number");
-        const double d = fp16->get<double>();
-        if (!std::isfinite(d) || d < 0.0 || d > 100.0)
-            return make_error(where + ": fp16_arithmetic is " + fp16->dump() + ", not a percentage");
-        out.fp16_percent = d;
-    }
-    if (const json* spilling = property(variant_properties, "has_stack_spilling"); spilling && spilling->is_boolean())
-        out.stack_spilling = spilling->get<bool>();
-    if (const json* spill = property(variant_properties, "stack_spill_bytes"); spill && !spill->is_null()) {
-        auto bytes = json_count(spill, "stack_spill_bytes");
-        if (!bytes) return with_context(where, bytes.error());
-        if (*bytes > 0) {
-            out.stack_spilling = true;
-            out.notes.push_back("stack spill " + std::to_string(*bytes) + " bytes");
-        }
+        const std::string variant_name = name && name->is_string() ? name->get<std::string>() : "variant " + std::to_string(i);
+        Result<VendorVariant> v = parse_json_variant((*variants)[i], variant_name);
+        if (!v) return with_context("shaders[0].variants[" + std::to_string(i) + "] ('" + variant_name + "')", v.error());
+        read.push_back(std::move(*v));
     }
 
     // Shader properties that hold (uniform computation, late ZS test, ...), by their display names.
@@ -592,6 +660,7 @@ Result<VendorCycles> parse_malioc_json_inner(const std::string& output) {
             else if (name && name->is_string()) out.notes.push_back(property_note(name->get<std::string>()));
         }
     }
+    set_variants(out, std::move(read));
     return out;
 }
 

@@ -17,21 +17,38 @@
 
 namespace px::profiling {
 
-struct VendorCycles {              // one shader stage's figures from a vendor compiler
-    std::string tool;              // "malioc 7.4.0" / "GLSLESCompiler_Rogue"
-    std::string target;            // "Mali-G78 r1p1 (Valhall)", "Rogue"
-    int work_registers = -1;       // -1: not reported
+// One variant of a shader stage as a vendor compiler reports it: malioc's
+// "Main" (or, for vertex shaders on GPUs with index-driven vertex shading,
+// "Position" and "Varying", each compiled and reported separately).
+struct VendorVariant {
+    std::string name;              // "Main", "Position", "Varying"; "" for a tool without variants
+    int work_registers = -1;       // -1: not reported (or N/A)
     int uniform_registers = -1;
-    double fp16_percent = -1.0;    // 16-bit arithmetic share, -1: not reported
+    double fp16_percent = -1.0;    // 16-bit arithmetic share, -1: not reported (or N/A)
     bool stack_spilling = false;
     std::vector<std::string> pipes;        // column names as the tool names them
     std::vector<double> total, shortest, longest;  // per pipe (NaN where the tool prints N/A); empty: row absent
-    std::string bound;             // "A", "V, T", ... ; empty if absent
-    double cycles = -1.0;          // a single total cycle figure where the tool gives one (PowerVR), else -1
-    std::vector<std::string> notes; // anything worth showing (e.g. "uniform computation")
+    std::string bound;             // the longest path's bounding pipe(s), "A", "V, T"; the total's where the
+                                   // longest path is N/A; empty if absent
+    std::string total_bound, shortest_bound, longest_bound;  // each row's own (empty for N/A)
+    std::vector<std::string> notes; // per variant (e.g. "stack spill 8 bytes")
 };
 
-// malioc's text report (malioc 7.x/8.x; Midgard, Bifrost and Valhall tables).
+// One shader stage's figures from a vendor compiler: the primary variant's
+// figures (malioc's Main, or Position where a vertex shader has no Main
+// figures) in the base, every variant in `variants`, in the report's order.
+struct VendorCycles : VendorVariant {
+    std::string tool;              // "malioc 7.4.0" / "GLSLESCompiler_Rogue"
+    std::string target;            // "Mali-G78 r1p1 (Valhall)", "Rogue"
+    std::string shader_type;       // "OpenGL ES Fragment", "Vulkan Vertex", ... where the report says
+    double cycles = -1.0;          // a single total cycle figure where the tool gives one (PowerVR), else -1
+    std::vector<VendorVariant> variants;
+};
+
+// malioc's text report (malioc 6.x to 8.x; Midgard, Bifrost and Valhall
+// tables; variant sections under '=' or '-' rules). A line of a variant
+// section that looks like figures the parser does not know is refused,
+// quoted, rather than read wrong.
 Result<VendorCycles> parse_malioc_text(const std::string& output);
 // malioc's `--format json` report. Pipes are given the text report's short
 // names (arith_fma -> FMA, load_store -> LS, ...) so that both formats of

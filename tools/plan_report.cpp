@@ -10,6 +10,7 @@
 #include "parallaxes/render/offscreen_target.h"
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/gl/gl.h"
+#include "parallaxes/profiling/interleaved.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -288,23 +289,10 @@ Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& sc
                 c.within = c.within && c.shadow <= m->effects->shadow_max_error;
             }
             // Time against the plan, both warm, interleaved.
-            for (Renderer* r : {&planned, other->get()}) {
-                Status d = r->draw(target->target());
-                if (!d) return d.error();
-            }
-            glFinish();
-            std::vector<double> ratios;
-            for (int i = 0; i < rounds; ++i) {
-                const auto t0 = std::chrono::steady_clock::now();
-                (void)planned.draw(target->target());
-                glFinish();
-                const auto t1 = std::chrono::steady_clock::now();
-                (void)(*other)->draw(target->target());
-                glFinish();
-                const auto t2 = std::chrono::steady_clock::now();
-                ratios.push_back(std::chrono::duration<double>(t2 - t1).count() /
-                                 std::max(1e-9, std::chrono::duration<double>(t1 - t0).count()));
-            }
+            Result<profiling::InterleavedTimes> timed = profiling::time_interleaved(
+                [&] { return planned.draw(target->target()); }, [&] { return (*other)->draw(target->target()); }, rounds);
+            if (!timed) return timed.error();
+            std::vector<double> ratios = timed->ratios;
             std::sort(ratios.begin(), ratios.end());
             c.time_ratio = ratios[ratios.size() / 2];
             std::fprintf(stderr, "verify: candidate %s: hit %.3g, x%.2f of the plan's time\n", c.name.c_str(), c.hit, c.time_ratio);

@@ -239,6 +239,7 @@ std::string run_vendor_tools(std::vector<profiling::VariantProfile>& profiles, p
                 f.work_registers = c->work_registers;
                 f.fp16_percent = c->fp16_percent;
                 f.pipes = c->pipes;
+                f.total = c->total;
                 f.shortest = c->shortest;
                 f.longest = c->longest;
                 f.bound = c->bound;
