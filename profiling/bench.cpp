@@ -177,6 +177,133 @@ Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& ma
     return s;
 }
 
+namespace {
+
+// Every (technique, samples) the options ask for, checked.
+Result<std::vector<Setting>> bench_settings(const BenchOptions& options, const std::vector<std::string>& techniques) {
+    std::vector<Setting> settings;
+    for (const std::string& name : techniques) {
+        if (name == kDisplacedMesh) {
+            settings.push_back({name, 0});
+            continue;
+        }
+        Result<Technique> t = parse_technique(name);
+        if (!t) return make_error("--techniques: " + t.error().message + ", " + kDisplacedMesh);
+        const TechniqueInfo& info = technique_info(*t);
+        if (!(info.options & kOptSamples)) {
+            settings.push_back({name, 0});
+            continue;
+        }
+        for (int samples : options.samples) {
+            if (samples < 1 || samples > info.max_samples_limit)
+                return make_error("--samples: " + std::to_string(samples) + " is outside 1.." +
+                                  std::to_string(info.max_samples_limit) + " for " + info.name);
+            settings.push_back({name, samples});
+        }
+    }
+    return settings;
+}
+
+// One scene at one angle: its exact reference, its field and the normal-
+// mapping baseline every setting is timed against.
+struct AngleContext {
+    SceneDesc base;
+    ShadowMode shadow = ShadowMode::none;
+    double angle = 0.0;
+    reference::ReferenceImage truth;
+    HeightField field;
+    std::unique_ptr<Renderer> normal;  // null when untimed
+};
+
+// What one setting measures at one scene and angle, as a row.
+Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext& at, const Setting& setting,
+                                 const std::string& scene_name, const RenderTarget& target,
+                                 const std::function<Result<Image>()>& read_color) {
+    const SceneDesc scene = with_setting(at.base, setting, at.shadow, options.exact_view);
+    Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene, options.renderer);
+    if (!renderer) return with_context(setting.technique, renderer.error());
+
+    // What the shader computed, against the reference.
+    Result<SurfaceImage> surfaces = capture_surfaces(**renderer, target.width, target.height);
+    if (!surfaces) return surfaces.error();
+    if (setting.technique == kDisplacedMesh) {
+        // Normal mapping reports the polygon's height; the mesh's is the field's at its uv.
+        for (SurfaceSample& s : surfaces->samples)
+            if (s.covered) s.height = at.field.sample_bilinear(s.uv.x, s.uv.y);
+    }
+    Result<reference::ErrorMetrics> error =
+        reference::compare_surfaces(*surfaces, at.truth.surface, at.truth.texture_width, at.truth.texture_height);
+    if (!error) return error.error();
+    // The same in texels of the level sampled (GL's mip selection at each
+    // pixel): what the planner's targets are in.
+    Result<reference::ObjectError> level = reference::compare_object(*surfaces, at.truth, 0);
+    if (!level) return level.error();
+
+    BenchRow row;
+    // Colour, then time: both programs warm, then normal mapping and the
+    // setting interleaved so both see the same machine.
+    std::vector<double> times{0.0}, ratios{0.0};
+    if (options.timed) {
+        Status drawn = (*renderer)->draw(target);
+        if (!drawn) return drawn.error();
+        Result<Image> color = read_color();
+        if (!color) return color.error();
+        row.color_psnr_db = reference::color_psnr(*color, at.truth.color, at.truth.surface);
+        Status warm = at.normal->draw(target);
+        if (!warm) return warm.error();
+        Result<InterleavedTimes> timed = time_interleaved(
+            [&] { return at.normal->draw(target); }, [&] { return (*renderer)->draw(target); }, options.frames, false);
+        if (!timed) return timed.error();
+        times = timed->second_ms;
+        ratios = timed->ratios;
+    }
+    row.scene = scene_name;
+    row.angle_deg = at.angle;
+    row.technique = setting.technique;
+    row.samples = setting.samples;
+    if (!(*renderer)->reports().empty() && setting.technique != kDisplacedMesh)
+        row.variant = (*renderer)->reports()[0].variant.describe();
+    row.shadow = at.shadow;
+    row.light_elevation_deg = options.light_elevation_deg;
+    row.shadow_samples = at.shadow == ShadowMode::none ? 0 : scene.materials[0].technique.shadow_samples;
+    row.pixels = error->pixels;
+    row.uv_error_mean = error->uv_error_mean;
+    row.uv_error_p95 = error->uv_error_p95;
+    row.uv_error_max = error->uv_error_max;
+    row.level_error_p95 = level->level_error_p95;
+    row.wrong_surface_share = error->wrong_surface_share;
+    row.depth_error_mean = error->depth_error_mean;
+    row.depth_error_max = error->depth_error_max;
+    row.shadow_disagreement = error->shadow_disagreement;
+    row.frame_ms_median = median_of(times);
+    row.frame_ms_min = *std::min_element(times.begin(), times.end());
+    row.frame_ms_max = *std::max_element(times.begin(), times.end());
+    row.ns_per_pixel = error->pixels > 0 ? row.frame_ms_median * 1e6 / static_cast<double>(error->pixels) : 0.0;
+    row.ratio_to_normal = median_of(ratios);
+    return row;
+}
+
+// The settings a scene is measured with: each at every shadow sample count
+// where the scene is shadowed (the displaced mesh has no shadow).
+std::vector<Setting> scene_settings(const std::vector<Setting>& settings, ShadowMode shadow,
+                                    const std::vector<int>& shadow_samples) {
+    std::vector<Setting> out;
+    for (const Setting& setting : settings) {
+        if (shadow == ShadowMode::none || setting.technique == kDisplacedMesh) {
+            out.push_back(setting);
+            continue;
+        }
+        for (int k : shadow_samples) {
+            Setting with_shadow = setting;
+            with_shadow.shadow_samples = k;
+            out.push_back(with_shadow);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& target,
                            const std::function<Result<Image>()>& read_color, const Progress& progress) {
     std::vector<std::string> scenes = options.scenes.empty() && options.materials.empty() ? bench_scene_names() : options.scenes;
@@ -201,27 +328,8 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
     if (options.shadow_samples.empty()) return make_error("shadow_samples: needs at least one count");
     for (int k : options.shadow_samples)
         if (k < 1 || k > 128) return make_error("shadow_samples: " + std::to_string(k) + " is outside 1..128");
-
-    std::vector<Setting> settings;
-    for (const std::string& name : techniques) {
-        if (name == kDisplacedMesh) {
-            settings.push_back({name, 0});
-            continue;
-        }
-        Result<Technique> t = parse_technique(name);
-        if (!t) return make_error("--techniques: " + t.error().message + ", " + kDisplacedMesh);
-        const TechniqueInfo& info = technique_info(*t);
-        if (info.options & kOptSamples) {
-            for (int samples : options.samples) {
-                if (samples < 1 || samples > info.max_samples_limit)
-                    return make_error("--samples: " + std::to_string(samples) + " is outside 1.." +
-                                      std::to_string(info.max_samples_limit) + " for " + info.name);
-                settings.push_back({name, samples});
-            }
-        } else {
-            settings.push_back({name, 0});
-        }
-    }
+    Result<std::vector<Setting>> settings = bench_settings(options, techniques);
+    if (!settings) return settings.error();
 
     BenchRun run;
     run.date = now_iso8601();
@@ -234,114 +342,40 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
     run.frames = options.frames;
     int total = 0;
     for (const std::string& scene_name : scenes)
-        total += static_cast<int>(options.angles.size() * settings.size() *
-                                  (shadow_of(scene_name) == ShadowMode::none ? 1 : options.shadow_samples.size()));
+        total += static_cast<int>(options.angles.size() *
+                                  scene_settings(*settings, shadow_of(scene_name), options.shadow_samples).size());
     int done = 0;
-
     for (const std::string& scene_name : scenes) {
-        const ShadowMode shadow = shadow_of(scene_name);
+        AngleContext at;
+        at.shadow = shadow_of(scene_name);
         for (double angle : options.angles) {
             Result<SceneDesc> base = scene_at(scene_name, angle);
             if (!base) return base.error();
+            at.base = std::move(*base);
+            at.angle = angle;
             reference::ReferenceOptions reference_options;
-            reference_options.shadow = shadow;
+            reference_options.shadow = at.shadow;
             Result<reference::ReferenceImage> truth =
-                reference::render_reference(*base, target.width, target.height, reference_options);
+                reference::render_reference(at.base, target.width, target.height, reference_options);
             if (!truth) return with_context("reference for " + scene_name, truth.error());
-            Result<MaterialImages> images = build_material_images(base->materials[0], base->base_dir);
+            at.truth = std::move(*truth);
+            Result<MaterialImages> images = build_material_images(at.base.materials[0], at.base.base_dir);
             if (!images) return images.error();
-            const HeightField field = images->traced;
-
-            SceneDesc normal_scene = *base;
-            normal_scene.materials[0].technique.technique = Technique::normal;
-            RendererOptions baseline_options = options.renderer;
-            baseline_options.variant_transform = nullptr;
-            std::unique_ptr<Renderer> normal;
+            at.field = images->traced;
+            at.normal.reset();
             if (options.timed) {
+                SceneDesc normal_scene = at.base;
+                normal_scene.materials[0].technique.technique = Technique::normal;
+                RendererOptions baseline_options = options.renderer;
+                baseline_options.variant_transform = nullptr;
                 Result<std::unique_ptr<Renderer>> loaded = load_renderer(normal_scene, baseline_options);
                 if (!loaded) return loaded.error();
-                normal = std::move(*loaded);
+                at.normal = std::move(*loaded);
             }
-
-            std::vector<Setting> scene_settings;
-            for (const Setting& setting : settings) {
-                if (shadow == ShadowMode::none || setting.technique == kDisplacedMesh) {
-                    scene_settings.push_back(setting);
-                    continue;
-                }
-                for (int k : options.shadow_samples) {
-                    Setting with_shadow = setting;
-                    with_shadow.shadow_samples = k;
-                    scene_settings.push_back(with_shadow);
-                }
-            }
-            for (const Setting& setting : scene_settings) {
-                const SceneDesc scene = with_setting(*base, setting, shadow, options.exact_view);
-                Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene, options.renderer);
-                if (!renderer) return with_context(setting.technique, renderer.error());
-
-                // What the shader computed, against the reference.
-                Result<SurfaceImage> surfaces = capture_surfaces(**renderer, target.width, target.height);
-                if (!surfaces) return surfaces.error();
-                if (setting.technique == kDisplacedMesh) {
-                    // Normal mapping reports the polygon's height; the mesh's is the field's at its uv.
-                    for (SurfaceSample& s : surfaces->samples)
-                        if (s.covered) s.height = field.sample_bilinear(s.uv.x, s.uv.y);
-                }
-                Result<reference::ErrorMetrics> error = reference::compare_surfaces(
-                    *surfaces, truth->surface, truth->texture_width, truth->texture_height);
-                if (!error) return error.error();
-                // The same in texels of the level sampled (GL's mip selection
-                // at each pixel): what the planner's targets are in.
-                Result<reference::ObjectError> level = reference::compare_object(*surfaces, *truth, 0);
-                if (!level) return level.error();
-
-                // Colour, then time: warm both programs, then interleave
-                // normal mapping and the setting so both see the same machine.
-                std::vector<double> times{0.0}, ratios{0.0};
-                double psnr = 0.0;
-                if (options.timed) {
-                    Status drawn = (*renderer)->draw(target);
-                    if (!drawn) return drawn.error();
-                    Result<Image> color = read_color();
-                    if (!color) return color.error();
-                    psnr = reference::color_psnr(*color, truth->color, truth->surface);
-                    Status warm = normal->draw(target);
-                    if (!warm) return warm.error();
-                    Result<InterleavedTimes> timed = time_interleaved(
-                        [&] { return normal->draw(target); }, [&] { return (*renderer)->draw(target); }, options.frames,
-                        false);
-                    if (!timed) return timed.error();
-                    times = timed->second_ms;
-                    ratios = timed->ratios;
-                }
-
-                BenchRow row;
-                row.scene = scene_name;
-                row.angle_deg = angle;
-                row.technique = setting.technique;
-                row.samples = setting.samples;
-                if (!(*renderer)->reports().empty() && setting.technique != kDisplacedMesh)
-                    row.variant = (*renderer)->reports()[0].variant.describe();
-                row.shadow = shadow;
-                row.light_elevation_deg = options.light_elevation_deg;
-                row.shadow_samples = shadow == ShadowMode::none ? 0 : scene.materials[0].technique.shadow_samples;
-                row.pixels = error->pixels;
-                row.uv_error_mean = error->uv_error_mean;
-                row.uv_error_p95 = error->uv_error_p95;
-                row.uv_error_max = error->uv_error_max;
-                row.level_error_p95 = level->level_error_p95;
-                row.wrong_surface_share = error->wrong_surface_share;
-                row.depth_error_mean = error->depth_error_mean;
-                row.depth_error_max = error->depth_error_max;
-                row.shadow_disagreement = error->shadow_disagreement;
-                row.color_psnr_db = psnr;
-                row.frame_ms_median = median_of(times);
-                row.frame_ms_min = *std::min_element(times.begin(), times.end());
-                row.frame_ms_max = *std::max_element(times.begin(), times.end());
-                row.ns_per_pixel = error->pixels > 0 ? row.frame_ms_median * 1e6 / static_cast<double>(error->pixels) : 0.0;
-                row.ratio_to_normal = median_of(ratios);
-                run.rows.push_back(row);
+            for (const Setting& setting : scene_settings(*settings, at.shadow, options.shadow_samples)) {
+                Result<BenchRow> row = measure_setting(options, at, setting, scene_name, target, read_color);
+                if (!row) return row.error();
+                run.rows.push_back(std::move(*row));
                 ++done;
                 if (progress) {
                     std::string what = scene_name + " " + std::to_string(static_cast<int>(angle)) + "deg " + setting.technique;
