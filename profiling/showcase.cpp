@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <map>
 #include <set>
 
 #include "parallaxes/core/files.h"
@@ -29,6 +30,59 @@ std::string g(double x, const char* format = "%.3g") {
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, format, x);
     return buffer;
+}
+
+// One object's row: its plan, and its hit and shadow errors under the plan
+// and under every effect, against the references by shadow mode.
+Result<ShowcaseObject> measure_object(const SceneDesc& scene, size_t i, const DrawReport& planned_report,
+                                      const DrawReport& all_report, const SurfaceImage& planned_surfaces,
+                                      const SurfaceImage& all_surfaces,
+                                      const std::map<ShadowMode, reference::ReferenceImage>& references) {
+    const auto reference_for = [&](ShadowMode mode) -> const reference::ReferenceImage& {
+        auto it = references.find(mode);
+        return it != references.end() ? it->second : references.begin()->second;
+    };
+    ShowcaseObject o;
+    o.object = scene.objects[i].name;
+    o.material = scene.objects[i].material;
+    const ObjectPlan& plan = planned_report.plan;
+    o.planned = plan.planned;
+    o.planned_variant = plan.key.describe();
+    o.all_variant = all_report.variant.describe();
+    o.predicted = plan.predicted_error;
+    const MaterialDesc* m = scene.find_material(o.material);
+    if (m && m->effects) {
+        o.target = m->effects->parallax ? m->effects->max_error_texels : -1.0;
+        o.shadow = m->effects->shadow;
+        if (o.shadow != ShadowMode::none) o.shadow_target = m->effects->shadow_max_error;
+    }
+    const int index = static_cast<int>(i);
+    Result<reference::ObjectError> ep = reference::compare_object(planned_surfaces, reference_for(ShadowMode::none), index);
+    Result<reference::ObjectError> ea = reference::compare_object(all_surfaces, reference_for(ShadowMode::none), index);
+    if (!ep) return ep.error();
+    if (!ea) return ea.error();
+    o.pixels = ep->pixels;
+    if (ep->pixels > 0) {
+        o.error_planned = ep->level_error_p95;
+        o.base_error_planned = ep->base_error_p95;
+    }
+    if (ea->pixels > 0) {
+        o.error_all = ea->level_error_p95;
+        o.base_error_all = ea->base_error_p95;
+    }
+    if (o.shadow != ShadowMode::none) {
+        const reference::ReferenceImage& shadow_truth = reference_for(o.shadow);
+        Result<reference::ObjectError> sp = reference::compare_object(planned_surfaces, shadow_truth, index);
+        Result<reference::ObjectError> sa = reference::compare_object(all_surfaces, shadow_truth, index);
+        if (!sp) return sp.error();
+        if (!sa) return sa.error();
+        // A shadow the planner dropped (no light reaches the surface):
+        // the horizon alone, which the reference agrees with.
+        o.shadow_planned = sp->visibility_error_mean;
+        o.shadow_all = sa->visibility_error_mean;
+    }
+    o.meets = (o.target < 0.0 || o.error_planned <= o.target) && (o.shadow_target < 0.0 || o.shadow_planned <= o.shadow_target);
+    return o;
 }
 
 }  // namespace
@@ -111,7 +165,7 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
     std::set<ShadowMode> modes = {ShadowMode::none};
     for (const MaterialDesc& m : scene.materials)
         if (m.effects) modes.insert(m.effects->shadow);
-    std::vector<std::pair<ShadowMode, reference::ReferenceImage>> references;
+    std::map<ShadowMode, reference::ReferenceImage> references;
     for (ShadowMode mode : modes) {
         say(std::string("reference (shadow ") + shadow_mode_name(mode) + ")");
         reference::ReferenceOptions ro;
@@ -119,57 +173,13 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
         ro.depth_composite = true;
         Result<reference::ReferenceImage> truth = reference::render_reference(scene, target.width, target.height, ro);
         if (!truth) return truth.error();
-        references.emplace_back(mode, std::move(*truth));
+        references.emplace(mode, std::move(*truth));
     }
-    auto reference_for = [&](ShadowMode mode) -> const reference::ReferenceImage& {
-        for (const auto& [m, image] : references)
-            if (m == mode) return image;
-        return references.front().second;
-    };
-    const std::vector<DrawReport>& planned_reports = (*planned)->reports();
-    const std::vector<DrawReport>& all_reports = (*all)->reports();
     for (size_t i = 0; i < scene.objects.size(); ++i) {
-        ShowcaseObject o;
-        o.object = scene.objects[i].name;
-        o.material = scene.objects[i].material;
-        const ObjectPlan& plan = planned_reports[i].plan;
-        o.planned = plan.planned;
-        o.planned_variant = plan.key.describe();
-        o.all_variant = all_reports[i].variant.describe();
-        o.predicted = plan.predicted_error;
-        const MaterialDesc* m = scene.find_material(o.material);
-        if (m && m->effects) {
-            o.target = m->effects->parallax ? m->effects->max_error_texels : -1.0;
-            o.shadow = m->effects->shadow;
-            if (o.shadow != ShadowMode::none) o.shadow_target = m->effects->shadow_max_error;
-        }
-        const int index = static_cast<int>(i);
-        Result<reference::ObjectError> ep = reference::compare_object(*planned_surfaces, reference_for(ShadowMode::none), index);
-        Result<reference::ObjectError> ea = reference::compare_object(*all_surfaces, reference_for(ShadowMode::none), index);
-        if (!ep) return ep.error();
-        if (!ea) return ea.error();
-        o.pixels = ep->pixels;
-        if (ep->pixels > 0) {
-            o.error_planned = ep->level_error_p95;
-            o.base_error_planned = ep->base_error_p95;
-        }
-        if (ea->pixels > 0) {
-            o.error_all = ea->level_error_p95;
-            o.base_error_all = ea->base_error_p95;
-        }
-        if (o.shadow != ShadowMode::none) {
-            const reference::ReferenceImage& shadow_truth = reference_for(o.shadow);
-            Result<reference::ObjectError> sp = reference::compare_object(*planned_surfaces, shadow_truth, index);
-            Result<reference::ObjectError> sa = reference::compare_object(*all_surfaces, shadow_truth, index);
-            if (!sp) return sp.error();
-            if (!sa) return sa.error();
-            // A shadow the planner dropped (no light reaches the surface):
-            // the horizon alone, which the reference agrees with.
-            o.shadow_planned = sp->visibility_error_mean;
-            o.shadow_all = sa->visibility_error_mean;
-        }
-        o.meets = (o.target < 0.0 || o.error_planned <= o.target) && (o.shadow_target < 0.0 || o.shadow_planned <= o.shadow_target);
-        run.objects.push_back(o);
+        Result<ShowcaseObject> o = measure_object(scene, i, (*planned)->reports()[i], (*all)->reports()[i],
+                                                  *planned_surfaces, *all_surfaces, references);
+        if (!o) return o.error();
+        run.objects.push_back(std::move(*o));
     }
     return run;
 }
