@@ -33,8 +33,12 @@
 // performance report and its "Target-aware profiling" page) and reports of
 // malioc 7.x/8.x runs quoted in public write-ups. A "Configuration" section
 // (Hardware, Architecture, Driver, Shader type), then one section per variant
-// ("Main shader"; "Position variant" and "Varying variant" for vertex shaders
-// on GPUs with index-driven vertex shading), each title underlined with '='.
+// ("Main shader"; for vertex shaders on GPUs with index-driven vertex
+// shading, "Position variant" and "Varying variant", which real 7.x reports
+// put as sub-sections of "Main shader" under '-' rules), each title
+// underlined with '=' (or '-'). Real reports of malioc 7.4 to 8.8 on
+// Midgard, Bifrost, Valhall and Arm 5th Generation GPUs are kept in
+// tests/data/vendor/real/ (SOURCES.md names where each was published).
 // A variant section has "Work registers: 32 (...)", "Uniform registers: 16
 // (...)", "Stack spilling: false" (7.x) or "Stack use: N bytes" and
 // " - Spill region: N bytes" (8.x), "16-bit arithmetic: 0%" (not on
@@ -419,8 +423,6 @@ Result<VendorCycles> parse_malioc_text_inner(const std::string& output) {
             if (!words.empty()) out.tool = "malioc " + words[0];
         }
     }
-    if (out.tool.empty()) return make_error("no 'Mali Offline Compiler vX.Y.Z' banner");
-
     const TextSection* configuration = nullptr;
     const TextSection* properties = nullptr;
     std::vector<const TextSection*> variant_sections;
@@ -430,7 +432,14 @@ Result<VendorCycles> parse_malioc_text_inner(const std::string& output) {
         else if (title == "shader properties") properties = &section;
         else if (!variant_name(section.title).empty() && has_content(section)) variant_sections.push_back(&section);
     }
+    // A report quoted from its Configuration section on (as Arm's guide
+    // quotes one) has no banner: its version is then unknown.
+    if (out.tool.empty() && !configuration) return make_error("no 'Mali Offline Compiler vX.Y.Z' banner");
     if (!configuration) return make_error("no 'Configuration' section");
+    if (out.tool.empty()) {
+        out.tool = "malioc";
+        out.notes.push_back("no banner: the compiler's version is not in the report");
+    }
     std::string hardware, architecture;
     for (const std::string& line : configuration->lines) {
         std::string label, value;

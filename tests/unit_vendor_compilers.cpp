@@ -66,7 +66,7 @@ TEST(MaliocText, ValhallFragment) {
     auto r = parse_malioc_text(read_sample("malioc_valhall.txt"));
     ASSERT_TRUE(r.ok()) << r.error().message;
     const VendorCycles& c = *r;
-    EXPECT_EQ(c.tool, "malioc 7.4.0");
+    EXPECT_EQ(c.tool, "malioc 8.2.0");
     EXPECT_EQ(c.target, "Mali-G78 r1p1 (Valhall)");
     EXPECT_EQ(c.work_registers, 32);
     EXPECT_EQ(c.uniform_registers, 16);
@@ -171,13 +171,152 @@ TEST(MaliocText, MalformedReportsNameWhatIsMissing) {
     expect_error_mentions(parse_malioc_text(replaced("16-bit arithmetic: 25%", "16-bit arithmetic: 250%")), {"over 100%"});
 }
 
+// --- Real malioc reports (tests/data/vendor/real/SOURCES.md) --------------------
+
+const VendorVariant* variant_named(const VendorCycles& c, const std::string& name) {
+    for (const VendorVariant& v : c.variants)
+        if (v.name == name) return &v;
+    return nullptr;
+}
+
+// 7.4 on a Valhall G710: a vertex shader's Position and Varying variants
+// under "----" rules inside "Main shader", each reported on its own; the
+// primary figures are the Position variant's, not the Varying one's.
+TEST(MaliocRealReports, Valhall74VertexVariantsUnderDashRules) {
+    auto r = parse_malioc_text(read_sample("real/malioc_7.4_g710_vertex_idvs.txt"));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const VendorCycles& c = *r;
+    EXPECT_EQ(c.tool, "malioc 7.4.0");
+    EXPECT_EQ(c.target, "Mali-G710 r0p0 (Valhall)");
+    EXPECT_EQ(c.shader_type, "OpenGL ES Vertex");
+    ASSERT_EQ(c.variants.size(), 2u);
+    EXPECT_EQ(c.name, "Position");
+    EXPECT_EQ(c.work_registers, 19);
+    EXPECT_EQ(c.uniform_registers, 44);
+    EXPECT_EQ(c.fp16_percent, 0.0);
+    EXPECT_EQ(c.pipes, (std::vector<std::string>{"FMA", "CVT", "SFU", "LS", "T"}));
+    expect_figures(c.longest, {0.25, 0.00, 0.00, 2.00, 0.00}, "position longest");
+    EXPECT_EQ(c.bound, "LS");
+    const VendorVariant* varying = variant_named(c, "Varying");
+    ASSERT_NE(varying, nullptr);
+    EXPECT_EQ(varying->work_registers, 7);
+    EXPECT_EQ(varying->uniform_registers, 12);
+    expect_figures(varying->total, {0.02, 0.00, 0.00, 3.00, 0.00}, "varying total");
+    expect_figures(varying->shortest, {0.02, 0.00, 0.00, 3.00, 0.00}, "varying shortest");
+    expect_figures(varying->longest, {0.02, 0.00, 0.00, 3.00, 0.00}, "varying longest");
+    EXPECT_TRUE(has_note(c, "figures of the Position variant; the report also has Varying variant"));
+    EXPECT_FALSE(has_note(c, "uniform computation"));  // "Has uniform computation: false"
+}
+
+// 8.8 on an Arm 5th Generation G1: the A column beside FMA, CVT and SFU,
+// "Stack use: false" and an indented " - Idle SIMD lanes" line.
+TEST(MaliocRealReports, FifthGeneration88Fragment) {
+    auto r = parse_malioc_text(read_sample("real/malioc_8.8_g1_fragment_5thgen.txt"));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const VendorCycles& c = *r;
+    EXPECT_EQ(c.tool, "malioc 8.8.0");
+    EXPECT_EQ(c.target, "Mali-G1 r0p1 (Arm 5th Generation)");
+    EXPECT_EQ(c.shader_type, "Vulkan Fragment");
+    ASSERT_EQ(c.variants.size(), 1u);
+    EXPECT_EQ(c.name, "Main");
+    EXPECT_EQ(c.work_registers, 13);
+    EXPECT_EQ(c.uniform_registers, 16);
+    EXPECT_EQ(c.fp16_percent, 25.0);
+    EXPECT_FALSE(c.stack_spilling);
+    EXPECT_EQ(c.pipes, (std::vector<std::string>{"A", "FMA", "CVT", "SFU", "LS", "V", "T"}));
+    expect_figures(c.total, {0.27, 0.19, 0.05, 0.25, 0.00, 0.06, 0.25}, "total");
+    expect_figures(c.shortest, {0.19, 0.08, 0.05, 0.19, 0.00, 0.06, 0.25}, "shortest");
+    expect_figures(c.longest, {0.27, 0.19, 0.05, 0.25, 0.00, 0.06, 0.25}, "longest");
+    EXPECT_EQ(c.bound, "A");
+    EXPECT_EQ(c.shortest_bound, "T");
+    EXPECT_EQ(c.notes, (std::vector<std::string>{"uniform computation"}));
+}
+
+// Loops the compiler cannot bound: the longest path is N/A and the total
+// instruction cycles are kept as the only bound; a spill region.
+TEST(MaliocRealReports, LongestPathNotAvailableKeepsTheTotal) {
+    auto r = parse_malioc_text(read_sample("real/malioc_8.8_g1_compute_longest_na.txt"));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const VendorCycles& c = *r;
+    EXPECT_EQ(c.shader_type, "Vulkan Compute");
+    EXPECT_EQ(c.work_registers, 64);
+    EXPECT_EQ(c.uniform_registers, 72);
+    EXPECT_TRUE(c.stack_spilling);
+    EXPECT_TRUE(has_note(c, "stack spill 84 bytes"));
+    expect_figures(c.total, {3.67, 2.42, 1.09, 1.25, 52.00, 0.00}, "total");
+    expect_figures(c.shortest, {0.02, 0.00, 0.02, 0.00, 0.00, 0.00}, "shortest");
+    expect_figures(c.longest, {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN}, "longest");
+    EXPECT_EQ(c.shortest_bound, "A, CVT");
+    EXPECT_EQ(c.longest_bound, "");
+    EXPECT_EQ(c.bound, "LS");  // the total's
+}
+
+TEST(MaliocRealReports, Bifrost81FragmentWithNotes) {
+    auto r = parse_malioc_text(read_sample("real/malioc_8.1_g76_fragment_bifrost.txt"));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const VendorCycles& c = *r;
+    EXPECT_EQ(c.tool, "malioc 8.1.0");
+    EXPECT_EQ(c.target, "Mali-G76 r0p0 (Bifrost)");
+    EXPECT_EQ(c.work_registers, 31);
+    EXPECT_EQ(c.uniform_registers, 66);
+    EXPECT_EQ(c.fp16_percent, 38.0);
+    EXPECT_EQ(c.pipes, (std::vector<std::string>{"A", "LS", "V", "T"}));
+    expect_figures(c.total, {5.30, 0.00, 1.88, 3.00}, "total");
+    expect_figures(c.longest, {5.30, 0.00, 1.88, 3.00}, "longest");
+    EXPECT_EQ(c.bound, "A");
+    EXPECT_EQ(c.notes, (std::vector<std::string>{"uniform computation"}));
+}
+
+// Arm's guide quotes a Midgard report from its Configuration section on:
+// read, its version unknown and said so.
+TEST(MaliocRealReports, MidgardQuotedWithoutBanner) {
+    auto r = parse_malioc_text(read_sample("real/malioc_midgard_t880_quoted_without_banner.txt"));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const VendorCycles& c = *r;
+    EXPECT_EQ(c.tool, "malioc");
+    EXPECT_TRUE(has_note(c, "no banner: the compiler's version is not in the report"));
+    EXPECT_EQ(c.target, "Mali-T880 r2p0");
+    EXPECT_EQ(c.pipes, (std::vector<std::string>{"A", "LS", "T"}));
+    expect_figures(c.total, {6.0, 1.0, 0.0}, "total");
+    expect_figures(c.shortest, {1.7, 1.0, 0.0}, "shortest");
+    expect_figures(c.longest, {1.7, 1.0, 0.0}, "longest");
+    EXPECT_EQ(c.fp16_percent, -1.0);
+}
+
+// What the parser does not know is refused with the line quoted, never
+// read wrong: an N/A where a figure stood, a new row, a column dropped.
+TEST(MaliocRealReports, ChangedLayoutsAreRefusedWithTheLineQuoted) {
+    const std::string vertex = read_sample("real/malioc_7.4_g710_vertex_idvs.txt");
+    auto replaced = [](std::string s, const std::string& from, const std::string& to) {
+        const std::size_t at = s.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        return at == std::string::npos ? s : s.replace(at, from.size(), to);
+    };
+    // N/A is a value the tool prints: read, never refused.
+    auto na = parse_malioc_text(replaced(vertex, "16-bit arithmetic: 0%", "16-bit arithmetic: N/A"));
+    ASSERT_TRUE(na.ok()) << na.error().message;
+    EXPECT_EQ(na->fp16_percent, -1.0);
+    EXPECT_EQ(na->work_registers, 19);
+    // A row under a name the parser does not know.
+    expect_error_mentions(
+        parse_malioc_text(replaced(vertex, "Shortest path cycles:    ", "Average path cycles:     ")),
+        {"Average path cycles:", "0.25", "Position variant"});
+    // A figure dropped from a row: the line quoted.
+    expect_error_mentions(parse_malioc_text(replaced(vertex, "0.02    0.00    0.00    3.00    0.00       LS",
+                                                     "0.02    0.00    3.00    0.00       LS")),
+                          {"Total instruction cycles", "expected 5", "0.02    0.00    3.00", "Varying variant"});
+    // Figures on a line of no known shape.
+    expect_error_mentions(parse_malioc_text(replaced(vertex, "Work registers: 7\n", "Work registers: 7\n7 12 0.5\n")),
+                          {"does not know", "'7 12 0.5'"});
+}
+
 // --- malioc JSON ------------------------------------------------------------------
 
 TEST(MaliocJson, ValhallFragment) {
     auto r = parse_malioc_json(read_sample("malioc_valhall.json"));
     ASSERT_TRUE(r.ok()) << r.error().message;
     const VendorCycles& c = *r;
-    EXPECT_EQ(c.tool, "malioc 7.4.0");
+    EXPECT_EQ(c.tool, "malioc 8.2.0");
     EXPECT_EQ(c.target, "Mali-G78 r1p1 (Valhall)");
     EXPECT_EQ(c.work_registers, 32);
     EXPECT_EQ(c.uniform_registers, 16);
@@ -391,7 +530,7 @@ TEST_F(FakeTools, RunsMaliocAndParsesItsJson) {
     put_first_on_path();
     auto r = run_vendor_tool(find("malioc"), kFragment, ShaderStage::fragment, 3);
     ASSERT_TRUE(r.ok()) << r.error().message;
-    EXPECT_EQ(r->tool, "malioc 7.4.0");
+    EXPECT_EQ(r->tool, "malioc 8.2.0");
     EXPECT_EQ(r->work_registers, 32);
     EXPECT_EQ(r->bound, "T");
     expect_figures(r->longest, {1.1875, 0.75, 0.25, 0.25, 0.0, 0.5, 1.25}, "longest");
