@@ -545,7 +545,11 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
         << "- **Model**: the counts through profiling/cost_model.json (parameters and assumptions listed at the end; "
            "`--model FILE` takes another), per pipe: A arithmetic, T texture, V varyings, plus exposed texture latency.\n"
         << "- **Vendor compilers**: Arm's malioc or a PowerVR GLSLESCompiler, when on PATH, run on the same sources; "
-           "their cycles appear in the vendor column.\n"
+           "their cycles appear in the vendor column (the longest path's; where the tool prints N/A there, loops it "
+           "cannot bound, the total instruction cycles, marked). The malioc parser reads text and JSON reports of "
+           "malioc 6.x to 8.x, every variant of a shader separately (a vertex shader's Position and Varying), and "
+           "was checked on real reports from public sources (tests/data/vendor/real/SOURCES.md); a line of figures "
+           "it does not know is refused, quoted. PowerVR's profile parser has no public real output to check against.\n"
         << "- **Measured**: llvmpipe, the bench scene's plane, median frame time per covered pixel and the "
            "interleaved ratio to normal mapping; hit-uv error against the exact reference.\n\n";
     for (int es : {3, 2}) {
