@@ -283,6 +283,29 @@ TEST(MaliocRealReports, MidgardQuotedWithoutBanner) {
     EXPECT_EQ(c.fp16_percent, -1.0);
 }
 
+// A real 7.2 JSON report: schema version 0, figures in the variant's own
+// pipeline order (not the hardware list's), 16-bit share 0.
+TEST(MaliocRealReports, Json72ValhallFragment) {
+    auto r = parse_malioc_json(read_sample("real/malioc_7.2_g78_fragment.json"));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const VendorCycles& c = *r;
+    EXPECT_EQ(c.tool, "malioc 7.2.0");
+    EXPECT_EQ(c.target, "Mali-G78 r1p1 (Valhall)");
+    EXPECT_EQ(c.shader_type, "OpenGL ES Fragment");
+    ASSERT_EQ(c.variants.size(), 1u);
+    EXPECT_EQ(c.name, "Main");
+    EXPECT_EQ(c.work_registers, 32);
+    EXPECT_EQ(c.uniform_registers, 18);
+    EXPECT_EQ(c.fp16_percent, 0.0);
+    EXPECT_FALSE(c.stack_spilling);
+    EXPECT_EQ(c.pipes, (std::vector<std::string>{"FMA", "CVT", "SFU", "LS", "V", "T"}));
+    expect_figures(c.total, {1.40625, 0.078125, 0.8125, 0.0, 0.75, 0.25}, "total");
+    expect_figures(c.shortest, {1.40625, 0.046875, 0.8125, 0.0, 0.75, 0.25}, "shortest");
+    expect_figures(c.longest, {1.40625, 0.078125, 0.8125, 0.0, 0.75, 0.25}, "longest");
+    EXPECT_EQ(c.bound, "FMA");
+    EXPECT_EQ(c.notes, (std::vector<std::string>{"uniform computation"}));
+}
+
 // What the parser does not know is refused with the line quoted, never
 // read wrong: an N/A where a figure stood, a new row, a column dropped.
 TEST(MaliocRealReports, ChangedLayoutsAreRefusedWithTheLineQuoted) {
