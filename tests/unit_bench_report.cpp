@@ -570,3 +570,46 @@ TEST(BenchReport, ReplacesAnExistingFileAndRemovesTheTemporary) {
 
 }  // namespace
 }  // namespace px::profiling
+
+// The reports' small chart (profiling/svg_plot.h): the same bytes for the
+// same input, points that cannot be drawn left out (not drawn at NaN), text
+// escaped, and the scatter's line of equality and factor band.
+#include "parallaxes/profiling/svg_plot.h"
+
+namespace {
+
+std::size_t count_of(const std::string& text, const std::string& part) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+    return n;
+}
+
+}  // namespace
+
+TEST(SvgPlot, PointsAxesAndEscaping) {
+    using px::profiling::PlotOptions;
+    using px::profiling::PlotSeries;
+    PlotSeries s{"model <cycles> & time", "#1f77b4", {1, 2, 3, 4}, {1.0, 0.8, std::nan(""), 0.5}, {"a", "b", "c", "d"}, true};
+    PlotOptions o;
+    o.title = "ladder";
+    o.x_categories = {"1", "2", "3", "4"};
+    const std::string svg = px::profiling::svg_plot({s}, o);
+    EXPECT_EQ(svg, px::profiling::svg_plot({s}, o));
+    EXPECT_EQ(svg.rfind("<svg ", 0), 0u);
+    EXPECT_NE(svg.find("</svg>\n"), std::string::npos);
+    EXPECT_EQ(count_of(svg, "r=\"4\""), 3u + 1u);  // three drawable points and the legend's mark
+    EXPECT_EQ(svg.find("nan"), std::string::npos);
+    EXPECT_NE(svg.find("model &lt;cycles&gt; &amp; time"), std::string::npos);
+    EXPECT_EQ(count_of(svg, "<path "), 1u);
+
+    // A log-log scatter: a point at 0 cannot be drawn; y = x and the factor-2 band are.
+    PlotSeries points{"variants", "#2ca02c", {0.0, 1.5, 3.0}, {1.0, 2.0, 9.0}, {}, false};
+    PlotOptions scatter;
+    scatter.log_x = scatter.log_y = true;
+    scatter.equality = true;
+    scatter.band = 2.0;
+    const std::string plot = px::profiling::svg_plot({points}, scatter);
+    EXPECT_EQ(count_of(plot, "r=\"4\""), 2u + 1u);
+    EXPECT_EQ(count_of(plot, "stroke-dasharray=\"5 4\""), 2u);
+    EXPECT_NE(plot.find("dashed: a factor of 2"), std::string::npos);
+}
