@@ -87,14 +87,9 @@ void list_everything() {
 }
 
 // `compared`: the --golden comparison's exit status, once it was made.
-int run_render(const RenderArgs& a, std::optional<int>& compared) {
-    if (a.list) {
-        list_everything();
-        return 0;
-    }
-    // --golden: its tolerances and its size (the render's, unless --size is
-    // given) before anything is drawn.
-    std::optional<Tolerance> tolerance;
+// The render's size and, with --golden, the tolerance it is compared
+// under (the golden's size unless --size is given). Non-zero: the exit status.
+int render_size(const RenderArgs& a, std::optional<Tolerance>& tolerance, int& width, int& height) {
     std::string size = a.size;
     std::string golden_size;
     if (!a.golden.empty()) {
@@ -106,11 +101,154 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
         golden_size = std::to_string(info->width) + "x" + std::to_string(info->height);
         if (!a.size_given) size = golden_size;
     }
-    int width = 0, height = 0;
     if (!parse_size(size, width, height))
         return fail("--size '" + size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
     if (tolerance && std::to_string(width) + "x" + std::to_string(height) != golden_size)
         return bad_input("size mismatch: --size " + size + ", golden image " + a.golden + " is " + golden_size);
+    return 0;
+}
+
+// What the timed frames measured.
+struct FrameRun {
+    std::vector<double> times_ms;  // sorted
+    double longest_ms = 0.0;
+    std::vector<double> plan_us;   // per object, sorted
+    int plan_changes = 0;
+    std::vector<CameraDesc> cameras;  // the path's, or none
+    std::vector<DrawReport> first_reports;
+};
+
+// With a camera path, every frame's plan is made (and its variants
+// compiled) before the first; then one untimed draw (Mesa compiles at first
+// use), then the timed frames around glFinish.
+Result<FrameRun> run_frames(const RenderArgs& a, Renderer& renderer, const SceneDesc& scene, OffscreenTarget& target,
+                            int width, int height) {
+    FrameRun run;
+    if (!a.camera_path.empty()) {
+        std::vector<std::vector<ObjectPlan>> frames;
+        for (int i = 0; i < a.frames; ++i) {
+            run.cameras.push_back(camera_on_path(scene.camera, a.camera_path, i, a.frames));
+            Result<std::vector<ObjectPlan>> plans = renderer.plan_view(run.cameras.back(), width, height);
+            if (!plans)
+                return make_error("frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " +
+                                  plans.error().message);
+            frames.push_back(std::move(*plans));
+        }
+        Status compiled = renderer.prepare(frames, target.target());
+        if (!compiled) return compiled.error();
+        Result<int> first = renderer.set_view(run.cameras.front(), width, height);
+        if (!first) return first.error();
+        run.first_reports = renderer.reports();
+    }
+    Status drawn = renderer.draw(target.target());
+    if (!drawn) return drawn.error();
+    glFinish();
+    if (run.first_reports.empty()) run.first_reports = renderer.reports();
+    for (int i = 0; i < a.frames; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        if (!run.cameras.empty()) {
+            const auto plan_start = std::chrono::steady_clock::now();
+            Result<int> changed = renderer.set_view(run.cameras[static_cast<size_t>(i)], width, height);
+            const auto plan_end = std::chrono::steady_clock::now();
+            if (!changed) return changed.error();
+            if (i > 0) run.plan_changes += *changed;
+            run.plan_us.push_back(std::chrono::duration<double, std::micro>(plan_end - plan_start).count() /
+                                  static_cast<double>(std::max<size_t>(1, scene.objects.size())));
+        }
+        drawn = renderer.draw(target.target());
+        glFinish();
+        const auto end = std::chrono::steady_clock::now();
+        if (!drawn) return drawn.error();
+        run.times_ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
+    }
+    run.longest_ms = *std::max_element(run.times_ms.begin(), run.times_ms.end());
+    std::sort(run.times_ms.begin(), run.times_ms.end());
+    std::sort(run.plan_us.begin(), run.plan_us.end());
+    return run;
+}
+
+// The objects' variants (or the plan table with --explain) and the textures.
+void print_draws(const RenderArgs& a, Renderer& renderer, const FrameRun& run, int width, int height) {
+    if (a.explain) {
+        std::vector<ObjectPlan> plans;
+        for (const DrawReport& r : run.first_reports) plans.push_back(r.plan);
+        std::printf("plan       for %dx%d%s\n", width, height, run.cameras.empty() ? "" : " (the path's first frame)");
+        std::fputs(plans_table(plans).c_str(), stdout);
+    } else {
+        for (const DrawReport& r : run.first_reports) {
+            std::printf("object     %-10s material %-10s %s -> %s\n", r.object.c_str(), r.material.c_str(),
+                        r.plan.planned ? "effects" : (std::string("technique ") + technique_name(r.requested)).c_str(),
+                        r.variant.describe().c_str());
+            for (const std::string& note : r.notes) std::printf("             note: %s\n", note.c_str());
+        }
+    }
+    for (const std::string& note : renderer.texture_notes()) std::printf("texture    note: %s\n", note.c_str());
+    for (const TextureUpload& u : renderer.texture_uploads()) {
+        if (u.container == "image" && a.textures.empty() && !a.decode_textures) continue;
+        std::printf("texture    %s: %s %s %ux%u, %d level(s), %llu bytes on the GPU: %s\n", u.what.c_str(),
+                    u.container.c_str(), format_name(u.format), u.width, u.height, u.levels,
+                    static_cast<unsigned long long>(u.gpu_bytes), u.path.c_str());
+        if (!u.rows.empty()) std::printf("             rows: %s\n", u.rows.c_str());
+    }
+}
+
+// Frame time, the path's planning, the program cache.
+void print_timing(const RenderArgs& a, Renderer& renderer, const FrameRun& run, const std::string& cache_dir) {
+    const std::vector<double>& times_ms = run.times_ms;
+    std::printf("frame      %.3f ms median of %d (min %.3f, max %.3f), %d program(s); wall clock around glFinish\n",
+                times_ms[times_ms.size() / 2], a.frames, times_ms.front(), times_ms.back(),
+                static_cast<int>(renderer.program_count()));
+    if (!run.cameras.empty())
+        std::printf("path       %s: %d plan change(s) over %d frames; planning %.1f us per object (median); "
+                    "longest frame %.2f ms = %.2fx the median\n",
+                    a.camera_path.c_str(), run.plan_changes, a.frames, run.plan_us[run.plan_us.size() / 2],
+                    run.longest_ms, run.longest_ms / std::max(1e-9, times_ms[times_ms.size() / 2]));
+    const ProgramStats stats = renderer.program_stats();
+    const std::string where = cache_dir.empty() || cache_dir == "off" ? std::string("off")
+                              : stats.binaries_off.empty()            ? cache_dir
+                                                                      : cache_dir + ": " + stats.binaries_off;
+    const std::string last = stats.rejected ? " (last: " + stats.last_rejection + ")" : "";
+    std::printf("programs   %d compiled, %d from the binary cache (%s), %d stale entries rebuilt%s\n", stats.compiled,
+                stats.from_binary, where.c_str(), stats.rejected, last.c_str());
+}
+
+// --textures: every material's textures through the asset step into that
+// variant (files in a temporary folder, removed at exit), drawn from them.
+int convert_textures(const RenderArgs& a, SceneDesc& scene, std::optional<TempFolder>& folder_out) {
+    if (a.textures.empty()) return 0;
+    Result<AssetFormats> formats = asset_formats(a.textures);
+    if (!formats) return fail("--textures: " + formats.error().message);
+    Result<TempFolder> folder = make_texture_folder();
+    if (!folder) return fail(folder.error().message);
+    folder_out.emplace(std::move(*folder));
+    ConvertOptions convert;
+    convert.formats = *formats;
+    Result<std::vector<ConvertedFile>> files = convert_scene_textures(scene, convert, folder_out->path(), show_progress);
+    if (!files) return fail(in_scene_file(scene.source, "--textures " + a.textures + ": " + files.error().message));
+    return 0;
+}
+
+RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir) {
+    RendererOptions o;
+    o.effect_planner = effect_planner;
+    o.texture_files = texture_files();
+    o.get_proc_address = platform::HeadlessContext::proc_loader();
+    o.force_texture_decode = a.decode_textures;
+    o.preserve_host_state = !a.no_state_restore;
+    o.planner.find_calibration =
+        calibration_finder(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
+    if (!cache_dir.empty() && cache_dir != "off") o.program_binaries = file_program_store(cache_dir);
+    return o;
+}
+
+int run_render(const RenderArgs& a, std::optional<int>& compared) {
+    if (a.list) {
+        list_everything();
+        return 0;
+    }
+    std::optional<Tolerance> tolerance;
+    int width = 0, height = 0;
+    if (const int status = render_size(a, tolerance, width, height); status != 0) return status;
     if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
 
     if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
@@ -131,36 +269,15 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
         }
     }
 
-    // --textures: every material's textures through the asset step into that
-    // variant (files in a temporary folder, removed at exit), drawn from them.
     std::optional<TempFolder> texture_folder;
-    if (!a.textures.empty()) {
-        Result<AssetFormats> formats = asset_formats(a.textures);
-        if (!formats) return fail("--textures: " + formats.error().message);
-        Result<TempFolder> folder = make_texture_folder();
-        if (!folder) return fail(folder.error().message);
-        texture_folder.emplace(std::move(*folder));
-        ConvertOptions convert;
-        convert.formats = *formats;
-        Result<std::vector<ConvertedFile>> files =
-            convert_scene_textures(*scene, convert, texture_folder->path(), show_progress);
-        if (!files) return fail(in_scene_file(scene->source, "--textures " + a.textures + ": " + files.error().message));
-    }
+    if (const int status = convert_textures(a, *scene, texture_folder); status != 0) return status;
 
     platform::ContextOptions options;
     options.es_major = a.es;
     Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
-    RendererOptions renderer_options;
-    renderer_options.effect_planner = effect_planner;
-    renderer_options.texture_files = texture_files();
-    renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
-    renderer_options.force_texture_decode = a.decode_textures;
-    renderer_options.preserve_host_state = !a.no_state_restore;
-    renderer_options.planner.find_calibration =
-        calibration_finder(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
-    if (!cache_dir.empty() && cache_dir != "off") renderer_options.program_binaries = file_program_store(cache_dir);
+    const RendererOptions renderer_options = render_options(a, cache_dir);
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
@@ -172,53 +289,8 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     Status loaded = (*renderer)->load(*prepared);
     if (!loaded) return fail(in_scene_file(scene->source, loaded.error().message));
 
-    // A camera path: every frame's plan is known before the first, so the
-    // variants it needs compile now, not in a frame.
-    int plan_changes = 0;
-    std::vector<double> plan_us;  // per object
-    std::vector<CameraDesc> cameras;
-    std::vector<DrawReport> first_reports;
-    if (!a.camera_path.empty()) {
-        std::vector<std::vector<ObjectPlan>> frames;
-        for (int i = 0; i < a.frames; ++i) {
-            cameras.push_back(camera_on_path(scene->camera, a.camera_path, i, a.frames));
-            Result<std::vector<ObjectPlan>> plans = (*renderer)->plan_view(cameras.back(), width, height);
-            if (!plans) return fail(in_scene_file(scene->source, "frame " + std::to_string(i) + " of --camera-path " + a.camera_path + ": " + plans.error().message));
-            frames.push_back(std::move(*plans));
-        }
-        Status compiled = (*renderer)->prepare(frames, target->target());
-        if (!compiled) return fail(compiled.error().message);
-        Result<int> first = (*renderer)->set_view(cameras.front(), width, height);
-        if (!first) return fail(in_scene_file(scene->source, first.error().message));
-        first_reports = (*renderer)->reports();
-    }
-    // The first draw compiles the shaders (Mesa JITs at first use): keep it
-    // out of the timing, then time whole frames around glFinish.
-    Status drawn = (*renderer)->draw(target->target());
-    if (!drawn) return fail(in_scene_file(scene->source, drawn.error().message));
-    glFinish();
-    if (first_reports.empty()) first_reports = (*renderer)->reports();
-    std::vector<double> times_ms;
-    for (int i = 0; i < a.frames; ++i) {
-        const auto start = std::chrono::steady_clock::now();
-        if (!cameras.empty()) {
-            const auto plan_start = std::chrono::steady_clock::now();
-            Result<int> changed = (*renderer)->set_view(cameras[static_cast<size_t>(i)], width, height);
-            const auto plan_end = std::chrono::steady_clock::now();
-            if (!changed) return fail(in_scene_file(scene->source, changed.error().message));
-            if (i > 0) plan_changes += *changed;
-            plan_us.push_back(std::chrono::duration<double, std::micro>(plan_end - plan_start).count() /
-                              static_cast<double>(std::max<size_t>(1, scene->objects.size())));
-        }
-        drawn = (*renderer)->draw(target->target());
-        glFinish();
-        const auto end = std::chrono::steady_clock::now();
-        if (!drawn) return fail(in_scene_file(scene->source, drawn.error().message));
-        times_ms.push_back(std::chrono::duration<double, std::milli>(end - start).count());
-    }
-    const double longest_ms = *std::max_element(times_ms.begin(), times_ms.end());
-    std::sort(times_ms.begin(), times_ms.end());
-    std::sort(plan_us.begin(), plan_us.end());
+    Result<FrameRun> run = run_frames(a, **renderer, *scene, *target, width, height);
+    if (!run) return fail(in_scene_file(scene->source, run.error().message));
 
     // Default output: out/<scene>.png, named after the built-in scene or file.
     std::string output = a.output;
@@ -247,43 +319,9 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     std::printf("scene      %s%s\n", scene->name.c_str(), a.technique.empty() ? "" : (" (every material: " + a.technique + ")").c_str());
     std::printf("context    %s | %s | %s\n", caps.version.c_str(), caps.renderer.c_str(),
                 (*context)->display_description().c_str());
-    if (a.explain) {
-        std::vector<ObjectPlan> plans;
-        for (const DrawReport& r : first_reports) plans.push_back(r.plan);
-        std::printf("plan       for %dx%d%s\n", width, height, cameras.empty() ? "" : " (the path's first frame)");
-        std::fputs(plans_table(plans).c_str(), stdout);
-    } else {
-        for (const DrawReport& r : first_reports) {
-            std::printf("object     %-10s material %-10s %s -> %s\n", r.object.c_str(), r.material.c_str(),
-                        r.plan.planned ? "effects" : (std::string("technique ") + technique_name(r.requested)).c_str(),
-                        r.variant.describe().c_str());
-            for (const std::string& note : r.notes) std::printf("             note: %s\n", note.c_str());
-        }
-    }
-    for (const std::string& note : (*renderer)->texture_notes()) std::printf("texture    note: %s\n", note.c_str());
-    for (const TextureUpload& u : (*renderer)->texture_uploads()) {
-        if (u.container == "image" && a.textures.empty() && !a.decode_textures) continue;
-        std::printf("texture    %s: %s %s %ux%u, %d level(s), %llu bytes on the GPU: %s\n", u.what.c_str(),
-                    u.container.c_str(), format_name(u.format), u.width, u.height, u.levels,
-                    static_cast<unsigned long long>(u.gpu_bytes), u.path.c_str());
-        if (!u.rows.empty()) std::printf("             rows: %s\n", u.rows.c_str());
-    }
+    print_draws(a, **renderer, *run, width, height);
     std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
-    std::printf("frame      %.3f ms median of %d (min %.3f, max %.3f), %d program(s); wall clock around glFinish\n",
-                times_ms[times_ms.size() / 2], a.frames, times_ms.front(), times_ms.back(),
-                static_cast<int>((*renderer)->program_count()));
-    if (!cameras.empty())
-        std::printf("path       %s: %d plan change(s) over %d frames; planning %.1f us per object (median); "
-                    "longest frame %.2f ms = %.2fx the median\n",
-                    a.camera_path.c_str(), plan_changes, a.frames, plan_us[plan_us.size() / 2], longest_ms,
-                    longest_ms / std::max(1e-9, times_ms[times_ms.size() / 2]));
-    const ProgramStats stats = (*renderer)->program_stats();
-    const std::string where = cache_dir.empty() || cache_dir == "off" ? std::string("off")
-                              : stats.binaries_off.empty()            ? cache_dir
-                                                                      : cache_dir + ": " + stats.binaries_off;
-    const std::string last = stats.rejected ? " (last: " + stats.last_rejection + ")" : "";
-    std::printf("programs   %d compiled, %d from the binary cache (%s), %d stale entries rebuilt%s\n", stats.compiled,
-                stats.from_binary, where.c_str(), stats.rejected, last.c_str());
+    print_timing(a, **renderer, *run, cache_dir);
     if (tolerance) compared = compare_with_golden(*image, output, a.golden, *tolerance, a.golden_options);
     if (a.verify) return verify_plan(**renderer, *scene, width, height);
     return 0;
