@@ -9,6 +9,8 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -441,38 +443,38 @@ Status write_error_image(const std::string& path, const SurfaceImage& gpu, const
 
 }  // namespace
 
-Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, const StabilityOptions& options,
-                                                const StabilityProgress& progress) {
-    if (options.image_size < 16 || options.image_size > 1024)
-        return make_error("stability: image size must be within 16..1024, got " + std::to_string(options.image_size));
-    const GLubyte* version = glGetString(GL_VERSION);
-    if (!version) return make_error("stability: no current OpenGL ES context");
-    const int context_es = std::string(reinterpret_cast<const char*>(version)).find("OpenGL ES 2") != std::string::npos ? 2 : 3;
+namespace {
 
-    // What runs here: (precision, variant ES) pairs.
-    struct Run {
-        std::string precision;
-        int variant_es;
-    };
+// What runs here: (precision, variant ES) pairs.
+struct Run {
+    std::string precision;
+    int variant_es;
+};
+
+Result<std::vector<Run>> stability_runs(const StabilityOptions& options, int context_es) {
     std::vector<Run> runs;
     for (const std::string& precision : options.precisions) {
         if (precision == "native") {
             runs.push_back({precision, context_es});
-        } else {
-            if (context_es < 3)
-                return make_error("stability: emulated precision '" + precision +
-                                  "' runs on an OpenGL ES 3.0 context (it emulates ES 2.0 variants there); this one is ES 2.0");
-            if (precision != "nohighp") runs.push_back({precision, 3});
-            runs.push_back({precision, 2});
+            continue;
         }
+        if (context_es < 3)
+            return make_error("stability: emulated precision '" + precision +
+                              "' runs on an OpenGL ES 3.0 context (it emulates ES 2.0 variants there); this one is ES 2.0");
+        if (precision != "nohighp") runs.push_back({precision, 3});
+        runs.push_back({precision, 2});
     }
+    return runs;
+}
 
-    struct Work {
-        const StabilityCase* c;
-        std::vector<Frame> frames;                        // evaluated together (a sweep) or one
-        std::vector<std::pair<size_t, size_t>> pairs;     // continuity neighbours
-        std::string label;
-    };
+struct Work {
+    const StabilityCase* c;
+    std::vector<Frame> frames;                     // evaluated together (a sweep) or one
+    std::vector<std::pair<size_t, size_t>> pairs;  // continuity neighbours
+    std::string label;
+};
+
+std::vector<Work> stability_work(const Catalogue& catalogue, const StabilityOptions& options) {
     std::vector<Work> work;
     for (const StabilityCase& c : catalogue.cases) {
         if (c.full_only && !options.full) continue;
@@ -487,19 +489,243 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
             work.push_back(w);
             continue;
         }
-        for (double a : c.angles) {
-            Work one{&c, {{a, c.distance}}, {}, c.angles.size() > 1 ? c.name + "@" + angle_label(a) : c.name};
-            work.push_back(one);
+        for (double a : c.angles)
+            work.push_back(Work{&c, {{a, c.distance}}, {}, c.angles.size() > 1 ? c.name + "@" + angle_label(a) : c.name});
+    }
+    return work;
+}
+
+// One case's frames: the reference of each (shared by every technique and
+// run) and, for a technique whose load resamples the height (maxmip on a map
+// that is not a power of two), its own reference of that surface, made once
+// per frame when first needed.
+struct CaseReferences {
+    const Work* w = nullptr;
+    std::string height_image;
+    int size = 0;
+    std::vector<reference::ReferenceImage> refs;
+    std::vector<std::vector<SearchBound>> searches;
+    std::vector<std::optional<reference::ReferenceImage>> resampled_refs;
+    std::vector<std::vector<SearchBound>> resampled_searches;
+    std::string resampled_note;
+
+    Result<reference::ReferenceImage> trace(const std::string& technique, size_t fi, std::vector<SearchBound>& search,
+                                            std::string* note) {
+        const StabilityCase& c = *w->c;
+        const Frame& f = w->frames[fi];
+        Result<SceneDesc> scene = stability_scene(c, technique, f.angle, f.distance, height_image);
+        if (!scene) return scene.error();
+        Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
+        if (!images) return images.error();
+        if (note) {
+            if (images->notes.empty()) return make_error("");  // not resampled: the shared reference holds
+            *note = images->notes.front();
+        }
+        reference::ReferenceOptions ro;
+        ro.shadow = c.shadow;
+        Result<reference::ReferenceImage> ref = reference::render_reference(*scene, size, size, ro);
+        if (!ref)
+            return with_context("case '" + c.name + "' reference" + (note ? " of the resampled height" : ""), ref.error());
+        search = search_bounds(*ref, images->traced, c.samples);
+        filtered_bounds(*ref, images->traced, search);
+        return ref;
+    }
+
+    Status make(const Work& work, const StabilityOptions& options) {
+        w = &work;
+        size = options.image_size;
+        if (work.c->image_width) {
+            Result<std::string> path = write_height_image(*work.c, options.scratch_dir);
+            if (!path) return path.error();
+            height_image = *path;
+        }
+        for (size_t fi = 0; fi < work.frames.size(); ++fi) {
+            searches.emplace_back();
+            Result<reference::ReferenceImage> ref = trace("pom", fi, searches.back(), nullptr);
+            if (!ref) return ref.error();
+            refs.push_back(std::move(*ref));
+        }
+        resampled_refs.resize(work.frames.size());
+        resampled_searches.resize(work.frames.size());
+        return {};
+    }
+
+    Status reference_for(const TechniqueInfo& t, size_t fi, const reference::ReferenceImage*& ref,
+                         const std::vector<SearchBound>*& search) {
+        ref = &refs[fi];
+        search = &searches[fi];
+        if (t.id != Technique::maxmip || !w->c->image_width) return {};
+        if (!resampled_refs[fi]) {
+            std::string note;
+            Result<reference::ReferenceImage> r = trace(t.name, fi, resampled_searches[fi], &note);
+            if (!r) return r.error().message.empty() ? Status{} : Status(r.error());
+            resampled_note = note;
+            resampled_refs[fi] = std::move(*r);
+        }
+        ref = &*resampled_refs[fi];
+        search = &resampled_searches[fi];
+        return {};
+    }
+};
+
+// Continuity: per pixel, the change of the error between neighbouring
+// frames. Each error is within its own bound, so the change is within their
+// sum; in the LOD band the blend may also move the hit |log2(d2 / d1)| /
+// band of the way to the polygon's uv (at most P). More than that is a pop.
+void judge_continuity(StabilityRow& row, const Work& w, const TechniqueInfo& t, const CaseReferences& cr,
+                      const std::vector<SurfaceImage>& gpu_frames, const std::vector<std::vector<double>>& frame_bounds,
+                      const CatalogueBounds& bounds) {
+    const StabilityCase& c = *w.c;
+    long compared = 0, violations = 0, flips = 0;
+    double jump_max = 0.0;
+    for (auto [a, b] : w.pairs) {
+        const bool own = t.id == Technique::maxmip && cr.resampled_refs[a] && cr.resampled_refs[b];
+        const reference::ReferenceImage& ra = own ? *cr.resampled_refs[a] : cr.refs[a];
+        const reference::ReferenceImage& rb = own ? *cr.resampled_refs[b] : cr.refs[b];
+        const int tw = ra.texture_width, th = ra.texture_height;
+        const double blend_step = c.lod ? std::fabs(std::log2(w.frames[b].distance / w.frames[a].distance)) / c.lod_band : 0.0;
+        for (size_t i = 0; i < gpu_frames[a].samples.size(); ++i) {
+            const SurfaceSample& ga = gpu_frames[a].samples[i];
+            const SurfaceSample& gb = gpu_frames[b].samples[i];
+            const SurfaceSample& sa = ra.surface.samples[i];
+            const SurfaceSample& sb = rb.surface.samples[i];
+            if (!ga.covered || !gb.covered || !sa.covered || !sb.covered || !finite(ga) || !finite(gb)) continue;
+            if (std::fabs(sa.height - sb.height) > bounds.crest_flip_height) {
+                ++flips;
+                continue;
+            }
+            const glm::dvec2 ea = wrapped_texels(ga.uv - sa.uv, tw, th);
+            const glm::dvec2 eb = wrapped_texels(gb.uv - sb.uv, tw, th);
+            const double jump = glm::length(eb - ea);
+            const double p_max = std::max(pixel_terms(ra.view_ts[i], ra.height_scale, tw, th).parallax,
+                                          pixel_terms(rb.view_ts[i], rb.height_scale, tw, th).parallax);
+            const double bound = frame_bounds[a][i] + frame_bounds[b][i] + blend_step * p_max;
+            ++compared;
+            jump_max = std::max(jump_max, jump);
+            if (jump > bound) ++violations;
         }
     }
+    row.continuity_max = jump_max;
+    row.continuity_violations = compared ? static_cast<double>(violations) / static_cast<double>(compared) : 0.0;
+    row.crest_flips = flips;
+}
+
+void fill_row(StabilityRow& row, const Accumulator& acc) {
+    const auto share = [&](long n) { return acc.pixels ? static_cast<double>(n) / static_cast<double>(acc.pixels) : 0.0; };
+    const auto mean = [&](double sum) { return acc.pixels ? sum / static_cast<double>(acc.pixels) : 0.0; };
+    row.pixels = acc.pixels;
+    row.non_finite = acc.non_finite;
+    row.error_mean = mean(acc.error_sum);
+    row.error_max = acc.error_max;
+    row.error_bound_mean = mean(acc.bound_sum);
+    row.error_violations = share(acc.error_violations);
+    row.nominal_bound_mean = mean(acc.nominal_sum);
+    row.nominal_violations = share(acc.nominal_violations);
+    row.offset_ratio_max = acc.offset_ratio_max;
+    row.offset_violations = acc.offset_violations;
+    row.dark_max = acc.dark_max;
+}
+
+// Everything one technique's row needs besides the case.
+struct RowJob {
+    const Catalogue& catalogue;
+    const StabilityOptions& options;
+    const Work& w;
+    CaseReferences& cr;
+    Renderer& renderer;
+    const Run& run;
+    std::vector<SurfaceImage>& entries;  // the normal-mapping pass per frame: each pixel's own uv
+    const std::function<void(const std::string&)>& tick;
+};
+
+Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
+    const StabilityCase& c = *job.w.c;
+    const int size = job.options.image_size;
+    StabilityRow row;
+    row.case_name = job.w.label;
+    row.technique = t.name;
+    row.context = "es" + std::to_string(job.run.variant_es);
+    row.precision = job.run.precision;
+    Accumulator acc;
+    std::vector<SurfaceImage> gpu_frames;
+    std::vector<std::vector<double>> frame_bounds;
+    std::string drawn_note, drawn_name = t.name;
+    for (size_t fi = 0; fi < job.w.frames.size(); ++fi) {
+        const Frame& f = job.w.frames[fi];
+        auto capture = [&](const std::string& technique) -> Result<SurfaceImage> {
+            Result<SceneDesc> scene = stability_scene(c, technique, f.angle, f.distance, job.cr.height_image);
+            if (!scene) return scene.error();
+            Status loaded = job.renderer.load(*scene);
+            if (!loaded)
+                return with_context("case '" + job.w.label + "' " + technique + " " + row.context + " " + job.run.precision,
+                                    loaded.error());
+            Result<SurfaceImage> image = capture_surfaces(job.renderer, size, size);
+            if (!image) return with_context("case '" + job.w.label + "' " + technique, image.error());
+            return image;
+        };
+        if (job.entries[fi].samples.empty()) {
+            Result<SurfaceImage> e = capture("normal");
+            if (!e) return e.error();
+            job.entries[fi] = std::move(*e);
+        }
+        Result<SurfaceImage> gpu = capture(t.name);
+        if (!gpu) return gpu.error();
+        // Judged as what was drawn: the planner may substitute (maxmip on a
+        // height map that is not a power of two).
+        const auto& reports = job.renderer.reports();
+        const char* drawn = reports.empty() ? t.name : technique_name(reports.front().variant.technique);
+        if (drawn != std::string(t.name) && drawn_note.empty()) {
+            drawn_note = std::string("drawn as ") + drawn;
+            if (!reports.front().notes.empty()) drawn_note += " (" + reports.front().notes.front() + ")";
+            drawn_name = drawn;
+        }
+        const reference::ReferenceImage* ref = nullptr;
+        const std::vector<SearchBound>* search = nullptr;
+        Status own = job.cr.reference_for(t, fi, ref, search);
+        if (!own) return own.error();
+        if (ref != &job.cr.refs[fi] && drawn_note.empty())
+            drawn_note = "against the reference of its own resampled height: " + job.cr.resampled_note;
+        frame_bounds.emplace_back(gpu->samples.size(), 0.0);
+        measure_frame(*gpu, &job.entries[fi], *ref, *search, job.catalogue.bounds.techniques.at(drawn_name), c,
+                      job.catalogue.bounds, acc, c.lod, &frame_bounds.back(), job.run.precision);
+        if (!job.options.image_dir.empty()) {
+            Status written = write_error_image(job.options.image_dir + "/" + job.w.label + "_" + t.name + "_" +
+                                                   row.context + "_" + job.run.precision + "_" + std::to_string(fi) + ".png",
+                                               *gpu, *ref, frame_bounds.back());
+            if (!written) return written.error();
+        }
+        gpu_frames.push_back(std::move(*gpu));
+        job.tick(job.w.label + " " + t.name + " " + row.context + " " + job.run.precision);
+    }
+    fill_row(row, acc);
+    if (!job.w.pairs.empty()) judge_continuity(row, job.w, t, job.cr, gpu_frames, frame_bounds, job.catalogue.bounds);
+    judge(row, job.catalogue.bounds, c);
+    if (!drawn_note.empty()) row.reasons = drawn_note + (row.reasons.empty() ? "" : "; " + row.reasons);
+    return row;
+}
+
+}  // namespace
+
+Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, const StabilityOptions& options,
+                                                const StabilityProgress& progress) {
+    if (options.image_size < 16 || options.image_size > 1024)
+        return make_error("stability: image size must be within 16..1024, got " + std::to_string(options.image_size));
+    const GLubyte* version = glGetString(GL_VERSION);
+    if (!version) return make_error("stability: no current OpenGL ES context");
+    const int context_es = std::string(reinterpret_cast<const char*>(version)).find("OpenGL ES 2") != std::string::npos ? 2 : 3;
+    Result<std::vector<Run>> runs = stability_runs(options, context_es);
+    if (!runs) return runs.error();
+    const std::vector<Work> work = stability_work(catalogue, options);
     if (work.empty()) return make_error("stability: no case matches '" + echo(options.cases_pattern) + "'");
 
-    int total = 0;
+    int total = 0, done = 0;
     for (const Work& w : work)
-        for (const Run& run : runs)
+        for (const Run& run : *runs)
             for (const TechniqueInfo* t : techniques_of(*w.c))
                 if (t->min_es_major <= run.variant_es) total += static_cast<int>(w.frames.size());
-    int done = 0;
+    const std::function<void(const std::string&)> tick = [&](const std::string& what) {
+        if (progress) progress(++done, total, what);
+    };
 
     std::map<std::string, std::unique_ptr<Renderer>> renderers;  // per run: programs stay cached
     auto renderer_for = [&](const Run& run) -> Result<Renderer*> {
@@ -524,181 +750,20 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
     };
 
     std::vector<StabilityRow> rows;
-    const int size = options.image_size;
     for (const Work& w : work) {
-        const StabilityCase& c = *w.c;
-        std::string height_image;  // written once per case, read by every frame
-        if (c.image_width) {
-            Result<std::string> path = write_height_image(c, options.scratch_dir);
-            if (!path) return path.error();
-            height_image = *path;
-        }
-        // The reference of each frame, shared by every technique and run.
-        std::vector<reference::ReferenceImage> refs;
-        std::vector<std::vector<SearchBound>> searches;
-        for (const Frame& f : w.frames) {
-            Result<SceneDesc> scene = stability_scene(c, "pom", f.angle, f.distance, height_image);
-            if (!scene) return scene.error();
-            reference::ReferenceOptions ro;
-            ro.shadow = c.shadow;
-            Result<reference::ReferenceImage> ref = reference::render_reference(*scene, size, size, ro);
-            if (!ref) return with_context("case '" + c.name + "' reference", ref.error());
-            Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
-            if (!images) return images.error();
-            const HeightField traced = images->traced;
-            searches.push_back(search_bounds(*ref, traced, c.samples));
-            filtered_bounds(*ref, traced, searches.back());
-            refs.push_back(std::move(*ref));
-        }
-        // A technique whose load resamples the height (maxmip on a map that
-        // is not a power of two) traces another surface: its own reference,
-        // of that surface, made once per frame when first needed.
-        std::vector<std::optional<reference::ReferenceImage>> resampled_refs(w.frames.size());
-        std::vector<std::vector<SearchBound>> resampled_searches(w.frames.size());
-        std::string resampled_note;
-        auto reference_for = [&](const TechniqueInfo& t, size_t fi,
-                                 const reference::ReferenceImage*& ref, const std::vector<SearchBound>*& search) -> Status {
-            ref = &refs[fi];
-            search = &searches[fi];
-            if (t.id != Technique::maxmip || !c.image_width) return {};
-            if (!resampled_refs[fi]) {
-                const Frame& f = w.frames[fi];
-                Result<SceneDesc> scene = stability_scene(c, t.name, f.angle, f.distance, height_image);
-                if (!scene) return scene.error();
-                Result<MaterialImages> images = build_material_images(scene->materials[0], scene->base_dir);
-                if (!images) return images.error();
-                if (images->notes.empty()) return {};
-                resampled_note = images->notes.front();
-                reference::ReferenceOptions ro;
-                ro.shadow = c.shadow;
-                Result<reference::ReferenceImage> r = reference::render_reference(*scene, size, size, ro);
-                if (!r) return with_context("case '" + c.name + "' reference of the resampled height", r.error());
-                resampled_searches[fi] = search_bounds(*r, images->traced, c.samples);
-                filtered_bounds(*r, images->traced, resampled_searches[fi]);
-                resampled_refs[fi] = std::move(*r);
-            }
-            ref = &*resampled_refs[fi];
-            search = &resampled_searches[fi];
-            return {};
-        };
-        for (const Run& run : runs) {
+        CaseReferences cr;
+        Status made = cr.make(w, options);
+        if (!made) return made.error();
+        for (const Run& run : *runs) {
             Result<Renderer*> renderer = renderer_for(run);
             if (!renderer) return renderer.error();
-            std::vector<SurfaceImage> entries(w.frames.size());  // the normal-mapping pass: each pixel's own uv
-            for (const TechniqueInfo* t : techniques_of(c)) {
+            std::vector<SurfaceImage> entries(w.frames.size());
+            RowJob job{catalogue, options, w, cr, **renderer, run, entries, tick};
+            for (const TechniqueInfo* t : techniques_of(*w.c)) {
                 if (t->min_es_major > run.variant_es) continue;
-                StabilityRow row;
-                row.case_name = w.label;
-                row.technique = t->name;
-                row.context = "es" + std::to_string(run.variant_es);
-                row.precision = run.precision;
-                Accumulator acc;
-                std::vector<SurfaceImage> gpu_frames;
-                std::vector<std::vector<double>> frame_bounds;
-                std::string drawn_note;
-                std::string drawn_name = t->name;
-                for (size_t fi = 0; fi < w.frames.size(); ++fi) {
-                    const Frame& f = w.frames[fi];
-                    auto capture = [&](const std::string& technique) -> Result<SurfaceImage> {
-                        Result<SceneDesc> scene = stability_scene(c, technique, f.angle, f.distance, height_image);
-                        if (!scene) return scene.error();
-                        Status loaded = (*renderer)->load(*scene);
-                        if (!loaded) return with_context("case '" + w.label + "' " + technique + " " + row.context + " " + run.precision,
-                                                         loaded.error());
-                        Result<SurfaceImage> image = capture_surfaces(**renderer, size, size);
-                        if (!image) return with_context("case '" + w.label + "' " + technique, image.error());
-                        return image;
-                    };
-                    if (entries[fi].samples.empty()) {
-                        Result<SurfaceImage> e = capture("normal");
-                        if (!e) return e.error();
-                        entries[fi] = std::move(*e);
-                    }
-                    Result<SurfaceImage> gpu = capture(t->name);
-                    if (!gpu) return gpu.error();
-                    // Judged as what was drawn: the planner may substitute
-                    // (maxmip on a height map that is not a power of two).
-                    const auto& reports = (*renderer)->reports();
-                    const char* drawn = reports.empty() ? t->name : technique_name(reports.front().variant.technique);
-                    if (drawn != std::string(t->name) && drawn_note.empty()) {
-                        drawn_note = std::string("drawn as ") + drawn;
-                        if (!reports.front().notes.empty()) drawn_note += " (" + reports.front().notes.front() + ")";
-                        drawn_name = drawn;
-                    }
-                    const reference::ReferenceImage* ref = nullptr;
-                    const std::vector<SearchBound>* search = nullptr;
-                    Status own = reference_for(*t, fi, ref, search);
-                    if (!own) return own.error();
-                    if (ref != &refs[fi] && drawn_note.empty())
-                        drawn_note = "against the reference of its own resampled height: " + resampled_note;
-                    frame_bounds.emplace_back(gpu->samples.size(), 0.0);
-                    measure_frame(*gpu, &entries[fi], *ref, *search, catalogue.bounds.techniques.at(drawn_name),
-                                  c, catalogue.bounds, acc, c.lod, &frame_bounds.back(), run.precision);
-                    if (!options.image_dir.empty()) {
-                        Status written = write_error_image(options.image_dir + "/" + w.label + "_" + t->name + "_" +
-                                                               row.context + "_" + run.precision + "_" +
-                                                               std::to_string(fi) + ".png",
-                                                           *gpu, *ref, frame_bounds.back());
-                        if (!written) return written.error();
-                    }
-                    gpu_frames.push_back(std::move(*gpu));
-                    if (progress) progress(++done, total, w.label + " " + t->name + " " + row.context + " " + run.precision);
-                }
-                row.pixels = acc.pixels;
-                row.non_finite = acc.non_finite;
-                row.error_mean = acc.pixels ? acc.error_sum / static_cast<double>(acc.pixels) : 0.0;
-                row.error_max = acc.error_max;
-                row.error_bound_mean = acc.pixels ? acc.bound_sum / static_cast<double>(acc.pixels) : 0.0;
-                row.error_violations = acc.pixels ? static_cast<double>(acc.error_violations) / static_cast<double>(acc.pixels) : 0.0;
-                row.nominal_bound_mean = acc.pixels ? acc.nominal_sum / static_cast<double>(acc.pixels) : 0.0;
-                row.nominal_violations = acc.pixels ? static_cast<double>(acc.nominal_violations) / static_cast<double>(acc.pixels) : 0.0;
-                row.offset_ratio_max = acc.offset_ratio_max;
-                row.offset_violations = acc.offset_violations;
-                row.dark_max = acc.dark_max;
-                // Continuity: per pixel, the change of the error between
-                // neighbouring frames. Each error is within its own bound, so
-                // the change is within their sum; in the LOD band the blend
-                // may also move the hit |log2(d2 / d1)| / band of the way to
-                // the polygon's uv (at most P). More than that is a pop.
-                if (!w.pairs.empty()) {
-                    long compared = 0, violations = 0, flips = 0;
-                    double jump_max = 0.0;
-                    for (auto [a, b] : w.pairs) {
-                        const bool own = t->id == Technique::maxmip && resampled_refs[a] && resampled_refs[b];
-                        const reference::ReferenceImage& ra = own ? *resampled_refs[a] : refs[a];
-                        const reference::ReferenceImage& rb = own ? *resampled_refs[b] : refs[b];
-                        const int tw = ra.texture_width, th = ra.texture_height;
-                        const double blend_step =
-                            c.lod ? std::fabs(std::log2(w.frames[b].distance / w.frames[a].distance)) / c.lod_band : 0.0;
-                        for (size_t i = 0; i < gpu_frames[a].samples.size(); ++i) {
-                            const SurfaceSample& ga = gpu_frames[a].samples[i];
-                            const SurfaceSample& gb = gpu_frames[b].samples[i];
-                            const SurfaceSample& sa = ra.surface.samples[i];
-                            const SurfaceSample& sb = rb.surface.samples[i];
-                            if (!ga.covered || !gb.covered || !sa.covered || !sb.covered || !finite(ga) || !finite(gb))
-                                continue;
-                            if (std::fabs(sa.height - sb.height) > catalogue.bounds.crest_flip_height) {
-                                ++flips;
-                                continue;
-                            }
-                            const glm::dvec2 ea = wrapped_texels(ga.uv - sa.uv, tw, th);
-                            const glm::dvec2 eb = wrapped_texels(gb.uv - sb.uv, tw, th);
-                            const double jump = glm::length(eb - ea);
-                            const double p_max = std::max(pixel_terms(ra.view_ts[i], ra.height_scale, tw, th).parallax,
-                                                          pixel_terms(rb.view_ts[i], rb.height_scale, tw, th).parallax);
-                            const double bound = frame_bounds[a][i] + frame_bounds[b][i] + blend_step * p_max;
-                            ++compared;
-                            jump_max = std::max(jump_max, jump);
-                            if (jump > bound) ++violations;
-                        }
-                    }
-                    row.continuity_max = jump_max;
-                    row.continuity_violations = compared ? static_cast<double>(violations) / static_cast<double>(compared) : 0.0;
-                    row.crest_flips = flips;
-                }
-                judge(row, catalogue.bounds, c);
-                if (!drawn_note.empty()) row.reasons = drawn_note + (row.reasons.empty() ? "" : "; " + row.reasons);
-                rows.push_back(std::move(row));
+                Result<StabilityRow> row = stability_row(job, *t);
+                if (!row) return row.error();
+                rows.push_back(std::move(*row));
             }
         }
     }
