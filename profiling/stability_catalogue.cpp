@@ -132,12 +132,8 @@ void read_field(Reader r, FieldSpec& f) {
     r.finish();
 }
 
-void read_case(Reader r, StabilityCase& c, bool defaults) {
-    if (!defaults) {
-        r.text("name", c.name);
-        if (c.name.empty()) r.fail("every case needs a name", "name");
-        r.text("why", c.why);
-    }
+// The relief, the angles and distances it is seen from, the camera.
+void read_case_view(Reader& r, StabilityCase& c) {
     if (r.has("field")) read_field(r.child("field"), c.field);
     if (r.has("image")) {
         Reader im = r.child("image");
@@ -191,6 +187,10 @@ void read_case(Reader r, StabilityCase& c, bool defaults) {
         c.camera_position = p;
         c.camera_target = t;
     }
+}
+
+// The frame: mesh, search, light and shadow, uv, model, LOD.
+void read_case_draw(Reader& r, StabilityCase& c) {
     r.number("fov", c.fov_deg, 1, 170);
     r.number("plane_size", c.plane_size, kMinExtent, kMaxExtent);
     r.number("segments", c.segments, 1, 256);
@@ -235,6 +235,10 @@ void read_case(Reader r, StabilityCase& c, bool defaults) {
         r.boolean("exact_view", e);
         c.exact_view = e;
     }
+}
+
+// The techniques it runs and the limits each shows.
+void read_case_techniques(Reader& r, StabilityCase& c) {
     if (const json* t = r.get("techniques")) {
         if (!t->is_array()) return r.fail("must be an array of technique names", "techniques");
         for (const json& e : *t) {
@@ -254,6 +258,17 @@ void read_case(Reader r, StabilityCase& c, bool defaults) {
             c.limits[it.key()] = it->get<std::string>();
         }
     }
+}
+
+void read_case(Reader r, StabilityCase& c, bool defaults) {
+    if (!defaults) {
+        r.text("name", c.name);
+        if (c.name.empty()) r.fail("every case needs a name", "name");
+        r.text("why", c.why);
+    }
+    read_case_view(r, c);
+    read_case_draw(r, c);
+    read_case_techniques(r, c);
     r.boolean("expect_dark", c.expect_dark);
     r.boolean("full_only", c.full_only);
     r.number("quick_stride", c.quick_stride, 1, 64);
