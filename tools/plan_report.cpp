@@ -304,11 +304,30 @@ Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& sc
 
 }  // namespace
 
-int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height, bool candidates) {
-    Result<int> viewed = renderer.set_view(scene.camera, width, height);
-    if (!viewed) return fail(in_scene_file(scene.source, viewed.error().message));
-    Result<SurfaceImage> drawn = capture_surfaces(renderer, width, height);
-    if (!drawn) return fail(in_scene_file(scene.source, "--verify: " + drawn.error().message));
+// --candidates: every candidate drawn and timed against the plan, and the
+// cheapest that measures within the targets.
+Status print_candidates(Renderer& renderer, const SceneDesc& scene, size_t i, int width, int height,
+                        const std::map<ShadowMode, reference::ReferenceImage>& truths, ShadowMode asked) {
+    Result<std::vector<Tried>> tried = try_candidates(renderer, scene, i, width, height, truths);
+    if (!tried) return make_error("--candidates: " + tried.error().message);
+    const Tried* cheapest = nullptr;
+    for (const Tried& c : *tried) {
+        std::printf("    candidate %-18s hit %-8s%s x%.2f of the plan's time%s\n", c.name.c_str(), texels(c.hit).c_str(),
+                    asked != ShadowMode::none ? (" shadow " + texels(c.shadow)).c_str() : "", c.time_ratio,
+                    c.within ? ", within the targets" : "");
+        if (c.within && (!cheapest || c.time_ratio < cheapest->time_ratio)) cheapest = &c;
+    }
+    if (cheapest)
+        std::printf("    cheapest within the targets: %s at x%.2f of the plan's time: the plan spends %.2fx what it must\n",
+                    cheapest->name.c_str(), cheapest->time_ratio, 1.0 / std::max(cheapest->time_ratio, 1e-9));
+    else
+        std::printf("    no candidate measured within the targets\n");
+    return {};
+}
+
+// The exact reference of every shadow mode the scene asks for, composited by depth.
+Result<std::map<ShadowMode, reference::ReferenceImage>> verify_references(Renderer& renderer, const SceneDesc& scene,
+                                                                          int width, int height) {
     std::set<ShadowMode> modes = {ShadowMode::none};
     for (const MaterialDesc& m : scene.materials)
         if (m.effects) modes.insert(m.effects->shadow);
@@ -320,9 +339,20 @@ int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int heigh
         ro.depth_composite = true;
         std::fprintf(stderr, "verify: exact reference, shadow %s ...\n", shadow_mode_name(mode));
         Result<reference::ReferenceImage> truth = reference::render_reference(*renderer.prepared(), width, height, ro);
-        if (!truth) return fail(in_scene_file(scene.source, "--verify: " + truth.error().message));
+        if (!truth) return truth.error();
         truths.emplace(mode, std::move(*truth));
     }
+    return truths;
+}
+
+int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int height, bool candidates) {
+    Result<int> viewed = renderer.set_view(scene.camera, width, height);
+    if (!viewed) return fail(in_scene_file(scene.source, viewed.error().message));
+    Result<SurfaceImage> drawn = capture_surfaces(renderer, width, height);
+    if (!drawn) return fail(in_scene_file(scene.source, "--verify: " + drawn.error().message));
+    Result<std::map<ShadowMode, reference::ReferenceImage>> references = verify_references(renderer, scene, width, height);
+    if (!references) return fail(in_scene_file(scene.source, "--verify: " + references.error().message));
+    const std::map<ShadowMode, reference::ReferenceImage>& truths = *references;
     int missed = 0;
     std::printf("verify     %dx%d against the depth-composited exact reference; hit error p95 in texels of the "
                 "level sampled, shadow error mean |visibility difference|\n",
@@ -365,20 +395,8 @@ int verify_plan(Renderer& renderer, const SceneDesc& scene, int width, int heigh
         if (!met) ++missed;
         std::printf("%s (%ld px)\n", line.c_str(), e->pixels);
         if (candidates && m && m->effects) {
-            Result<std::vector<Tried>> tried = try_candidates(renderer, scene, i, width, height, truths);
-            if (!tried) return fail(in_scene_file(scene.source, "--candidates: " + tried.error().message));
-            const Tried* cheapest = nullptr;
-            for (const Tried& c : *tried) {
-                std::printf("    candidate %-18s hit %-8s%s x%.2f of the plan's time%s\n", c.name.c_str(),
-                            texels(c.hit).c_str(), asked != ShadowMode::none ? (" shadow " + texels(c.shadow)).c_str() : "",
-                            c.time_ratio, c.within ? ", within the targets" : "");
-                if (c.within && (!cheapest || c.time_ratio < cheapest->time_ratio)) cheapest = &c;
-            }
-            if (cheapest)
-                std::printf("    cheapest within the targets: %s at x%.2f of the plan's time: the plan spends %.2fx what it must\n",
-                            cheapest->name.c_str(), cheapest->time_ratio, 1.0 / std::max(cheapest->time_ratio, 1e-9));
-            else
-                std::printf("    no candidate measured within the targets\n");
+            Status shown = print_candidates(renderer, scene, i, width, height, truths, asked);
+            if (!shown) return fail(in_scene_file(scene.source, shown.error().message));
         }
     }
     if (missed) {
