@@ -38,9 +38,9 @@ struct StabilityArgs {
 };
 
 
-int run(const StabilityArgs& a) {
-    // The precisions: native (this driver, declarations in force) and the
-    // emulated profiles (the shaders rewritten with rounding, run on ES 3.0).
+// The precisions asked for: native (this driver, declarations in force) and
+// the emulated profiles (the shaders rewritten with rounding, run on ES 3.0).
+Result<std::vector<std::string>> stability_precisions(const StabilityArgs& a) {
     std::vector<std::string> precisions;
     for (const std::string& p : a.precisions) {
         if (p == "all") {
@@ -49,9 +49,31 @@ int run(const StabilityArgs& a) {
             continue;
         }
         if (p != "native" && !is_emulated_precision(p))
-            return fail("--precision '" + p + "': expected native, fp32, fp16, lowp, nohighp, lowp_all or all");
+            return make_error("--precision '" + p + "': expected native, fp32, fp16, lowp, nohighp, lowp_all or all");
         if (std::find(precisions.begin(), precisions.end(), p) == precisions.end()) precisions.push_back(p);
     }
+    return precisions;
+}
+
+// The built-in catalogue, or --catalogue's (at most 16 MiB).
+Result<profiling::Catalogue> stability_catalogue(const StabilityArgs& a) {
+    std::string text = profiling::embedded_catalogue_text();
+    std::string origin = "built-in catalogue (tests/stability/catalogue.jsonc)";
+    if (!a.catalogue.empty()) {
+        Result<std::vector<std::uint8_t>> read = read_file_bounded(a.catalogue, 16u << 20, "catalogue");
+        if (!read) return read.error();
+        text.assign(read->begin(), read->end());
+        origin = a.catalogue;
+    }
+    return profiling::parse_catalogue(text, origin);
+}
+
+int run(const StabilityArgs& a) {
+    // The precisions: native (this driver, declarations in force) and the
+    // emulated profiles (the shaders rewritten with rounding, run on ES 3.0).
+    Result<std::vector<std::string>> asked = stability_precisions(a);
+    if (!asked) return fail(asked.error().message);
+    const std::vector<std::string>& precisions = *asked;
     if (a.es != "2" && a.es != "3" && a.es != "both") return fail("--es '" + a.es + "': expected 2, 3 or both");
     if (a.format != "table" && a.format != "md" && a.format != "json")
         return fail("--format '" + a.format + "': expected table, md or json");
@@ -59,15 +81,7 @@ int run(const StabilityArgs& a) {
     if (!a.out.empty())
         if (const std::string unwritable = check_output_file(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
 
-    std::string text = profiling::embedded_catalogue_text();
-    std::string origin = "built-in catalogue (tests/stability/catalogue.jsonc)";
-    if (!a.catalogue.empty()) {
-        Result<std::vector<std::uint8_t>> read = read_file_bounded(a.catalogue, 16u << 20, "catalogue");
-        if (!read) return fail(read.error().message);
-        text.assign(read->begin(), read->end());
-        origin = a.catalogue;
-    }
-    Result<profiling::Catalogue> catalogue = profiling::parse_catalogue(text, origin);
+    Result<profiling::Catalogue> catalogue = stability_catalogue(a);
     if (!catalogue) return fail(catalogue.error().message);
 
     profiling::StabilityOptions o;
