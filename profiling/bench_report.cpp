@@ -1083,29 +1083,15 @@ std::string summary_section(const BenchRun& run) {
     return out + "\n";
 }
 
-std::string markdown_text(const BenchRun& run) {
-    const std::vector<TechniqueEntry> techniques = techniques_in(run);
-    std::string out = "# ParallaxES benchmark: accuracy against cost\n\n";
-    out += "- **Date:** " + md_text(run.date.empty() ? "unknown" : run.date) + "\n";
-    out += "- **Command:** " + (run.command.empty() ? std::string("unknown") : md_code(run.command)) + "\n";
-    out += "- **Renderer:** " + md_text(run.gl_renderer.empty() ? "unknown" : run.gl_renderer) + "\n";
-    out += "- **GL version:** " + md_text(run.gl_version.empty() ? "unknown" : run.gl_version) + "\n";
-    out += "- **llvmpipe threads:** " + std::to_string(run.threads) + "\n";
-    out += "- **Image size:** " + std::to_string(run.width) + "×" + std::to_string(run.height) + "\n";
-    out += "- **Frames:** " + std::to_string(run.frames) + " timed per setting, after a warm-up\n\n";
-    out +=
-        "Frame times come from llvmpipe, Mesa's rasteriser running on the CPU, standing in for a mobile GPU: "
-        "the ratios to normal mapping matter, not the absolute times. Error is the mean hit-uv error in texels "
-        "against the exact reference; *ratio* is frame time relative to normal mapping (the median of "
-        "interleaved per-round ratios); *ms* is the median frame time.\n\n";
-
-    out += summary_section(run);
-    out += unrolling_section(run);
+// For each scene and angle: the cheapest setting per error target, and
+// the techniques that never reach one.
+std::string cheapest_section(const std::vector<TechniqueEntry>& techniques,
+                             const std::vector<SceneAngle>& groups) {
+    std::string out;
     out += "## Cheapest setting per error target\n\n";
     out +=
         "For each scene and view angle (from the normal): the setting with the lowest ratio to normal mapping "
         "whose mean error is at most the target.\n";
-    const std::vector<SceneAngle> groups = scene_angle_groups(run);
     if (groups.empty()) out += "\nNo rows.\n";
     for (const SceneAngle& g : groups) {
         out += "\n### " + md_text(g.scene) + " at " + angle_text(g.angle) + "\n\n";
@@ -1149,6 +1135,12 @@ std::string markdown_text(const BenchRun& run) {
         }
     }
 
+    return out;
+}
+
+// Every row, grouped by scene and angle, techniques in the table's order.
+std::string all_settings_section(const std::vector<TechniqueEntry>& techniques, const std::vector<SceneAngle>& groups) {
+    std::string out;
     out += "\n## All settings\n\n";
     out +=
         "Errors against the exact reference: hit uv in texels; *wrong surface* is the share of pixels more than "
@@ -1177,6 +1169,30 @@ std::string markdown_text(const BenchRun& run) {
                ms_text(r->frame_ms_min) + "–" + ms_text(r->frame_ms_max) + "] | " + ratio_text(r->ratio_to_normal) +
                " |\n";
     }
+    return out;
+}
+
+std::string markdown_text(const BenchRun& run) {
+    const std::vector<TechniqueEntry> techniques = techniques_in(run);
+    std::string out = "# ParallaxES benchmark: accuracy against cost\n\n";
+    out += "- **Date:** " + md_text(run.date.empty() ? "unknown" : run.date) + "\n";
+    out += "- **Command:** " + (run.command.empty() ? std::string("unknown") : md_code(run.command)) + "\n";
+    out += "- **Renderer:** " + md_text(run.gl_renderer.empty() ? "unknown" : run.gl_renderer) + "\n";
+    out += "- **GL version:** " + md_text(run.gl_version.empty() ? "unknown" : run.gl_version) + "\n";
+    out += "- **llvmpipe threads:** " + std::to_string(run.threads) + "\n";
+    out += "- **Image size:** " + std::to_string(run.width) + "×" + std::to_string(run.height) + "\n";
+    out += "- **Frames:** " + std::to_string(run.frames) + " timed per setting, after a warm-up\n\n";
+    out +=
+        "Frame times come from llvmpipe, Mesa's rasteriser running on the CPU, standing in for a mobile GPU: "
+        "the ratios to normal mapping matter, not the absolute times. Error is the mean hit-uv error in texels "
+        "against the exact reference; *ratio* is frame time relative to normal mapping (the median of "
+        "interleaved per-round ratios); *ms* is the median frame time.\n\n";
+
+    out += summary_section(run);
+    out += unrolling_section(run);
+    const std::vector<SceneAngle> groups = scene_angle_groups(run);
+    out += cheapest_section(techniques, groups);
+    out += all_settings_section(techniques, groups);
     return out;
 }
 
