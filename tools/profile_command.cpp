@@ -585,6 +585,13 @@ Result<std::string> write_beside(const std::string& doc, const std::string& name
     return name;
 }
 
+profiling::ReportContext doc_context(const ProfileArgs& a, const profiling::CostModel& model) {
+    profiling::ReportContext context;
+    context.model = &model;
+    context.command = a.command;
+    return context;
+}
+
 std::string doc_intro(const std::string& command) {
     std::ostringstream doc;
     doc << "# Shader cost profiling\n\n"
@@ -617,9 +624,7 @@ Status doc_defaults(std::ostringstream& doc, const ProfileArgs& a, const profili
     for (int es : {3, 2}) {
         ProfileArgs e = a;
         e.es = es;
-        profiling::ReportContext context;
-        context.model = &model;
-        context.command = a.command;
+        const profiling::ReportContext context = doc_context(a, model);
         Result<std::vector<profiling::VariantProfile>> profiles = profile_all(default_variants(es), e, model, width, height, context, vendor);
         if (!profiles) return profiles.error();
         doc << "## Each technique's default variant, OpenGL ES " << es << ".0\n\n"
@@ -646,9 +651,7 @@ Status doc_defaults(std::ostringstream& doc, const ProfileArgs& a, const profili
 
 Status doc_ladder(std::ostringstream& doc, const ProfileArgs& a, const profiling::CostModel& model, int width,
                   int height, profiling::VendorRun& vendor) {
-    profiling::ReportContext context;
-    context.model = &model;
-    context.command = a.command;
+    const profiling::ReportContext context = doc_context(a, model);
     Result<std::vector<profiling::VariantProfile>> ladder = profile_all(ladder_keys(3), a, model, width, height, context, vendor);
     if (!ladder) return ladder.error();
     Result<std::string> picture = write_beside(a.doc, "profiling_ladder.svg", ladder_svg(*ladder));
@@ -665,9 +668,7 @@ Status doc_ladder(std::ostringstream& doc, const ProfileArgs& a, const profiling
 
 Status doc_comparison(std::ostringstream& doc, const ProfileArgs& a, const profiling::CostModel& model, int width,
                       int height, profiling::VendorRun& vendor) {
-    profiling::ReportContext context;
-    context.model = &model;
-    context.command = a.command;
+    const profiling::ReportContext context = doc_context(a, model);
     Result<VariantKey> pom32 = VariantKey::parse("pom es3 samples<=32 exact-view packed");
     Result<VariantKey> pom64 = VariantKey::parse("pom es3 samples<=64 exact-view packed");
     if (!pom32 || !pom64) return make_error("internal: the comparison's variants");
