@@ -624,7 +624,7 @@ Status doc_defaults(std::ostringstream& doc, const ProfileArgs& a, const profili
     for (int es : {3, 2}) {
         ProfileArgs e = a;
         e.es = es;
-        const profiling::ReportContext context = doc_context(a, model);
+        profiling::ReportContext context = doc_context(a, model);
         Result<std::vector<profiling::VariantProfile>> profiles = profile_all(default_variants(es), e, model, width, height, context, vendor);
         if (!profiles) return profiles.error();
         doc << "## Each technique's default variant, OpenGL ES " << es << ".0\n\n"
@@ -651,7 +651,7 @@ Status doc_defaults(std::ostringstream& doc, const ProfileArgs& a, const profili
 
 Status doc_ladder(std::ostringstream& doc, const ProfileArgs& a, const profiling::CostModel& model, int width,
                   int height, profiling::VendorRun& vendor) {
-    const profiling::ReportContext context = doc_context(a, model);
+    profiling::ReportContext context = doc_context(a, model);
     Result<std::vector<profiling::VariantProfile>> ladder = profile_all(ladder_keys(3), a, model, width, height, context, vendor);
     if (!ladder) return ladder.error();
     Result<std::string> picture = write_beside(a.doc, "profiling_ladder.svg", ladder_svg(*ladder));
@@ -668,7 +668,7 @@ Status doc_ladder(std::ostringstream& doc, const ProfileArgs& a, const profiling
 
 Status doc_comparison(std::ostringstream& doc, const ProfileArgs& a, const profiling::CostModel& model, int width,
                       int height, profiling::VendorRun& vendor) {
-    const profiling::ReportContext context = doc_context(a, model);
+    profiling::ReportContext context = doc_context(a, model);
     Result<VariantKey> pom32 = VariantKey::parse("pom es3 samples<=32 exact-view packed");
     Result<VariantKey> pom64 = VariantKey::parse("pom es3 samples<=64 exact-view packed");
     if (!pom32 || !pom64) return make_error("internal: the comparison's variants");
