@@ -75,6 +75,21 @@ expect 2 "unreadable PNG" "$work/text.png" compare "$work/default.png" "$work/te
 printf '{\n  "default": {"pixel_threshold": 8,\n}\n' >"$work/malformed.json"
 expect 2 "malformed tolerance file: line and column" "$work/malformed.json:3:1: malformed JSON" \
     compare "$work/default.png" "$golden/default_es3.png" --tolerances "$work/malformed.json" --scene default
+# A diff image that cannot be written (its folder would be under a file) is
+# refused before the comparison (it used to print PASS, then exit 2), and
+# before a render.
+echo "not a folder" >"$work/a-file"
+out=$("$parallax" compare "$work/default.png" "$golden/default_es3.png" --diff "$work/a-file/diff.png" 2>&1)
+status=$?
+if [ "$status" != 2 ] || grep -q PASS <<<"$out" || ! grep -qF -- "--diff" <<<"$out"; then
+    echo "FAIL: compare --diff under a file: exit $status: $out"; failures=$((failures + 1))
+else
+    echo "ok: compare --diff under a file is refused before the verdict"
+fi
+expect 2 "render --golden --diff under a file" "--diff" \
+    "${render[@]}" default -o "$work/unused.png" --golden "$golden/default_es3.png" --diff "$work/a-file/d.png"
+[ -e "$work/unused.png" ] && { echo "FAIL: the render ran before --diff was refused"; failures=$((failures + 1)); }
+
 printf '{"default": {"pixel_threshold": 8, "max_differing_share": "0.1%%", "max_mean_difference": 0.15}}\n' \
     >"$work/typed.json"
 expect 2 "tolerance of the wrong type: the JSON path" "typed.json: default.max_differing_share: expected a number" \

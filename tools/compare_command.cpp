@@ -143,6 +143,11 @@ Result<Tolerance> resolve_tolerance(const GoldenOptions& o) {
         t = *from_file;
     }
     if (Status s = apply_flags(o, t); !s) return s.error();
+    // The diff's destination before anything is compared (or rendered): a
+    // verdict followed by a failure to write would read as a pass.
+    if (!o.diff.empty())
+        if (const std::string unwritable = check_output_file(o.diff); !unwritable.empty())
+            return make_error("--diff: " + unwritable);
     return t;
 }
 
