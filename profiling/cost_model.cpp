@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <nlohmann/json.hpp>
 
@@ -33,7 +34,74 @@ Result<const json*> member(const json& object, const char* key, const std::strin
     return &*found;
 }
 
+// The optional "calibration" object: which real compiler the weights were
+// fitted to, and how well they did on the shaders held out of the fit.
+Status read_calibration(const json& c, CostModel::Calibration& out) {
+    if (!c.is_object()) return make_error("$.calibration: must be an object");
+    for (const char* key : {"gpu", "compiler", "set", "command"}) {
+        const auto found = c.find(key);
+        if (found == c.end() || !found->is_string() || found->get<std::string>().size() > 4096)
+            return make_error(std::string("$.calibration.") + key + ": missing or not a string");
+    }
+    out.gpu = c["gpu"].get<std::string>();
+    out.compiler = c["compiler"].get<std::string>();
+    out.set = c["set"].get<std::string>();
+    out.command = c["command"].get<std::string>();
+    if (out.gpu.empty()) return make_error("$.calibration.gpu: empty");
+    for (const char* key : {"fitted", "held_out"}) {
+        const auto found = c.find(key);
+        if (found == c.end() || !found->is_number_integer() || found->get<long long>() < 0 || found->get<long long>() > 100000)
+            return make_error(std::string("$.calibration.") + key + ": must be an integer within 0..100000");
+    }
+    out.fitted = static_cast<int>(c["fitted"].get<long long>());
+    out.held_out = static_cast<int>(c["held_out"].get<long long>());
+    for (Status s : {read_number(c, "spearman", "$.calibration", out.spearman, true),
+                     read_number(c, "median_abs_error", "$.calibration", out.median_abs_error, true)})
+        if (!s) return s;
+    if (out.spearman > 1.0) return make_error("$.calibration.spearman: must be within [-1, 1]");
+    return {};
+}
+
+std::string decimals(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
 }  // namespace
+
+std::string CostModel::Calibration::summary() const {
+    if (!present()) return "not calibrated against a real compiler (rates chosen by hand)";
+    return "calibrated against " + gpu + ", " + compiler + ": on " + std::to_string(held_out) +
+           " shaders held out of the fit, Spearman " + decimals(spearman, 2) + ", median error of the bound pipe's cycles " +
+           decimals(100.0 * median_abs_error, 0) + " %";
+}
+
+std::string cost_model_json(const CostModel& m) {
+    json root = json::object();
+    root["name"] = m.name;
+    root["about"] = m.about;
+    if (m.calibration.present())
+        root["calibration"] = {{"gpu", m.calibration.gpu},           {"compiler", m.calibration.compiler},
+                               {"set", m.calibration.set},           {"command", m.calibration.command},
+                               {"fitted", m.calibration.fitted},     {"held_out", m.calibration.held_out},
+                               {"spearman", m.calibration.spearman}, {"median_abs_error", m.calibration.median_abs_error}};
+    root["arithmetic"] = {{"fp32_ops_per_cycle", m.fp32_ops_per_cycle},
+                          {"fp16_ops_per_cycle", m.fp16_ops_per_cycle},
+                          {"transcendental_cycles", m.transcendental_cycles},
+                          {"branch_cycles", m.branch_cycles},
+                          {"fixed_cycles", m.fixed_cycles}};
+    root["texture"] = {{"samples_per_cycle", m.samples_per_cycle},
+                       {"latency_cycles", m.texture_latency_cycles},
+                       {"latency_hidden_share", m.latency_hidden_share},
+                       {"compiler_reorders_reads", m.compiler_reorders_reads}};
+    root["varying"] = {{"components_per_cycle", m.varying_components_per_cycle}};
+    json trips = json::array();
+    for (const CostModel::LoopTrips& l : m.loop_trips) trips.push_back({{"file", l.file}, {"trips", l.trips}, {"why", l.why}});
+    root["loop_trips"] = trips;
+    root["assumptions"] = m.assumptions;
+    return root.dump(2) + "\n";
+}
 
 std::map<std::string, int> CostModel::trip_overrides() const {
     std::map<std::string, int> m;
@@ -68,6 +136,12 @@ Result<CostModel> parse_cost_model(const std::string& text, const std::string& w
                      read_number(**texture, "latency_hidden_share", "$.texture", m.latency_hidden_share, true),
                      read_number(**varying, "components_per_cycle", "$.varying", m.varying_components_per_cycle)})
         if (!s) return fail(s.error());
+    if ((*arithmetic)->contains("fixed_cycles")) {
+        if (Status s = read_number(**arithmetic, "fixed_cycles", "$.arithmetic", m.fixed_cycles, true); !s) return fail(s.error());
+    }
+    if (root.contains("calibration")) {
+        if (Status s = read_calibration(root["calibration"], m.calibration); !s) return fail(s.error());
+    }
     const json& tex = **texture;
     if (tex.contains("compiler_reorders_reads")) {
         if (!tex["compiler_reorders_reads"].is_boolean())
@@ -104,7 +178,7 @@ Result<CostModel> parse_cost_model(const std::string& text, const std::string& w
     return m;
 }
 
-const CostModel& default_cost_model() {
+const CostModel& base_cost_model() {
     static const CostModel model = [] {
         Result<CostModel> m = parse_cost_model(px_generated::kEmbeddedCostModel, "profiling/cost_model.json");
         // The file is checked by the unit tests; a broken one is a build defect.
@@ -117,7 +191,8 @@ PipeCycles estimate(const StageCost& stage, const OpCounts& path, double round_t
     PipeCycles c;
     const double fp16 = std::min(path.fp16, path.arithmetic);
     c.arithmetic = (path.arithmetic - fp16) / model.fp32_ops_per_cycle + fp16 / model.fp16_ops_per_cycle +
-                   path.transcendental * model.transcendental_cycles + path.branches * model.branch_cycles;
+                   path.transcendental * model.transcendental_cycles + path.branches * model.branch_cycles +
+                   model.fixed_cycles;
     c.texture = path.samples / model.samples_per_cycle;
     c.varying = stage.stage == ShaderStage::fragment ? stage.varying_components / model.varying_components_per_cycle : 0.0;
     const double waits = model.compiler_reorders_reads || round_trips <= 0.0

@@ -29,6 +29,24 @@ struct CostModel {
     // chain alone (a scheduler issues every read as early as it can).
     bool compiler_reorders_reads = false;
     double varying_components_per_cycle = 2.0;
+    // Arithmetic cycles every invocation costs whatever it computes (the
+    // colour write's conversion and the like); 0 in an uncalibrated model.
+    double fixed_cycles = 0.0;
+    // The real compiler the weights were fitted to (model_calibration.h);
+    // empty gpu: chosen by hand, never compared with a real compiler.
+    struct Calibration {
+        std::string gpu;       // "Mali-G78 r1p1 (Valhall)"
+        std::string compiler;  // "malioc 7.7.0"
+        std::string set;       // the calibration set's path
+        std::string command;   // the command that fitted it
+        int fitted = 0, held_out = 0;  // shaders in each half
+        double spearman = 0.0, median_abs_error = 0.0;  // on the held-out half
+        bool present() const { return !gpu.empty(); }
+        // "calibrated against Mali-G78 r1p1 (Valhall), malioc 7.7.0 (...)" or
+        // "not calibrated against a real compiler".
+        std::string summary() const;
+    };
+    Calibration calibration;
     struct LoopTrips {
         std::string file;  // a loop whose header is in this shaders_es/ file
         int trips = 1;
@@ -42,8 +60,14 @@ struct CostModel {
 
 // `where` names the file in errors, with the JSON path of a bad field.
 Result<CostModel> parse_cost_model(const std::string& json, const std::string& where);
-// The model the program carries (profiling/cost_model.json).
+// The hand-chosen model the program carries (profiling/cost_model.json):
+// the base a calibration fits (its structure, fp16 ratio, latency, loops).
+const CostModel& base_cost_model();
+// The model reports use: the base fitted to the calibration set the program
+// carries (costs/model_calibration.h), its `calibration` naming the GPU.
 const CostModel& default_cost_model();
+// The file's shape again, every field (what `profile --calibrate --model-out` writes).
+std::string cost_model_json(const CostModel& model);
 
 // Estimated cycles of one path through a stage.
 struct PipeCycles {

@@ -49,6 +49,18 @@ std::string fixed(double v, int digits = 1) {
 
 std::string percent(double share) { return fixed(100.0 * share, 0) + "%"; }
 
+// Model cycles: two decimals, as malioc prints its own (a calibrated model's
+// cycles per thread are fractions).
+std::string cycles(double v) { return fixed(v, 2); }
+
+// A model parameter: four significant digits (rates range from 0.01 to 100s).
+std::string parameter(double v) {
+    if (!std::isfinite(v)) return "n/a";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.4g", v);
+    return b;
+}
+
 double fp16_share(const OpCounts& c) { return c.arithmetic > 0 ? c.fp16 / c.arithmetic : 0.0; }
 
 std::string short_file(const std::string& where) {
@@ -86,39 +98,6 @@ std::string vendor_text(const VariantProfile& p) {
     return out.empty() ? "-" : out;
 }
 
-// A table as text (aligned columns) or Markdown.
-std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
-                         ReportFormat format) {
-    std::ostringstream s;
-    if (format == ReportFormat::markdown) {
-        s << "|";
-        for (const std::string& h : header) s << " " << h << " |";
-        s << "\n|";
-        for (std::size_t i = 0; i < header.size(); ++i) s << (i == 0 ? " --- |" : " ---: |");
-        s << "\n";
-        for (const auto& r : rows) {
-            s << "|";
-            for (const std::string& c : r) s << " " << c << " |";
-            s << "\n";
-        }
-        return s.str();
-    }
-    std::vector<std::size_t> width(header.size(), 0);
-    for (std::size_t i = 0; i < header.size(); ++i) width[i] = header[i].size();
-    for (const auto& r : rows)
-        for (std::size_t i = 0; i < r.size() && i < width.size(); ++i) width[i] = std::max(width[i], r[i].size());
-    auto line = [&](const std::vector<std::string>& r) {
-        for (std::size_t i = 0; i < r.size(); ++i) {
-            const std::string pad(width[i] - std::min(width[i], r[i].size()), ' ');
-            s << (i == 0 ? r[i] + pad : pad + r[i]) << (i + 1 < r.size() ? "  " : "");
-        }
-        s << "\n";
-    };
-    line(header);
-    for (const auto& r : rows) line(r);
-    return s.str();
-}
-
 // The metrics compared between variants, in report order.
 struct Metric {
     const char* name;
@@ -129,12 +108,12 @@ struct Metric {
 const std::vector<Metric>& metrics() {
     using P = VariantProfile;
     static const std::vector<Metric> m = {
-        {"fragment: estimated cycles, longest path", [](const P& p) { return std::optional<double>(p.fragment_longest.total); }, 1},
-        {"fragment: estimated cycles, shortest path", [](const P& p) { return std::optional<double>(p.fragment_shortest.total); }, 1},
-        {"fragment: A cycles (longest)", [](const P& p) { return std::optional<double>(p.fragment_longest.arithmetic); }, 1},
-        {"fragment: T cycles (longest)", [](const P& p) { return std::optional<double>(p.fragment_longest.texture); }, 1},
-        {"fragment: V cycles", [](const P& p) { return std::optional<double>(p.fragment_longest.varying); }, 1},
-        {"fragment: exposed latency cycles", [](const P& p) { return std::optional<double>(p.fragment_longest.latency); }, 1},
+        {"fragment: estimated cycles, longest path", [](const P& p) { return std::optional<double>(p.fragment_longest.total); }, 2},
+        {"fragment: estimated cycles, shortest path", [](const P& p) { return std::optional<double>(p.fragment_shortest.total); }, 2},
+        {"fragment: A cycles (longest)", [](const P& p) { return std::optional<double>(p.fragment_longest.arithmetic); }, 2},
+        {"fragment: T cycles (longest)", [](const P& p) { return std::optional<double>(p.fragment_longest.texture); }, 2},
+        {"fragment: V cycles", [](const P& p) { return std::optional<double>(p.fragment_longest.varying); }, 2},
+        {"fragment: exposed latency cycles", [](const P& p) { return std::optional<double>(p.fragment_longest.latency); }, 2},
         {"fragment: arithmetic ops (longest)", [](const P& p) { return std::optional<double>(p.fragment.longest.arithmetic); }, 0},
         {"fragment: 16-bit share of arithmetic", [](const P& p) { return std::optional<double>(100.0 * fp16_share(p.fragment.longest)); }, 0},
         {"fragment: transcendental ops (longest)", [](const P& p) { return std::optional<double>(p.fragment.longest.transcendental); }, 0},
@@ -147,7 +126,7 @@ const std::vector<Metric>& metrics() {
         {"fragment: varying components", [](const P& p) { return std::optional<double>(p.fragment.varying_components); }, 0},
         {"vertex: arithmetic ops", [](const P& p) { return std::optional<double>(p.vertex.longest.arithmetic); }, 0},
         {"vertex: transcendental ops", [](const P& p) { return std::optional<double>(p.vertex.longest.transcendental); }, 0},
-        {"vertex: estimated cycles", [](const P& p) { return std::optional<double>(p.vertex_longest.total); }, 1},
+        {"vertex: estimated cycles", [](const P& p) { return std::optional<double>(p.vertex_longest.total); }, 2},
         {"NIR fragment: ALU instructions", [](const P& p) { return p.nir_fragment ? std::optional<double>(p.nir_fragment->alu) : std::nullopt; }, 0},
         {"NIR fragment: texture instructions", [](const P& p) { return p.nir_fragment ? std::optional<double>(p.nir_fragment->texture) : std::nullopt; }, 0},
         {"NIR fragment: 16-bit ALU %", [](const P& p) { return p.nir_fragment ? std::optional<double>(100.0 * p.nir_fragment->alu_16bit_share()) : std::nullopt; }, 0},
@@ -223,7 +202,10 @@ nlohmann::json profile_json(const VariantProfile& p) {
 
 nlohmann::json context_json(const ReportContext& c) {
     nlohmann::json j = {{"command", c.command}, {"renderer", c.renderer}, {"vendor", c.vendor_line}};
-    if (c.model) j["model"] = c.model->name;
+    if (c.model) {
+        j["model"] = c.model->name;
+        j["model_calibration"] = c.model->calibration.summary();
+    }
     return j;
 }
 
@@ -232,12 +214,45 @@ std::string header_lines(const ReportContext& c, ReportFormat format) {
     const std::string bullet = format == ReportFormat::markdown ? "- " : "";
     if (!c.command.empty()) s << bullet << "Command: " << (format == ReportFormat::markdown ? "`" + c.command + "`" : c.command) << "\n";
     if (!c.renderer.empty()) s << bullet << "NIR and timing: " << c.renderer << "\n";
-    if (c.model) s << bullet << "Cost model: " << c.model->name << "\n";
+    if (c.model) s << bullet << "Cost model: " << c.model->name << "; " << c.model->calibration.summary() << "\n";
     if (!c.vendor_line.empty()) s << bullet << "Vendor compilers: " << c.vendor_line << "\n";
     return s.str();
 }
 
 }  // namespace
+
+// A table as text (aligned columns) or Markdown.
+std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                         ReportFormat format) {
+    std::ostringstream s;
+    if (format == ReportFormat::markdown) {
+        s << "|";
+        for (const std::string& h : header) s << " " << h << " |";
+        s << "\n|";
+        for (std::size_t i = 0; i < header.size(); ++i) s << (i == 0 ? " --- |" : " ---: |");
+        s << "\n";
+        for (const auto& r : rows) {
+            s << "|";
+            for (const std::string& c : r) s << " " << c << " |";
+            s << "\n";
+        }
+        return s.str();
+    }
+    std::vector<std::size_t> width(header.size(), 0);
+    for (std::size_t i = 0; i < header.size(); ++i) width[i] = header[i].size();
+    for (const auto& r : rows)
+        for (std::size_t i = 0; i < r.size() && i < width.size(); ++i) width[i] = std::max(width[i], r[i].size());
+    auto line = [&](const std::vector<std::string>& r) {
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const std::string pad(width[i] - std::min(width[i], r[i].size()), ' ');
+            s << (i == 0 ? r[i] + pad : pad + r[i]) << (i + 1 < r.size() ? "  " : "");
+        }
+        s << "\n";
+    };
+    line(header);
+    for (const auto& r : rows) line(r);
+    return s.str();
+}
 
 std::string agreement_report(const std::vector<VariantProfile>& profiles, const std::string& baseline, ReportFormat format) {
     const VariantProfile* base = nullptr;
@@ -272,6 +287,7 @@ std::string model_section(const CostModel& m, ReportFormat format) {
     const bool md = format == ReportFormat::markdown;
     s << (md ? "### " : "") << "Cost model: " << m.name << "\n\n";
     if (!m.about.empty()) s << m.about << "\n\n";
+    s << "Calibration: " << m.calibration.summary() << ".\n\n";
     s << (md ? "| parameter | value |\n| --- | ---: |\n" : "");
     const std::pair<const char*, double> rows[] = {
         {"fp32 scalar ops per cycle", m.fp32_ops_per_cycle},
@@ -282,8 +298,9 @@ std::string model_section(const CostModel& m, ReportFormat format) {
         {"texture latency, cycles", m.texture_latency_cycles},
         {"share of latency other threads hide", m.latency_hidden_share},
         {"varying components per cycle", m.varying_components_per_cycle},
+        {"cycles per invocation (fixed)", m.fixed_cycles},
     };
-    for (const auto& [name, value] : rows) s << (md ? "| " : "  ") << name << (md ? " | " : ": ") << fixed(value, 2) << (md ? " |" : "") << "\n";
+    for (const auto& [name, value] : rows) s << (md ? "| " : "  ") << name << (md ? " | " : ": ") << parameter(value) << (md ? " |" : "") << "\n";
     s << "\n";
     for (const CostModel::LoopTrips& l : m.loop_trips)
         s << (md ? "- " : "  ") << "Loops in " << l.file << " counted " << l.trips << " times: " << l.why << "\n";
@@ -307,11 +324,11 @@ std::string profile_report(const std::vector<VariantProfile>& profiles, ReportFo
         if (p.nir_fragment)
             nir = std::to_string(p.nir_fragment->alu) + "/" + std::to_string(p.nir_fragment->texture) + "/" +
                   percent(p.nir_fragment->alu_16bit_share());
-        rows.push_back({p.name, percent(fp16_share(p.fragment.longest)), fixed(l.arithmetic), fixed(l.texture),
-                        fixed(l.varying), l.bound, fixed(p.fragment_shortest.total), fixed(l.total),
+        rows.push_back({p.name, percent(fp16_share(p.fragment.longest)), cycles(l.arithmetic), cycles(l.texture),
+                        cycles(l.varying), l.bound, cycles(p.fragment_shortest.total), cycles(l.total),
                         std::to_string(p.fragment.samples.size()) + " (" + std::to_string(p.fragment.dependent_samples) + ")",
                         fixed(p.fragment.texture_round_trips, 0), std::to_string(p.fragment.in_order_waits),
-                        loops_text(p.fragment), fixed(p.vertex_longest.total),
+                        loops_text(p.fragment), cycles(p.vertex_longest.total),
                         nir, vendor_text(p), p.measured ? fixed(p.measured->ns_per_pixel, 2) : "-",
                         p.measured ? fixed(p.measured->ratio_to_normal, 2) : "-"});
     }
@@ -383,14 +400,14 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
         std::string delta = "-";
         if (previous) {
             const double d = p.fragment_longest.total - previous->fragment_longest.total;
-            delta = (d > 0 ? "+" : "") + fixed(d);
+            delta = (d > 0 ? "+" : "") + cycles(d);
         }
         rows.push_back({info.step ? std::to_string(info.step) : "shipped", info.name, fixed(p.fragment.longest.arithmetic, 0),
                         percent(fp16_share(p.fragment.longest)), fixed(p.fragment.longest.transcendental, 0),
                         std::to_string(p.fragment.samples.size()) + " (" + std::to_string(p.fragment.dependent_samples) + ")",
                         std::to_string(p.fragment.in_order_waits),
-                        fixed(p.vertex.longest.arithmetic, 0), fixed(p.fragment_longest.total), delta,
-                        fixed(p.vertex_longest.total), p.nir_fragment ? std::to_string(p.nir_fragment->alu) : "-",
+                        fixed(p.vertex.longest.arithmetic, 0), cycles(p.fragment_longest.total), delta,
+                        cycles(p.vertex_longest.total), p.nir_fragment ? std::to_string(p.nir_fragment->alu) : "-",
                         p.measured ? fixed(p.measured->ns_per_pixel, 2) : "-",
                         p.measured ? fixed(p.measured->ratio_to_normal, 2) : "-",
                         p.measured ? fixed(p.measured->uv_error_mean, 3) : "-",
@@ -417,8 +434,8 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
         r_hi = std::max(r_hi, p.measured->ratio_to_normal);
     }
     if (c_first > 0)
-        s << "From the baseline to the last step the model's fragment cycles go from " << fixed(c_first) << " to "
-          << fixed(c_last) << " (" << fixed(100.0 * (c_last - c_first) / c_first, 0) << "%)";
+        s << "From the baseline to the last step the model's fragment cycles go from " << cycles(c_first) << " to "
+          << cycles(c_last) << " (" << fixed(100.0 * (c_last - c_first) / c_first, 0) << "%)";
     if (measured)
         s << "; the measured llvmpipe time spans " << fixed(t_lo, 2) << " to " << fixed(t_hi, 2)
           << " ns per pixel over the steps, " << fixed(r_lo, 2) << " to " << fixed(r_hi, 2) << " times normal mapping";

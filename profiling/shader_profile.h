@@ -54,6 +54,9 @@ Result<VariantProfile> profile_variant(const VariantKey& key, const CostModel& m
 
 enum class ReportFormat { table, markdown, json };
 Result<ReportFormat> parse_report_format(const std::string& name);
+// A table as text (aligned columns, the first left-aligned) or Markdown.
+std::string render_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                         ReportFormat format);
 
 struct ReportContext {
     std::string command;        // how the report was made

@@ -143,6 +143,80 @@ CFG
     fi
 fi
 
+# The model against a real compiler: the carried Mali-G78 set's fit meets
+# the issue's goal on the held-out half, and says which GPU.
+if "$parallax" profile --calibrate --format json >"$work/calibrate.json" 2>"$work/err" &&
+    python3 - "$work/calibrate.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert "Mali-G78" in d["gpu"], d["gpu"]
+assert d["held_out"]["spearman"] >= 0.9 and d["held_out"]["median_abs_error"] <= 0.3, d["held_out"]
+assert d["goal_met"] is True
+assert len(d["shaders"]) == d["held_out"]["shaders"] + d["fitted"]["shaders"]
+PY
+then echo "ok: profile --calibrate: the fit meets the goal on the held-out half"
+else fail "profile --calibrate: $(cat "$work/err")"; fi
+
+# A set made at asset-build time from sources and reports, calibrated, and
+# the fitted model used by a profile. The reports are written here (a
+# compiler that charges 0.25 per texture sample and 0.125 per varying
+# component), so the fit must find those rates.
+mkdir -p "$work/cal/shaders" "$work/cal/reports/frag"
+python3 - "$work/cal" <<'PY'
+import sys
+root = sys.argv[1]
+head = "#version 100\nprecision mediump float;\nuniform highp sampler2D t;\nvarying highp vec2 uv;\n"
+for k in range(1, 11):
+    reads = " + ".join("texture2D(t, uv * %d.0)" % (j + 1) for j in range(k))
+    open("%s/shaders/s%02d.frag" % (root, k), "w").write(head + "void main() { gl_FragColor = %s; }\n" % reads)
+    row = "%8.2f%8.2f%8.2f%8.2f" % (0.05 * k, 0.0, 0.25, 0.25 * k)
+    open("%s/reports/frag/s%02d.frag.txt" % (root, k), "w").write(
+        "Mali Offline Compiler v7.7.0 (Build d01859)\n\nConfiguration\n=============\n\n"
+        "Hardware: Mali-G78 r1p1\nArchitecture: Valhall\nDriver: r39p0-00rel0\nShader type: OpenGL ES Fragment\n\n"
+        "Main shader\n===========\n\nWork registers: 8 (25%% used at 100%% occupancy)\nUniform registers: 2 (3%% used)\n"
+        "Stack spilling: false\n16-bit arithmetic: 0%%\n\n"
+        "                                A      LS       V       T    Bound\n"
+        "Total instruction cycles:  %s       T\nShortest path cycles:      %s       T\n"
+        "Longest path cycles:       %s       T\n\nA = Arithmetic, LS = Load/Store, V = Varying, T = Texture\n"
+        % (row, row, row))
+PY
+echo 'void main() {}' >"$work/cal/shaders/v.vert"
+if "$parallax" profile --make-calibration-set "$work/cal/set.json" --shaders "$work/cal/shaders" \
+        --reports "$work/cal/reports" --set-source "written for the tests" 2>"$work/err" &&
+    grep -q "10 fragment shaders (0 without a report and 1 vertex shaders left out)" "$work/err" &&
+    "$parallax" profile --calibrate --calibration-set "$work/cal/set.json" --model-out "$work/cal/model.json"         --format json >"$work/cal/fit.json" 2>>"$work/err" &&
+    python3 - "$work/cal/fit.json" <<'PY' &&
+import json, sys
+d = json.load(open(sys.argv[1]))
+w = d["weights"]
+assert abs(w["sample"] - 0.25) < 1e-6, w
+assert d["source"] == "written for the tests"
+assert len(d["shaders"]) == 10
+PY
+    out=$("$parallax" profile --no-time --no-nir --variants 'normal es3' --model "$work/cal/model.json" 2>&1) &&
+    grep -q "calibrated against Mali-G78 r1p1 (Valhall), malioc 7.7.0" <<<"$out" &&
+    grep -q "texture samples per cycle: 4$" <<<"$out"; then
+    echo "ok: a calibration set made from sources and reports, fitted, and its model used"
+else fail "make, calibrate and use a set: $(cat "$work/err") ${out:-}"; fi
+
+# Refusals: each names what was wrong, nothing is written.
+refuse() {  # EXPECTED ARGS...: the command fails and says EXPECTED
+    local expected=$1; shift
+    if out=$("$parallax" profile "$@" 2>&1); then fail "profile $*: accepted"
+    elif ! grep -qF -- "$expected" <<<"$out"; then fail "profile $*: '$out' does not say '$expected'"
+    else echo "ok: profile $* is refused: $expected"; fi
+}
+echo '{"gpu": "g"}' >"$work/cal/bad.json"
+refuse "$work/cal/bad.json: \$.compiler" --calibrate --calibration-set "$work/cal/bad.json"
+refuse "$work/cal/missing.json" --calibrate --calibration-set "$work/cal/missing.json"
+refuse "needs --shaders DIR" --make-calibration-set "$work/cal/x.json"
+refuse "go with --make-calibration-set" --shaders "$work/cal/shaders"
+refuse "go with --calibrate" --model-out "$work/cal/m.json"
+refuse "one at a time" --calibrate --make-calibration-set "$work/cal/x.json"
+sed -i 's/OpenGL ES Fragment/OpenGL ES Vertex/' "$work/cal/reports/frag/s03.frag.txt"
+refuse "s03.frag (report): a OpenGL ES Vertex report for a fragment shader" --make-calibration-set "$work/cal/x.json"     --shaders "$work/cal/shaders" --reports "$work/cal/reports"
+[ -e "$work/cal/x.json" ] && fail "a refused --make-calibration-set wrote its file"
+
 # A vendor compiler on PATH: its cycles in the same table.
 mkdir -p "$work/bin"
 cat >"$work/bin/malioc" <<SH

@@ -20,6 +20,7 @@
 #include "cli_common.h"
 #include "parallaxes/profiling/svg_plot.h"
 #include "commands.h"
+#include "profile_calibration.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/gl/program.h"
@@ -55,6 +56,8 @@ struct ProfileArgs {
     double vendor_timeout = 120.0;  // seconds for all vendor compiler runs together
     std::string nir_child;  // internal: the child that prints NIR for these variants (hex bits, comma-separated)
     std::string command;
+    bool calibrate = false;    // the model against a real compiler (profile_calibration.h)
+    CalibrationArgs calibration;
 };
 
 constexpr const char* kNirMarker = "@@parallax-nir-variant ";
@@ -693,6 +696,7 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
         Status s = section(doc, a, model, width, height, vendor);
         if (!s) return fail(s.error().message);
     }
+    if (Status s = doc_calibration(doc, a.doc); !s) return fail(s.error().message);
     doc << "## " << profiling::model_section(model, profiling::ReportFormat::markdown).substr(4) << "\n";
     Status w = write_file(a.doc, doc.str());
     if (!w) return fail(w.error().message);
@@ -702,6 +706,19 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
 
 int run_profile(ProfileArgs a) {
     if (!a.nir_child.empty()) return run_nir_child(a);
+    if (a.calibrate || !a.calibration.make_set.empty()) {
+        if (a.calibrate && !a.calibration.make_set.empty())
+            return fail("--calibrate and --make-calibration-set: one at a time (make the set, then calibrate on it)");
+        CalibrationArgs c = a.calibration;
+        c.model_file = a.model_file;
+        c.format = a.format;
+        c.command = a.command;
+        return a.calibrate ? run_calibrate(c) : run_make_calibration_set(c);
+    }
+    if (!a.calibration.set_file.empty() || !a.calibration.model_out.empty())
+        return fail("--calibration-set and --model-out go with --calibrate");
+    if (!a.calibration.shaders.empty() || !a.calibration.reports.empty() || !a.calibration.source.empty())
+        return fail("--shaders, --reports and --set-source go with --make-calibration-set");
     Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
     if (!format) return fail("--format: " + format.error().message);
     int width = 0, height = 0;
@@ -780,7 +797,11 @@ int run_profile(ProfileArgs a) {
 
 void add_profile_command(CLI::App& app, int argc, char** argv) {
     auto args = std::make_shared<ProfileArgs>();
-    for (int i = 0; i < argc; ++i) args->command += (i ? " " : "") + std::string(i == 0 ? "parallax" : argv[i]);
+    for (int i = 0; i < argc; ++i) {
+        std::string word = i == 0 ? "parallax" : argv[i];
+        if (word.find_first_of(" \t'\"") != std::string::npos) word = "'" + word + "'";  // as a shell would need it
+        args->command += (i ? " " : "") + word;
+    }
     CLI::App* cmd = app.add_subcommand("profile", "Static shader costs (glslang SPIR-V, Mesa NIR, a mobile cost model) "
                                                   "beside measured time");
     cmd->add_option("--variants", args->variants,
@@ -805,6 +826,19 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
                     "out of time is not started again")
         ->capture_default_str();
     cmd->add_option("--doc", args->doc, "Write the profiling document (docs/profiling.md) from one run");
+    cmd->add_flag("--calibrate", args->calibrate,
+                  "The cost model fitted to a real compiler's figures (the carried Mali-G78 set): weights, and how "
+                  "the fit does on the shaders held out of it");
+    cmd->add_option("--calibration-set", args->calibration.set_file, "With --calibrate: another calibration set file");
+    cmd->add_option("--model-out", args->calibration.model_out,
+                    "With --calibrate: write the fitted model (the base is --model, or profiling/cost_model.json)");
+    cmd->add_option("--make-calibration-set", args->calibration.make_set,
+                    "Write a calibration set: each shader of --shaders counted, beside its report in --reports");
+    cmd->add_option("--shaders", args->calibration.shaders, "With --make-calibration-set: a folder of .frag and .vert sources");
+    cmd->add_option("--reports", args->calibration.reports,
+                    "With --make-calibration-set: a folder of malioc reports, NAME.txt or NAME.json (or in frag/)");
+    cmd->add_option("--set-source", args->calibration.source,
+                    "With --make-calibration-set: where the shaders and reports came from (kept in the set)");
     cmd->add_option("--nir-child", args->nir_child, "internal")->group("");
     cmd->callback([args]() { set_exit_status(run_profile(*args)); });
 }

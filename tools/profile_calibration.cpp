@@ -1,0 +1,310 @@
+#include "profile_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "parallaxes/core/files.h"
+#include "parallaxes/profiling/costs/model_calibration.h"
+#include "parallaxes/profiling/shader_profile.h"
+#include "parallaxes/profiling/svg_plot.h"
+#include "parallaxes/profiling/vendor_compilers.h"
+
+namespace px::tools {
+
+namespace {
+
+constexpr std::size_t kMaxSetBytes = 16u << 20;
+constexpr std::size_t kMaxShaderBytes = 4u << 20;
+constexpr std::size_t kMaxSetShaders = 10000;
+
+std::string decimals(double v, int digits) {
+    if (!std::isfinite(v)) return "n/a";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", digits, v);
+    return b;
+}
+
+std::string significant(double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.4g", v);
+    return b;
+}
+
+std::string signed_percent(double share) {
+    const double rounded = std::round(100.0 * share);
+    return (rounded > 0 ? "+" : "") + decimals(rounded == 0.0 ? 0.0 : rounded, 0) + " %";
+}
+
+Result<profiling::CostModel> load_model(const std::string& file) {
+    if (file.empty()) return profiling::base_cost_model();
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(file, 1u << 20, "cost model");
+    if (!bytes) return bytes.error();
+    return profiling::parse_cost_model(std::string(bytes->begin(), bytes->end()), file);
+}
+
+Result<profiling::CalibrationSet> load_set(const std::string& file) {
+    if (file.empty()) return profiling::default_calibration_set();
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(file, kMaxSetBytes, "calibration set");
+    if (!bytes) return bytes.error();
+    return profiling::parse_calibration_set(std::string(bytes->begin(), bytes->end()), file);
+}
+
+std::string weights_text(const profiling::CalibrationFit& fit) {
+    return "A " + significant(fit.fp32_op) + " per fp32 scalar operation, " + significant(fit.transcendental) +
+           " per transcendental, " + significant(fit.branch) + " per branch, " + significant(fit.fixed) +
+           " per invocation; T " + significant(fit.sample) + " per texture sample; V " + significant(fit.varying_component) +
+           " per varying component";
+}
+
+std::string summary_line(const char* half, const profiling::CalibrationSummary& s) {
+    return std::string(half) + " (" + std::to_string(s.shaders) + " shaders): Spearman " + decimals(s.spearman, 3) +
+           " (the hand-chosen rates: " + decimals(s.spearman_uncalibrated, 3) + "), median |error| " +
+           decimals(100.0 * s.median_abs_error, 1) + " %, worst " + decimals(100.0 * s.worst_abs_error, 0) + " %";
+}
+
+bool goal_met(const profiling::CalibrationSummary& held) { return held.spearman >= 0.9 && held.median_abs_error <= 0.30; }
+
+std::string fit_table(const profiling::CalibrationFit& fit, profiling::ReportFormat format) {
+    std::vector<std::vector<std::string>> rows;
+    for (const profiling::CalibrationRow& r : fit.rows)
+        rows.push_back({r.name, r.held_out ? "held out" : "fit", decimals(r.real, 2) + " " + r.real_pipe,
+                        decimals(r.predicted, 2) + " " + r.predicted_pipe, signed_percent(r.error())});
+    return profiling::render_table({"shader", "half", "compiler: bound cycles", "model: bound cycles", "error"}, rows, format);
+}
+
+std::string fit_json(const profiling::CalibrationSet& set, const profiling::CalibrationFit& fit, const std::string& command) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const profiling::CalibrationRow& r : fit.rows)
+        rows.push_back({{"shader", r.name},           {"held_out", r.held_out},           {"real", r.real},
+                        {"real_pipe", r.real_pipe},   {"predicted", r.predicted},         {"predicted_pipe", r.predicted_pipe},
+                        {"error", r.error()},         {"uncalibrated", r.uncalibrated}});
+    auto summary = [](const profiling::CalibrationSummary& s) {
+        return nlohmann::json{{"shaders", s.shaders},
+                              {"spearman", s.spearman},
+                              {"median_abs_error", s.median_abs_error},
+                              {"worst_abs_error", s.worst_abs_error},
+                              {"spearman_uncalibrated", s.spearman_uncalibrated}};
+    };
+    return nlohmann::json{{"command", command},
+                          {"gpu", set.gpu},
+                          {"compiler", set.compiler},
+                          {"source", set.source},
+                          {"weights",
+                           {{"fp32_op", fit.fp32_op},
+                            {"transcendental", fit.transcendental},
+                            {"branch", fit.branch},
+                            {"fixed", fit.fixed},
+                            {"sample", fit.sample},
+                            {"varying_component", fit.varying_component}}},
+                          {"fitted", summary(fit.fitted)},
+                          {"held_out", summary(fit.held_out)},
+                          {"leave_one_out", [&] {
+                               nlohmann::json j = summary(fit.leave_one_out);
+                               j.erase("spearman_uncalibrated");
+                               return j;
+                           }()},
+                          {"goal_met", goal_met(fit.held_out)},
+                          {"notes", fit.notes},
+                          {"shaders", rows}}
+               .dump(2) +
+           "\n";
+}
+
+// The report: what was fitted to what, the weights, every shader, the two
+// halves' figures and the goal.
+std::string fit_report(const profiling::CalibrationSet& set, const profiling::CalibrationFit& fit,
+                       profiling::ReportFormat format) {
+    const bool md = format == profiling::ReportFormat::markdown;
+    const std::string bullet = md ? "- " : "";
+    std::string s = bullet + "Compiler: " + set.compiler + " on " + set.gpu + "\n" + bullet + "Shaders: " + set.source + "\n" +
+                    bullet + "Fitted weights (cycles per thread): " + weights_text(fit) + "\n";
+    for (const std::string& note : fit.notes) s += bullet + "Note: " + note + "\n";
+    s += "\n" + fit_table(fit, format) + "\n";
+    s += bullet + summary_line("Held out", fit.held_out) + "\n";
+    s += bullet + summary_line("Fitted", fit.fitted) + "\n";
+    s += bullet + "Leave-one-out (each of the " + std::to_string(fit.leave_one_out.shaders) +
+         " predicted by weights fitted on the others): Spearman " + decimals(fit.leave_one_out.spearman, 3) +
+         ", median |error| " + decimals(100.0 * fit.leave_one_out.median_abs_error, 1) + " %, worst " +
+         decimals(100.0 * fit.leave_one_out.worst_abs_error, 0) + " %\n";
+    s += bullet + "Goal on the held-out half (Spearman >= 0.9, median |error| <= 30 %): " +
+         (goal_met(fit.held_out) ? "met" : "NOT met") + "\n";
+    return s;
+}
+
+std::string fit_svg(const profiling::CalibrationSet& set, const profiling::CalibrationFit& fit) {
+    profiling::PlotSeries fitted{"fitting half", "#1f77b4", {}, {}, {}, false};
+    profiling::PlotSeries held{"held-out half", "#d62728", {}, {}, {}, false};
+    for (const profiling::CalibrationRow& r : fit.rows) {
+        profiling::PlotSeries& s = r.held_out ? held : fitted;
+        s.x.push_back(r.real);
+        s.y.push_back(r.predicted);
+        std::string label = r.name.substr(0, r.name.rfind('.'));
+        if (label.rfind("advanced_blend_", 0) == 0) label = label.substr(15);
+        s.labels.push_back(label);
+    }
+    profiling::PlotOptions o;
+    o.title = "The cost model against " + set.compiler + ", " + set.gpu;
+    o.subtitle = "bound-pipe cycles per thread, one point per shader; the model fitted on the blue half";
+    o.x_label = "compiler: bound-pipe cycles";
+    o.y_label = "model: bound-pipe cycles";
+    o.log_x = o.log_y = true;
+    o.equality = true;
+    o.band = 1.3;
+    o.width = 900;
+    o.height = 560;
+    return profiling::svg_plot({fitted, held}, o);
+}
+
+// The files of `dir` (sorted) whose names end in .frag or .vert.
+Result<std::vector<std::filesystem::path>> shader_files(const std::string& dir) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) return make_error("--shaders: '" + dir + "' is not a folder");
+    std::vector<std::filesystem::path> files;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string ext = it->path().extension().string();
+        if ((ext == ".frag" || ext == ".vert") && it->is_regular_file(ec)) files.push_back(it->path());
+        if (files.size() > kMaxSetShaders) return make_error("--shaders: more than 10000 shaders in '" + dir + "'");
+    }
+    if (ec) return make_error("--shaders: cannot list '" + dir + "': " + ec.message());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// The report for `name` in `dir`: NAME.txt or NAME.json, directly or in a
+// frag/ or vert/ sub-folder (the layout malioc report collections use).
+std::string find_report(const std::string& dir, const std::string& name, bool vertex) {
+    for (const char* sub : {"", vertex ? "vert/" : "frag/"})
+        for (const char* ext : {".txt", ".json"}) {
+            const std::string path = dir + "/" + sub + name + ext;
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(path, ec)) return path;
+        }
+    return {};
+}
+
+std::string read_text(const std::string& path, std::size_t limit, const char* what, std::string& error) {
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(path, limit, what);
+    if (!bytes) {
+        error = bytes.error().message;
+        return {};
+    }
+    return std::string(bytes->begin(), bytes->end());
+}
+
+}  // namespace
+
+int run_calibrate(const CalibrationArgs& a) {
+    Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
+    if (!format) return fail("--format: " + format.error().message);
+    if (!a.model_out.empty())
+        if (const std::string unwritable = check_output_file(a.model_out); !unwritable.empty())
+            return fail("--model-out: " + unwritable);
+    Result<profiling::CostModel> base = load_model(a.model_file);
+    if (!base) return fail(base.error().message);
+    Result<profiling::CalibrationSet> set = load_set(a.set_file);
+    if (!set) return fail(set.error().message);
+    Result<profiling::CalibrationFit> fit = profiling::fit_cost_model(*set, *base);
+    if (!fit) return fail((a.set_file.empty() ? std::string(profiling::default_calibration_set_path()) : a.set_file) + ": " +
+                          fit.error().message);
+    if (*format == profiling::ReportFormat::json) std::fputs(fit_json(*set, *fit, a.command).c_str(), stdout);
+    else std::fputs(fit_report(*set, *fit, *format).c_str(), stdout);
+    if (!a.model_out.empty()) {
+        const std::string path = a.set_file.empty() ? std::string(profiling::default_calibration_set_path()) : a.set_file;
+        Result<profiling::CostModel> model = profiling::calibrated_model(*base, *fit, *set, path);
+        if (!model) return fail(model.error().message);
+        Status w = write_file_atomically(a.model_out, profiling::cost_model_json(*model));
+        if (!w) return fail(w.error().message);
+        std::fprintf(stderr, "wrote %s\n", a.model_out.c_str());
+    }
+    return 0;
+}
+
+int run_make_calibration_set(const CalibrationArgs& a) {
+    if (a.shaders.empty() || a.reports.empty())
+        return fail("--make-calibration-set needs --shaders DIR (the sources) and --reports DIR (the compiler's reports of them)");
+    if (const std::string unwritable = check_output_file(a.make_set); !unwritable.empty())
+        return fail("--make-calibration-set: " + unwritable);
+    Result<std::vector<std::filesystem::path>> files = shader_files(a.shaders);
+    if (!files) return fail(files.error().message);
+    profiling::CalibrationSet set;
+    set.source = a.source.empty() ? a.shaders : a.source;
+    set.made_by = a.command;
+    int skipped = 0, vertex_shaders = 0;
+    for (const std::filesystem::path& file : *files) {
+        const std::string name = file.filename().string();
+        const bool vertex = file.extension() == ".vert";
+        // The model has no load/store pipe, which bounds most vertex shaders:
+        // the set is of fragment shaders.
+        if (vertex) {
+            ++vertex_shaders;
+            continue;
+        }
+        const std::string report_path = find_report(a.reports, name, vertex);
+        if (report_path.empty()) {
+            std::fprintf(stderr, "parallax: %s: no report %s{.txt,.json} in %s; left out\n", name.c_str(), name.c_str(),
+                         a.reports.c_str());
+            ++skipped;
+            continue;
+        }
+        std::string error;
+        const std::string source = read_text(file.string(), kMaxShaderBytes, "shader source", error);
+        const std::string report = error.empty() ? read_text(report_path, kMaxShaderBytes, "compiler report", error) : "";
+        if (!error.empty()) return fail(error);
+        Result<profiling::CalibrationShader> entry =
+            profiling::calibration_entry(name, source, vertex ? ShaderStage::vertex : ShaderStage::fragment, report);
+        if (!entry) return fail(entry.error().message + " (source " + file.string() + ", report " + report_path + ")");
+        Result<profiling::VendorCycles> figures = report.find('{') == 0 ? profiling::parse_malioc_json(report)
+                                                                         : profiling::parse_malioc_text(report);
+        if (figures) {
+            const std::string gpu = figures->target, tool = figures->tool;
+            if (set.gpu.empty()) set.gpu = gpu, set.compiler = tool;
+            else if (set.gpu != gpu || set.compiler != tool)
+                return fail(report_path + ": " + tool + " on " + gpu + ", where the set's other reports are " + set.compiler +
+                            " on " + set.gpu + ": one set is one compiler on one GPU");
+        }
+        set.shaders.push_back(std::move(*entry));
+    }
+    if (set.shaders.empty()) return fail("no shader in " + a.shaders + " has a report in " + a.reports);
+    Status w = write_file_atomically(a.make_set, profiling::calibration_set_json(set));
+    if (!w) return fail(w.error().message);
+    std::fprintf(stderr, "wrote %s: %zu fragment shaders (%d without a report and %d vertex shaders left out), %s on %s\n",
+                 a.make_set.c_str(), set.shaders.size(), skipped, vertex_shaders, set.compiler.c_str(), set.gpu.c_str());
+    return 0;
+}
+
+Status doc_calibration(std::ostringstream& doc, const std::string& doc_path) {
+    const profiling::CalibrationSet& set = profiling::default_calibration_set();
+    Result<profiling::CalibrationFit> fit = profiling::fit_cost_model(set, profiling::base_cost_model());
+    if (!fit) return make_error(std::string(profiling::default_calibration_set_path()) + ": " + fit.error().message);
+    const std::string picture = "profiling_calibration.svg";
+    Status w = write_file_atomically((std::filesystem::path(doc_path).parent_path() / picture).string(), fit_svg(set, *fit));
+    if (!w) return w;
+    doc << "## The cost model against a real compiler\n\n"
+        << "The model's weights are fitted to what Arm's Mali Offline Compiler reports for real shaders: "
+        << set.shaders.size() << " fragment shaders of Flutter's Impeller renderer, GLSL ES 1.00 as its compiler "
+        << "emits them, with " << set.compiler << "'s report of each on " << set.gpu << " (" << set.source
+        << "). The set (`" << profiling::default_calibration_set_path() << "`) holds this project's counts of each "
+        << "shader (glslang's SPIR-V, as `parallax profile` counts its own) beside the compiler's figures; the "
+        << "sources are not in this repository. It was made by `" << set.made_by << "`.\n\n"
+        << "`parallax profile --calibrate` takes the shaders in name order, fits on every other one and judges the "
+        << "fit on the rest. Each pipe is fitted on its own figures by non-negative least squares: arithmetic from "
+        << "fp32 operations (mediump ones at the base model's ratio), transcendentals, branches and a cost per "
+        << "invocation; texture from samples; varyings from interpolated components. The compared figure is the "
+        << "bound pipe's cycles on the longest path (the total where the compiler cannot bound the longest). "
+        << "Texture latency is not in the compiler's figures and is left out of the comparison. Every report of "
+        << "`parallax profile` uses the fitted model and says so.\n\n"
+        << fit_report(set, *fit, profiling::ReportFormat::markdown) << "\n"
+        << "![the model against the compiler, one point per shader](" << picture << ")\n\n"
+        << "Half the set are Impeller's advanced blend shaders, which differ in their blend function only; the "
+        << "held-out half therefore resembles the fitting half more than an unrelated shader would. Only fragment "
+        << "shaders are used: the model has no load/store pipe, which bounds most vertex shaders on this GPU.\n\n";
+    return {};
+}
+
+}  // namespace px::tools
