@@ -95,7 +95,8 @@ std::string cost_model_json(const CostModel& m) {
                        {"latency_cycles", m.texture_latency_cycles},
                        {"latency_hidden_share", m.latency_hidden_share},
                        {"compiler_reorders_reads", m.compiler_reorders_reads}};
-    root["varying"] = {{"components_per_cycle", m.varying_components_per_cycle}};
+    root["varying"] = {{"components_per_cycle", m.varying_components_per_cycle},
+                       {"fp16_components_per_cycle", m.varying_fp16_components_per_cycle}};
     json trips = json::array();
     for (const CostModel::LoopTrips& l : m.loop_trips) trips.push_back({{"file", l.file}, {"trips", l.trips}, {"why", l.why}});
     root["loop_trips"] = trips;
@@ -136,6 +137,12 @@ Result<CostModel> parse_cost_model(const std::string& text, const std::string& w
                      read_number(**texture, "latency_hidden_share", "$.texture", m.latency_hidden_share, true),
                      read_number(**varying, "components_per_cycle", "$.varying", m.varying_components_per_cycle)})
         if (!s) return fail(s.error());
+    // Optional (files from before it): twice the 32-bit rate.
+    m.varying_fp16_components_per_cycle = 2.0 * m.varying_components_per_cycle;
+    if ((*varying)->contains("fp16_components_per_cycle")) {
+        if (Status s = read_number(**varying, "fp16_components_per_cycle", "$.varying", m.varying_fp16_components_per_cycle); !s)
+            return fail(s.error());
+    }
     if ((*arithmetic)->contains("fixed_cycles")) {
         if (Status s = read_number(**arithmetic, "fixed_cycles", "$.arithmetic", m.fixed_cycles, true); !s) return fail(s.error());
     }
@@ -194,7 +201,11 @@ PipeCycles estimate(const StageCost& stage, const OpCounts& path, double round_t
                    path.transcendental * model.transcendental_cycles + path.branches * model.branch_cycles +
                    model.fixed_cycles;
     c.texture = path.samples / model.samples_per_cycle;
-    c.varying = stage.stage == ShaderStage::fragment ? stage.varying_components / model.varying_components_per_cycle : 0.0;
+    const int relaxed = std::min(stage.relaxed_varying_components, stage.varying_components);
+    c.varying = stage.stage == ShaderStage::fragment
+                    ? (stage.varying_components - relaxed) / model.varying_components_per_cycle +
+                          relaxed / model.varying_fp16_components_per_cycle
+                    : 0.0;
     const double waits = model.compiler_reorders_reads || round_trips <= 0.0
                              ? round_trips
                              : std::max(round_trips, static_cast<double>(stage.in_order_waits));

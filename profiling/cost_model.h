@@ -29,6 +29,8 @@ struct CostModel {
     // chain alone (a scheduler issues every read as early as it can).
     bool compiler_reorders_reads = false;
     double varying_components_per_cycle = 2.0;
+    // Interpolated mediump/lowp components per cycle (16-bit interpolation).
+    double varying_fp16_components_per_cycle = 4.0;
     // Arithmetic cycles every invocation costs whatever it computes (the
     // colour write's conversion and the like); 0 in an uncalibrated model.
     double fixed_cycles = 0.0;

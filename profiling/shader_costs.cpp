@@ -708,7 +708,11 @@ private:
                     }
                 }
         if (out.stage == ShaderStage::fragment)
-            for (Id v : inputs_read) out.varying_components += m_.components(m_.def(v)->type);
+            for (Id v : inputs_read) {
+                const int components = m_.components(m_.def(v)->type);
+                out.varying_components += components;
+                if (m_.relaxed_.count(v)) out.relaxed_varying_components += components;
+            }
     }
 
     void loops(StageCost& out) {

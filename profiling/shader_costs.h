@@ -64,6 +64,7 @@ struct StageCost {
     int typed_results = 0;    // float/int results of arithmetic, transcendental and texture instructions
     int relaxed_results = 0;  // of those, decorated RelaxedPrecision (mediump or lowp in the source)
     int varying_components = 0;  // fragment: interpolated input components the stage reads
+    int relaxed_varying_components = 0;  // of those, in inputs declared mediump or lowp (RelaxedPrecision)
     OpCounts total;     // every instruction once (loops not repeated)
     OpCounts shortest;  // the cheapest path: each branch its cheaper side, each loop left at its first exit
     OpCounts longest;   // the dearest path: each branch its dearer side, each loop run to its trip count

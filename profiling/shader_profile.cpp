@@ -161,6 +161,7 @@ nlohmann::json stage_json(const StageCost& s) {
                               {"texture", s.texture_instructions}, {"control_flow", s.control_instructions}}},
             {"relaxed_precision_share", s.relaxed_share()},
             {"varying_components", s.varying_components},
+            {"relaxed_varying_components", s.relaxed_varying_components},
             {"total", counts_json(s.total)},
             {"shortest", counts_json(s.shortest)},
             {"longest", counts_json(s.longest)},
@@ -298,6 +299,7 @@ std::string model_section(const CostModel& m, ReportFormat format) {
         {"texture latency, cycles", m.texture_latency_cycles},
         {"share of latency other threads hide", m.latency_hidden_share},
         {"varying components per cycle", m.varying_components_per_cycle},
+        {"mediump/lowp varying components per cycle", m.varying_fp16_components_per_cycle},
         {"cycles per invocation (fixed)", m.fixed_cycles},
     };
     for (const auto& [name, value] : rows) s << (md ? "| " : "  ") << name << (md ? " | " : ": ") << parameter(value) << (md ? " |" : "") << "\n";

@@ -397,6 +397,21 @@ TEST(CostModel, EstimateIsTheBusiestPipePlusExposedLatency) {
     EXPECT_DOUBLE_EQ(c.latency, 50.0);
     EXPECT_DOUBLE_EQ(c.total, 62.0);
     EXPECT_EQ(c.bound, "A");
+    // mediump varyings interpolate at the 16-bit rate.
+    m.varying_fp16_components_per_cycle = 4;
+    s.relaxed_varying_components = 4;
+    EXPECT_DOUBLE_EQ(estimate(s, path, 2.0, m).varying, 4.0 / 2.0 + 4.0 / 4.0);
+}
+
+TEST(ShaderCosts, MediumpVaryingsAreCountedApart) {
+    const char* fs = "#version 100\nprecision mediump float;\nvarying highp vec3 a;\nvarying vec2 b;\n"
+                     "varying lowp vec4 c;\nvoid main() { gl_FragColor = vec4(a, b.x) + c; }\n";
+    Result<std::vector<std::uint32_t>> words = compile_spirv(fs, ShaderStage::fragment);
+    ASSERT_TRUE(words) << words.error().message;
+    Result<StageCost> cost = analyse_spirv(*words, ShaderStage::fragment);
+    ASSERT_TRUE(cost) << cost.error().message;
+    EXPECT_EQ(cost->varying_components, 9);
+    EXPECT_EQ(cost->relaxed_varying_components, 6);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numeric>
 
 #include <nlohmann/json.hpp>
@@ -64,6 +65,12 @@ Result<CalibrationShader> read_shader(const json& s, const std::string& path) {
     Result<double> varying = count_at(*ours, "varying_components", op);
     if (!varying) return varying.error();
     c.varying_components = static_cast<int>(*varying);
+    if (ours->contains("relaxed_varying_components")) {
+        Result<double> relaxed = count_at(*ours, "relaxed_varying_components", op);
+        if (!relaxed) return relaxed.error();
+        if (*relaxed > *varying) return make_error(op + ".relaxed_varying_components: more than the varying components");
+        c.relaxed_varying_components = static_cast<int>(*relaxed);
+    }
     const auto theirs = s.find("theirs");
     if (theirs == s.end() || !theirs->is_object()) return make_error(path + ".theirs: missing or not an object");
     const std::string tp = path + ".theirs";
@@ -187,6 +194,7 @@ double real_pipe(const CalibrationShader& s, const char* name) {
 
 struct Weights {
     double fp32 = 0.0, fp16_ratio = 0.5, transcendental = 0.0, branch = 0.0, fixed = 0.0, sample = 0.0, varying = 0.0;
+    double varying_fp16_ratio = 0.5;  // a mediump component's cost over a highp one's (the base model's)
 };
 
 std::pair<double, std::string> busiest(double a, double t, double v) {
@@ -198,11 +206,16 @@ std::pair<double, std::string> busiest(double a, double t, double v) {
     return {top, pipe};
 }
 
+// Varying components with the mediump ones at the base model's ratio.
+double varying_cost(const CalibrationShader& s, double fp16_ratio) {
+    return (s.varying_components - s.relaxed_varying_components) + s.relaxed_varying_components * fp16_ratio;
+}
+
 std::pair<double, std::string> predict(const CalibrationShader& s, const Weights& w) {
     const OpCounts& c = s.counts;
     const double a = (c.arithmetic - c.fp16) * w.fp32 + c.fp16 * w.fp32 * w.fp16_ratio +
                      c.transcendental * w.transcendental + c.branches * w.branch + w.fixed;
-    return busiest(a, c.samples * w.sample, s.varying_components * w.varying);
+    return busiest(a, c.samples * w.sample, varying_cost(s, w.varying_fp16_ratio) * w.varying);
 }
 
 CalibrationSummary summarise(const std::vector<CalibrationRow>& rows, bool held_out) {
@@ -256,7 +269,8 @@ void fit_arithmetic(const std::vector<const CalibrationShader*>& fit, const Cost
     if (!fit_branch) notes.push_back("branches: fewer than three fitting shaders have them; kept at the base model's ratio to fp32");
 }
 
-double fit_one(const std::vector<const CalibrationShader*>& fit, double (*feature)(const CalibrationShader&), const char* pipe) {
+double fit_one(const std::vector<const CalibrationShader*>& fit, const std::function<double(const CalibrationShader&)>& feature,
+               const char* pipe) {
     std::vector<std::vector<double>> columns(1);
     std::vector<double> y;
     for (const CalibrationShader* s : fit) {
@@ -273,7 +287,8 @@ Result<Weights> fit_weights(const std::vector<const CalibrationShader*>& fit, co
     w.fp16_ratio = base.fp32_ops_per_cycle / base.fp16_ops_per_cycle;
     fit_arithmetic(fit, base, w, notes);
     w.sample = fit_one(fit, [](const CalibrationShader& s) { return s.counts.samples; }, "T");
-    w.varying = fit_one(fit, [](const CalibrationShader& s) { return double(s.varying_components); }, "V");
+    w.varying_fp16_ratio = base.varying_components_per_cycle / base.varying_fp16_components_per_cycle;
+    w.varying = fit_one(fit, [&](const CalibrationShader& s) { return varying_cost(s, w.varying_fp16_ratio); }, "V");
     if (w.fp32 <= 0.0 || w.sample <= 0.0 || w.varying <= 0.0)
         return make_error("the fit gave a pipe no cost (fp32 " + number_text(w.fp32) + ", sample " + number_text(w.sample) +
                           ", varying " + number_text(w.varying) + "): the set cannot calibrate this model");
@@ -349,7 +364,9 @@ std::string calibration_set_json(const CalibrationSet& set) {
                            ", \"transcendental\": " + number_text(s.counts.transcendental) +
                            ", \"samples\": " + number_text(s.counts.samples) +
                            ", \"branches\": " + number_text(s.counts.branches) +
-                           ", \"varying_components\": " + std::to_string(s.varying_components) + "}, \"theirs\": {\"row\": \"" +
+                           ", \"varying_components\": " + std::to_string(s.varying_components) +
+                           ", \"relaxed_varying_components\": " + std::to_string(s.relaxed_varying_components) +
+                           "}, \"theirs\": {\"row\": \"" +
                            s.row + "\", \"pipes\": " + json(s.pipes).dump() + ", \"cycles\": [";
         for (std::size_t i = 0; i < s.cycles.size(); ++i) line += (i ? ", " : "") + number_text(s.cycles[i]);
         shaders.push_back(line + "]}}");
@@ -406,6 +423,7 @@ Result<CalibrationShader> calibration_entry(const std::string& name, const std::
     c.stage = stage;
     c.counts = cost->longest;
     c.varying_components = cost->varying_components;
+    c.relaxed_varying_components = cost->relaxed_varying_components;
     c.pipes = figures->pipes;
     const bool longest_known = !figures->longest.empty() &&
                                std::none_of(figures->longest.begin(), figures->longest.end(), [](double v) { return std::isnan(v); });
@@ -449,6 +467,7 @@ Result<CalibrationFit> fit_cost_model(const CalibrationSet& set, const CostModel
         StageCost stage;
         stage.stage = s->stage;
         stage.varying_components = s->varying_components;
+        stage.relaxed_varying_components = s->relaxed_varying_components;
         const PipeCycles u = estimate(stage, s->counts, 0.0, base);
         r.uncalibrated = std::max({u.arithmetic, u.texture, u.varying});
         result.rows.push_back(r);
@@ -494,6 +513,8 @@ Result<CostModel> calibrated_model(const CostModel& base, const CalibrationFit& 
     m.samples_per_cycle = 1.0 / fit.sample;
     m.texture_latency_cycles = latency_in_samples * fit.sample;
     m.varying_components_per_cycle = 1.0 / fit.varying_component;
+    m.varying_fp16_components_per_cycle =
+        m.varying_components_per_cycle * base.varying_fp16_components_per_cycle / base.varying_components_per_cycle;
     m.calibration.gpu = set.gpu;
     m.calibration.compiler = set.compiler;
     m.calibration.set = set_path;
@@ -518,7 +539,8 @@ Result<CostModel> calibrated_model(const CostModel& base, const CalibrationFit& 
                             number_text(fit.transcendental) + " per transcendental, " + number_text(fit.branch) +
                             " per branch, " + number_text(fit.fixed) + " per invocation; texture " + number_text(fit.sample) +
                             " per bilinear sample; varying " + number_text(fit.varying_component) +
-                            " per interpolated component;" + per + ". The counts are of glslang's unoptimised SPIR-V, so a "
+                            " per interpolated highp component (mediump ones at the base model's ratio: the set's "
+                            "varyings are all highp);" + per + ". The counts are of glslang's unoptimised SPIR-V, so a "
                             "weight absorbs what the vendor compiler folds away.");
     m.assumptions.push_back("Latency: not in the compiler's figures, so not fitted: each texture result the longest path waits for "
                             "in turn exposes " + number_text(latency_in_samples) + " sample times (" +

@@ -32,6 +32,7 @@ struct CalibrationShader {
     // bound counted once, as the compiler's total row counts them).
     OpCounts counts;
     int varying_components = 0;
+    int relaxed_varying_components = 0;  // of those, mediump or lowp
     // Theirs: the primary variant's figures on one row, per pipe as named.
     std::string row;  // "longest", or "total" where the longest path is N/A
     std::vector<std::string> pipes;
