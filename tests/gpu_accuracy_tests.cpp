@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/measurement/bench.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
 #include "parallaxes/scene/material_images.h"

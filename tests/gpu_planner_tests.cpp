@@ -8,9 +8,9 @@
 #include <set>
 
 #include "gpu_fixture.h"
-#include "parallaxes/profiling/showcase.h"
-#include "parallaxes/profiling/stability.h"
-#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/profiling/measurement/showcase.h"
+#include "parallaxes/profiling/measurement/stability.h"
+#include "parallaxes/profiling/reports/stability_catalogue.h"
 #include "parallaxes/scene/material_images.h"
 #include "parallaxes/shaders/effect_code.h"
 

@@ -12,7 +12,7 @@
 
 #include "parallaxes/gl/caps.h"
 #include "parallaxes/gl/texture.h"
-#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/measurement/bench.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
 #include "parallaxes/scene/material_images.h"

@@ -1,4 +1,4 @@
-// Unit tests for the benchmark report writers (profiling/bench_results.h):
+// Unit tests for the benchmark report writers (profiling/reports/bench_results.h):
 // CSV, JSON, the Pareto SVG and the markdown report, on a synthetic run whose
 // answers are known, plus the atomic write and its errors.
 #include <gtest/gtest.h>
@@ -20,7 +20,7 @@
 #include <unistd.h>  // getpid: a per-process temp directory
 
 #include "parallaxes/effects/technique.h"
-#include "parallaxes/profiling/bench_results.h"
+#include "parallaxes/profiling/reports/bench_results.h"
 
 namespace px::profiling {
 namespace {
@@ -571,10 +571,10 @@ TEST(BenchReport, ReplacesAnExistingFileAndRemovesTheTemporary) {
 }  // namespace
 }  // namespace px::profiling
 
-// The reports' small chart (profiling/svg_plot.h): the same bytes for the
+// The reports' small chart (profiling/reports/svg_plot.h): the same bytes for the
 // same input, points that cannot be drawn left out (not drawn at NaN), text
 // escaped, and the scatter's line of equality and factor band.
-#include "parallaxes/profiling/svg_plot.h"
+#include "parallaxes/profiling/reports/svg_plot.h"
 
 namespace {
 

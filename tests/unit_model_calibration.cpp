@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "parallaxes/profiling/cost_model.h"
+#include "parallaxes/profiling/costs/cost_model.h"
 #include "parallaxes/profiling/costs/model_calibration.h"
 
 namespace px::profiling {

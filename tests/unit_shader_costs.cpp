@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <string>
 
-#include "parallaxes/profiling/cost_model.h"
-#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/profiling/costs/cost_model.h"
+#include "parallaxes/profiling/costs/shader_costs.h"
 #include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {

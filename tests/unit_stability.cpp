@@ -6,7 +6,7 @@
 #include <set>
 #include <string>
 
-#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/profiling/reports/stability_catalogue.h"
 
 namespace px::profiling {
 namespace {

@@ -1,5 +1,5 @@
 // Unit tests for the vendor shader compilers' parsers and runner
-// (profiling/vendor_compilers.h). Neither malioc nor the PowerVR compilers
+// (profiling/costs/vendor_compilers.h). Neither malioc nor the PowerVR compilers
 // are installed here: the parsers read reports written for the tests after
 // the tools' documentation (tests/data/vendor/README.md), and the runner runs
 // fake compilers, shell scripts this file writes and puts first on PATH.
@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "parallaxes/profiling/vendor_compilers.h"
+#include "parallaxes/profiling/costs/vendor_compilers.h"
 
 namespace px::profiling {
 namespace {

@@ -12,9 +12,9 @@
 
 #include "parallaxes/core/counters.h"
 #include "parallaxes/core/files.h"
-#include "parallaxes/profiling/bench.h"
-#include "parallaxes/profiling/planner_table.h"
-#include "parallaxes/profiling/showcase.h"
+#include "parallaxes/profiling/measurement/bench.h"
+#include "parallaxes/profiling/measurement/planner_table.h"
+#include "parallaxes/profiling/measurement/showcase.h"
 #include "plan_report.h"
 #include "cli_common.h"
 #include "commands.h"
@@ -53,7 +53,7 @@ struct BenchArgs {
 };
 
 
-// The planner's cost table: the grid of profiling/planner_table.h, or the
+// The planner's cost table: the grid of profiling/measurement/planner_table.h, or the
 // options given (--scenes, --angles, --samples, --frames, --size).
 int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
     profiling::TableGrid grid;

@@ -13,7 +13,7 @@
 #include "parallaxes/core/files.h"
 #include "plan_report.h"
 #include "parallaxes/platform/headless_context.h"
-#include "parallaxes/profiling/planner_table.h"
+#include "parallaxes/profiling/measurement/planner_table.h"
 #include "parallaxes/render/offscreen_target.h"
 #include "parallaxes/render/renderer.h"
 #include "parallaxes/scene/material_images.h"

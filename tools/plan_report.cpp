@@ -10,7 +10,7 @@
 #include "parallaxes/render/offscreen_target.h"
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/gl/gl.h"
-#include "parallaxes/profiling/interleaved.h"
+#include "parallaxes/profiling/measurement/interleaved.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -11,9 +11,9 @@
 #include "cli_common.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/profiling/costs/model_calibration.h"
-#include "parallaxes/profiling/shader_profile.h"
-#include "parallaxes/profiling/svg_plot.h"
-#include "parallaxes/profiling/vendor_compilers.h"
+#include "parallaxes/profiling/costs/shader_profile.h"
+#include "parallaxes/profiling/reports/svg_plot.h"
+#include "parallaxes/profiling/costs/vendor_compilers.h"
 
 namespace px::tools {
 
@@ -299,7 +299,7 @@ Status doc_calibration(std::ostringstream& doc, const std::string& doc_path) {
         << "bound pipe's cycles on the longest path (the total where the compiler cannot bound the longest). "
         << "Texture latency is not in the compiler's figures and is left out of the comparison. Every report of "
         << "`parallax profile` uses the fitted model and says so; the hand-chosen rates of "
-        << "profiling/cost_model.json are the base it fits (their ranking of the same shaders is given for "
+        << "profiling/costs/cost_model.json are the base it fits (their ranking of the same shaders is given for "
         << "comparison).\n\n"
         << fit_report(set, *fit, profiling::ReportFormat::markdown) << "\n"
         << "![the model against the compiler, one point per shader](" << picture << ")\n\n"

@@ -11,13 +11,13 @@
 #include <string>
 
 #include "parallaxes/core/result.h"
-#include "parallaxes/profiling/cost_model.h"
+#include "parallaxes/profiling/costs/cost_model.h"
 
 namespace px::tools {
 
 struct CalibrationArgs {
     std::string set_file;    // empty: the carried set
-    std::string model_file;  // the base to fit; empty: the carried base (profiling/cost_model.json)
+    std::string model_file;  // the base to fit; empty: the carried base (profiling/costs/cost_model.json)
     std::string model_out;   // write the fitted model here
     std::string format = "table";
     std::string make_set;    // write a set here from --shaders and --reports

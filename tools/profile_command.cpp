@@ -18,19 +18,19 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "parallaxes/profiling/svg_plot.h"
+#include "parallaxes/profiling/reports/svg_plot.h"
 #include "commands.h"
 #include "profile_calibration.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/gl/program.h"
 #include "parallaxes/platform/headless_context.h"
-#include "parallaxes/profiling/bench.h"
-#include "parallaxes/profiling/cost_model.h"
-#include "parallaxes/profiling/process.h"
-#include "parallaxes/profiling/shader_profile.h"
-#include "parallaxes/profiling/stability_catalogue.h"
-#include "parallaxes/profiling/vendor_compilers.h"
+#include "parallaxes/profiling/measurement/bench.h"
+#include "parallaxes/profiling/costs/cost_model.h"
+#include "parallaxes/profiling/costs/process.h"
+#include "parallaxes/profiling/costs/shader_profile.h"
+#include "parallaxes/profiling/reports/stability_catalogue.h"
+#include "parallaxes/profiling/costs/vendor_compilers.h"
 #include "parallaxes/render/offscreen_target.h"
 
 namespace px::tools {
@@ -612,7 +612,7 @@ std::string doc_intro(const std::string& command) {
            "varyings) plus exposed texture latency, with rates fitted to what Arm's Mali Offline Compiler reports "
            "for real shaders on a Mali-G78 (\"The cost model against a real compiler\" below: the fit and how it "
            "does on shaders held out of it); its structure and the rates the fit cannot reach come from "
-           "profiling/cost_model.json (parameters and assumptions listed at the end; `--model FILE` takes another).\n"
+           "profiling/costs/cost_model.json (parameters and assumptions listed at the end; `--model FILE` takes another).\n"
         << "- **Vendor compilers**: Arm's malioc or a PowerVR GLSLESCompiler, when on PATH, run on the same sources; "
            "their cycles appear in the vendor column (the longest path's; where the tool prints N/A there, loops it "
            "cannot bound, the total instruction cycles, marked). The malioc parser reads text and JSON reports of "
@@ -819,7 +819,7 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
     cmd->add_flag("--ladder", args->ladder, "The PowerVR whitepaper's optimisation ladder, step by step");
     cmd->add_flag("--no-nir", args->no_nir, "Skip Mesa's NIR (a child process with ST_DEBUG=nir)");
     cmd->add_flag("--no-time", args->no_time, "Skip the llvmpipe timing and error measurement");
-    cmd->add_option("--model", args->model_file, "A cost model file (the shape of profiling/cost_model.json)");
+    cmd->add_option("--model", args->model_file, "A cost model file (the shape of profiling/costs/cost_model.json)");
     cmd->add_option("--scene", args->scene, "Bench scene the variants are timed on")->capture_default_str();
     cmd->add_option("--angle", args->angle, "View angle of the timing, degrees off the normal")->capture_default_str();
     cmd->add_option("--size", args->size, "Timing target size")->capture_default_str();
@@ -834,7 +834,7 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
                   "the fit does on the shaders held out of it");
     cmd->add_option("--calibration-set", args->calibration.set_file, "With --calibrate: another calibration set file");
     cmd->add_option("--model-out", args->calibration.model_out,
-                    "With --calibrate: write the fitted model (the base is --model, or profiling/cost_model.json)");
+                    "With --calibrate: write the fitted model (the base is --model, or profiling/costs/cost_model.json)");
     cmd->add_option("--make-calibration-set", args->calibration.make_set,
                     "Write a calibration set: each shader of --shaders counted, beside its report in --reports");
     cmd->add_option("--shaders", args->calibration.shaders, "With --make-calibration-set: a folder of .frag and .vert sources");

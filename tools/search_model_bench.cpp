@@ -22,7 +22,7 @@
 #include "parallaxes/core/files.h"
 #include "parallaxes/planner/search_model.h"
 #include "parallaxes/platform/headless_context.h"
-#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/measurement/bench.h"
 #include "parallaxes/render/offscreen_target.h"
 #include "parallaxes/scene/material_images.h"
 #include "parallaxes/scene/scene.h"
@@ -120,7 +120,7 @@ std::string plot_svg(const std::vector<Case>& cases) {
     return s.str();
 }
 
-// The rays of the bench's image at `angle_deg` (profiling/bench.cpp's
+// The rays of the bench's image at `angle_deg` (profiling/measurement/bench.cpp's
 // camera: 2.2 units from the centre of a 2.4-unit plane, 45 degrees of
 // field), one per cell of a grid over the image where the plane is seen:
 // each pixel sees the plane at its own angle, so the bench's "angle" is the

@@ -16,7 +16,7 @@
 #include "commands.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/platform/headless_context.h"
-#include "parallaxes/profiling/stability.h"
+#include "parallaxes/profiling/measurement/stability.h"
 #include "stability_precision.h"
 
 namespace px::tools {

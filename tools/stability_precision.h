@@ -7,7 +7,7 @@
 #include <string>
 
 #include "parallaxes/platform/headless_context.h"
-#include "parallaxes/profiling/stability.h"
+#include "parallaxes/profiling/measurement/stability.h"
 
 namespace px::tools {
 

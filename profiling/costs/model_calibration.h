@@ -19,8 +19,8 @@
 
 #include "parallaxes/core/result.h"
 #include "parallaxes/effects/variant.h"
-#include "parallaxes/profiling/cost_model.h"
-#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/profiling/costs/cost_model.h"
+#include "parallaxes/profiling/costs/shader_costs.h"
 
 namespace px::profiling {
 

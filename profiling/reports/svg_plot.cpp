@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/svg_plot.h"
+#include "parallaxes/profiling/reports/svg_plot.h"
 
 #include <algorithm>
 #include <array>

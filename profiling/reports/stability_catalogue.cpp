@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/profiling/reports/stability_catalogue.h"
 
 #include <algorithm>
 #include <cmath>

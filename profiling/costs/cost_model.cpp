@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/cost_model.h"
+#include "parallaxes/profiling/costs/cost_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -187,7 +187,7 @@ Result<CostModel> parse_cost_model(const std::string& text, const std::string& w
 
 const CostModel& base_cost_model() {
     static const CostModel model = [] {
-        Result<CostModel> m = parse_cost_model(px_generated::kEmbeddedCostModel, "profiling/cost_model.json");
+        Result<CostModel> m = parse_cost_model(px_generated::kEmbeddedCostModel, "profiling/costs/cost_model.json");
         // The file is checked by the unit tests; a broken one is a build defect.
         return m ? *m : CostModel{};
     }();

@@ -1,7 +1,7 @@
-#include "parallaxes/profiling/vendor_compilers.h"
+#include "parallaxes/profiling/costs/vendor_compilers.h"
 
 #include "parallaxes/core/interrupts.h"
-#include "parallaxes/profiling/process.h"
+#include "parallaxes/profiling/costs/process.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -765,7 +765,7 @@ std::string describe_end(const ProcessOutcome& outcome) {
     return "exited with status " + std::to_string(outcome.exit_status);
 }
 
-// Runs argv[0] with stdout and stderr into one pipe (profiling/process.h:
+// Runs argv[0] with stdout and stderr into one pipe (profiling/costs/process.h:
 // its own process group, killed whole at the time limit or the output cap).
 Result<ProcessOutcome> run_captured(const std::vector<std::string>& argv, std::chrono::milliseconds time_limit) {
     ProcessOptions options;

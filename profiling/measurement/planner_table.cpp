@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/planner_table.h"
+#include "parallaxes/profiling/measurement/planner_table.h"
 
 #include <algorithm>
 #include <map>

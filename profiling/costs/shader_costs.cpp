@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/profiling/costs/shader_costs.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "parallaxes/assets/image.h"
-#include "parallaxes/profiling/bench_results.h"
+#include "parallaxes/profiling/reports/bench_results.h"
 #include "parallaxes/core/result.h"
 #include "parallaxes/render/renderer.h"
 #include "parallaxes/render/target.h"

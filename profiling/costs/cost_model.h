@@ -1,6 +1,6 @@
 // A documented cost model for a mobile-class GPU: the static counts of
-// profiling/shader_costs.h turned into estimated cycles per pipe. Its
-// parameters live in one data file (profiling/cost_model.json, carried
+// profiling/costs/shader_costs.h turned into estimated cycles per pipe. Its
+// parameters live in one data file (profiling/costs/cost_model.json, carried
 // inside the program; `parallax profile --model FILE` reads another), with
 // the assumptions beside them, printed with every report.
 #pragma once
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "parallaxes/core/result.h"
-#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/profiling/costs/shader_costs.h"
 
 namespace px::profiling {
 
@@ -62,7 +62,7 @@ struct CostModel {
 
 // `where` names the file in errors, with the JSON path of a bad field.
 Result<CostModel> parse_cost_model(const std::string& json, const std::string& where);
-// The hand-chosen model the program carries (profiling/cost_model.json):
+// The hand-chosen model the program carries (profiling/costs/cost_model.json):
 // the base a calibration fits (its structure, fp16 ratio, latency, loops).
 const CostModel& base_cost_model();
 // The model reports use: the base fitted to the calibration set the program

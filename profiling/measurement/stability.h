@@ -1,4 +1,4 @@
-// Running the hard-case catalogue (profiling/stability_catalogue.h) on the
+// Running the hard-case catalogue (profiling/reports/stability_catalogue.h) on the
 // current context: every case, every technique, the precisions asked for.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "parallaxes/profiling/stability_catalogue.h"
+#include "parallaxes/profiling/reports/stability_catalogue.h"
 #include "parallaxes/render/renderer.h"
 
 namespace px::profiling {

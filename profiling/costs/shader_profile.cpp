@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/shader_profile.h"
+#include "parallaxes/profiling/costs/shader_profile.h"
 
 #include <algorithm>
 #include <cmath>

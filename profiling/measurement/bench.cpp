@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/measurement/bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "parallaxes/gl/gl.h"
-#include "parallaxes/profiling/interleaved.h"
+#include "parallaxes/profiling/measurement/interleaved.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/reference/tracer.h"
 #include "parallaxes/render/renderer.h"

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "parallaxes/effects/variant.h"
-#include "parallaxes/profiling/cost_model.h"
-#include "parallaxes/profiling/shader_costs.h"
+#include "parallaxes/profiling/costs/cost_model.h"
+#include "parallaxes/profiling/costs/shader_costs.h"
 #include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {

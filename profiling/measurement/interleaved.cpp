@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/interleaved.h"
+#include "parallaxes/profiling/measurement/interleaved.h"
 
 #include <algorithm>
 #include <chrono>

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "parallaxes/planner/cost_table.h"
-#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/measurement/bench.h"
 
 namespace px::profiling {
 

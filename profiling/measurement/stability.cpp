@@ -1,6 +1,6 @@
-#include "parallaxes/profiling/stability.h"
+#include "parallaxes/profiling/measurement/stability.h"
 
-#include "parallaxes/profiling/bench.h"
+#include "parallaxes/profiling/measurement/bench.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/showcase.h"
+#include "parallaxes/profiling/measurement/showcase.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,7 +9,7 @@
 
 #include "parallaxes/core/files.h"
 #include "parallaxes/gl/gl.h"
-#include "parallaxes/profiling/interleaved.h"
+#include "parallaxes/profiling/measurement/interleaved.h"
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"

@@ -4,7 +4,7 @@
 // Every writer builds its whole text in memory, writes it to path + ".tmp" and
 // renames that over path, so a failure never leaves a partial file behind.
 // Numbers are formatted with std::to_chars, which ignores the C locale.
-#include "parallaxes/profiling/bench_results.h"
+#include "parallaxes/profiling/reports/bench_results.h"
 
 #include "parallaxes/core/files.h"
 #include "parallaxes/core/numeric.h"

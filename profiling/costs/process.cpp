@@ -1,4 +1,4 @@
-#include "parallaxes/profiling/process.h"
+#include "parallaxes/profiling/costs/process.h"
 
 #include "parallaxes/core/interrupts.h"
 
