@@ -34,6 +34,7 @@
 // as fp16. Integers are not emulated (declared highp in the rounding
 // profiles). Functions on the exempt list are emitted without rounding.
 #include "parallaxes/emulation/precision.h"
+#include "parallaxes/emulation/glslang_front.h"
 
 #include <cmath>
 #include <cstdint>
@@ -137,12 +138,6 @@ highp mat3 px_qlow(highp mat3 m) { return mat3(px_qlow(m[0]), px_qlow(m[1]), px_
 highp mat4 px_qlow(highp mat4 m) { return mat4(px_qlow(m[0]), px_qlow(m[1]), px_qlow(m[2]), px_qlow(m[3])); }
 )";
 
-void initialize_glslang() {
-    static std::once_flag once;
-    // Never finalized: the process keeps glslang's tables until it exits.
-    std::call_once(once, [] { InitializeProcess(); });
-}
-
 // A parsed shader; the tree lives as long as the TShader.
 struct Parsed {
     std::unique_ptr<TShader> shader;
@@ -150,15 +145,12 @@ struct Parsed {
 };
 
 Parsed parse(const std::string& source, ShaderStage stage) {
-    initialize_glslang();
     Parsed p;
-    p.shader = std::make_unique<TShader>(stage == ShaderStage::vertex ? EShLangVertex : EShLangFragment);
-    const char* text = source.c_str();
-    p.shader->setStrings(&text, 1);
-    // ES profile, the source's own #version (100 if it had none).
-    if (!p.shader->parse(GetDefaultResources(), 100, EEsProfile, false, false, EShMsgDefault)) {
+    std::string log;
+    p.shader = parse_es_source(source, stage, nullptr, log);
+    if (!p.shader) {
         p.error = std::string("glslang rejected the ") + (stage == ShaderStage::vertex ? "vertex" : "fragment") +
-                  " source:\n" + p.shader->getInfoLog();
+                  " source:\n" + log;
         if (p.error.back() != '\n') p.error += '\n';
     }
     return p;

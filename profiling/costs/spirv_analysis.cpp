@@ -1,18 +1,17 @@
+// The SPIR-V analysis (shader_costs.h: analyse_spirv, stage_cost): the
+// module's instructions classified and costed along its paths, its loops'
+// trip counts, and which texture reads wait on which.
 #include "parallaxes/profiling/costs/shader_costs.h"
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <unordered_map>
 
-#include <glslang/Public/ResourceLimits.h>
-#include <glslang/Public/ShaderLang.h>
-#include <glslang/SPIRV/GlslangToSpv.h>
 #define SPV_ENABLE_UTILITY_CODE
 #include <glslang/SPIRV/GLSL.std.450.h>
 #include <glslang/SPIRV/spirv.hpp>
@@ -37,44 +36,6 @@ OpCounts OpCounts::operator*(double k) const {
     c.branches *= k;
     return c;
 }
-
-// --- glslang ------------------------------------------------------------------
-
-Result<std::vector<std::uint32_t>> compile_spirv(const std::string& source, ShaderStage stage) {
-    static std::once_flag initialised;
-    std::call_once(initialised, [] { glslang::InitializeProcess(); });
-    const EShLanguage language = stage == ShaderStage::vertex ? EShLangVertex : EShLangFragment;
-    glslang::TShader shader(language);
-    const char* text = source.c_str();
-    const int length = static_cast<int>(std::min<std::size_t>(source.size(), std::numeric_limits<int>::max()));
-    const char* name = "source";
-    shader.setStringsWithLengthsAndNames(&text, &length, &name, 1);
-    // No client API: glslang then takes GLSL ES 1.00 as well as 3.00 as
-    // written (its SPIR-V rules would want 3.10), and the module is the
-    // front end's plain translation, which is what is counted.
-    shader.setEnvInput(glslang::EShSourceGlsl, language, glslang::EShClientNone, 0);
-    shader.setAutoMapLocations(true);
-    shader.setAutoMapBindings(true);
-    // The version comes from the source's own #version line.
-    if (!shader.parse(GetDefaultResources(), 100, EEsProfile, false, false, EShMsgDefault))
-        return make_error(std::string("glslang: ") + shader.getInfoLog());
-    glslang::TProgram program;
-    program.addShader(&shader);
-    if (!program.link(EShMsgDefault)) return make_error(std::string("glslang link: ") + program.getInfoLog());
-    std::vector<unsigned int> words;
-    spv::SpvBuildLogger logger;
-    glslang::SpvOptions options;
-    options.generateDebugInfo = true;  // OpLine: the cost of each source line
-    options.disableOptimizer = true;
-    glslang::GlslangToSpv(*program.getIntermediate(language), words, &logger, &options);
-    if (words.size() < 5) return make_error("glslang produced no SPIR-V: " + logger.getAllMessages());
-    // Without a target environment glslang leaves the version word 0; the
-    // module is SPIR-V 1.0 in every other respect.
-    words[1] = 0x00010000u;
-    return std::vector<std::uint32_t>(words.begin(), words.end());
-}
-
-// --- SPIR-V analysis ------------------------------------------------------------
 
 namespace {
 
@@ -1077,76 +1038,6 @@ Result<StageCost> stage_cost(const AssembledSource& source, ShaderStage stage, c
     Result<std::vector<std::uint32_t>> words = compile_spirv(source.text, stage);
     if (!words) return words.error();
     return analyse_spirv(*words, stage, source.origins, trips);
-}
-
-// --- NIR -------------------------------------------------------------------------
-
-Result<std::vector<NirShader>> parse_nir_dump(const std::string& text) {
-    std::vector<NirShader> shaders;
-    std::istringstream in(text);
-    std::string line;
-    bool inside = false;  // a vertex or fragment shader's body
-    while (std::getline(in, line)) {
-        if (line.rfind("shader: MESA_SHADER_", 0) == 0) {
-            const std::string stage = line.substr(20);
-            inside = stage == "VERTEX" || stage == "FRAGMENT";
-            if (inside) {
-                shaders.emplace_back();
-                shaders.back().stage = stage == "VERTEX" ? ShaderStage::vertex : ShaderStage::fragment;
-            }
-            continue;
-        }
-        if (!inside) continue;
-        NirShader& s = shaders.back();
-        if (line.rfind("name: ", 0) == 0) {
-            s.name = line.substr(6);
-            continue;
-        }
-        std::size_t start = line.find_first_not_of(" \t");
-        if (start == std::string::npos) continue;
-        const std::string body = line.substr(start);
-        if (body.rfind("loop {", 0) == 0) {
-            ++s.cost.loops;
-            continue;
-        }
-        if (body.rfind("if ", 0) == 0 && body.back() == '{') {
-            ++s.cost.branches;
-            continue;
-        }
-        // "vec4 16 ssa_48 = (float16)txl ssa_47 (coord), ..." and
-        // "vec1 32 ssa_44 = fmul ssa_39, ssa_480"; intrinsics without a
-        // destination start with "intrinsic".
-        if (body.rfind("intrinsic ", 0) == 0) {
-            ++s.cost.intrinsics;
-            continue;
-        }
-        if (body.rfind("vec", 0) != 0 && body.rfind("1 ", 0) != 0) continue;
-        std::istringstream words(body);
-        std::string size, bits, name, equals, op;
-        words >> size >> bits >> name >> equals >> op;
-        if (equals != "=" || name.rfind("ssa_", 0) != 0) continue;
-        ++s.cost.ssa_values;
-        if (op.size() > 2 && op[0] == '(') {
-            const std::size_t close = op.find(')');
-            op = close == std::string::npos ? op : op.substr(close + 1);
-        }
-        if (op == "intrinsic") {
-            ++s.cost.intrinsics;
-        } else if (op == "tex" || op == "txb" || op == "txl" || op == "txd" || op == "txf" || op == "txf_ms" ||
-                   op == "txs" || op == "lod" || op == "tg4" || op == "query_levels" || op == "texture_samples" ||
-                   op == "samples_identical" || op == "tex_prefetch" || op == "fragment_fetch_amd" ||
-                   op == "fragment_mask_fetch_amd") {
-            ++s.cost.texture;
-        } else if (op == "load_const" || op == "undefined" || op == "phi" || op == "deref_var" ||
-                   op == "deref_array" || op == "deref_struct" || op == "deref_cast" || op == "parallel_copy") {
-            // not ALU work
-        } else {
-            ++s.cost.alu;
-            if (bits == "16") ++s.cost.alu_16bit;
-        }
-    }
-    if (shaders.empty()) return make_error("the NIR dump holds no vertex or fragment shader ('shader: MESA_SHADER_' lines)");
-    return shaders;
 }
 
 }  // namespace px::profiling
