@@ -23,6 +23,7 @@
 #include "parallaxes/planner/search_model.h"
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/profiling/measurement/bench.h"
+#include "parallaxes/profiling/reports/svg_plot.h"
 #include "parallaxes/render/offscreen_target.h"
 #include "parallaxes/scene/material_images.h"
 #include "parallaxes/scene/scene.h"
@@ -71,53 +72,28 @@ bool within_two(const Case& c) {
 }
 bool under_predicted(const Case& c) { return c.measured > kResolved && c.measured > c.predicted; }
 
+// Measured against predicted, log-log, on the report's one chart module.
+// Errors are drawn from a hundredth of a texel (smaller ones there); cases
+// where both are below it are left out.
 std::string plot_svg(const std::vector<Case>& cases) {
-    const double lo = -2.0, hi = 2.5;  // log10 texels
-    const int size = 520, pad = 60;
-    auto pos = [&](double v) {
-        const double l = std::clamp(std::log10(std::max(v, 1e-2)), lo, hi);
-        return pad + (l - lo) / (hi - lo) * (size - 2 * pad);
-    };
-    std::ostringstream s;
-    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << size << "\" height=\"" << size
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    s << "<text x=\"" << size / 2 << "\" y=\"20\" text-anchor=\"middle\" font-weight=\"bold\">Search model: measured "
-         "against predicted hit error p95 (texels)</text>\n";
-    for (int e = -2; e <= 2; ++e) {
-        const double v = std::pow(10.0, e);
-        const double p = pos(v);
-        s << "<line x1=\"" << p << "\" y1=\"" << pad << "\" x2=\"" << p << "\" y2=\"" << size - pad
-          << "\" stroke=\"#eeeeee\"/><line x1=\"" << pad << "\" y1=\"" << size - p << "\" x2=\"" << size - pad
-          << "\" y2=\"" << size - p << "\" stroke=\"#eeeeee\"/>\n";
-        s << "<text x=\"" << p << "\" y=\"" << size - pad + 16 << "\" text-anchor=\"middle\">" << num(v, "%g")
-          << "</text><text x=\"" << pad - 6 << "\" y=\"" << size - p + 4 << "\" text-anchor=\"end\">" << num(v, "%g")
-          << "</text>\n";
+    profiling::PlotSeries fitted{"fit reliefs", "#1f77b4", {}, {}, {}, false, 2.0, 0.5};
+    profiling::PlotSeries judged{"judge reliefs (not fitted on)", "#ff7f0e", {}, {}, {}, false, 2.0, 0.5};
+    for (const Case& c : cases) {
+        if (c.measured <= 1e-2 && c.predicted <= 1e-2) continue;
+        profiling::PlotSeries& series = c.fit ? fitted : judged;
+        series.x.push_back(std::max(c.predicted, 1e-2));
+        series.y.push_back(std::max(c.measured, 1e-2));
     }
-    // measured = k x predicted, over the plotted square.
-    for (const auto& [k, dash] : {std::pair{1.0, ""}, std::pair{2.0, "4,4"}, std::pair{0.5, "4,4"}}) {
-        const double x0 = 1e-2 * std::max(1.0, 1.0 / k), x1 = std::pow(10.0, hi) * std::min(1.0, 1.0 / k);
-        s << "<line x1=\"" << pos(x0) << "\" y1=\"" << size - pos(k * x0) << "\" x2=\"" << pos(x1) << "\" y2=\""
-          << size - pos(k * x1) << "\" stroke=\"#888888\" stroke-dasharray=\"" << dash << "\"/>\n";
-    }
-    // One group per set, points without tooltips (the CSV has every case):
-    // 2,700 points stay about 100 KB.
-    for (const bool fit : {true, false}) {
-        s << "<g fill=\"" << (fit ? "#1f77b4" : "#ff7f0e") << "\" fill-opacity=\"0.5\">\n";
-        for (const Case& c : cases) {
-            if (c.fit != fit || (c.measured <= 1e-2 && c.predicted <= 1e-2)) continue;
-            s << "<circle cx=\"" << num(pos(c.predicted), "%.1f") << "\" cy=\"" << num(size - pos(c.measured), "%.1f")
-              << "\" r=\"2\"/>\n";
-        }
-        s << "</g>\n";
-    }
-    s << "<text x=\"" << size / 2 << "\" y=\"" << size - 18 << "\" text-anchor=\"middle\">predicted: max(p95 x scale, p97) + floor, simulated</text>\n";
-    s << "<text x=\"16\" y=\"" << size / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << size / 2
-      << ")\">measured on the GPU</text>\n";
-    s << "<text x=\"" << pad + 8 << "\" y=\"" << pad + 14 << "\" fill=\"#1f77b4\">fit reliefs</text><text x=\"" << pad + 8
-      << "\" y=\"" << pad + 30 << "\" fill=\"#ff7f0e\">judge reliefs (not fitted on)</text>\n";
-    s << "<text x=\"" << size - pad << "\" y=\"" << size - pad - 8
-      << "\" text-anchor=\"end\" fill=\"#888888\">solid: equal; dashed: a factor of 2</text>\n</svg>\n";
-    return s.str();
+    profiling::PlotOptions o;
+    o.title = "Search model: measured against predicted hit error p95 (texels)";
+    o.subtitle = "one point per relief, view angle, technique and sample count";
+    o.x_label = "predicted: max(p95 x scale, p97) + floor, simulated";
+    o.y_label = "measured on the GPU";
+    o.log_x = o.log_y = true;
+    o.equality = true;
+    o.band = 2.0;
+    o.height = 620;
+    return profiling::svg_plot({fitted, judged}, o);
 }
 
 // The rays of the bench's image at `angle_deg` (profiling/measurement/bench.cpp's
@@ -182,8 +158,10 @@ std::vector<SearchRay> bench_rays(double angle_deg, int width, int height, int l
 
 }  // namespace
 
-int run_search_model_bench(const std::string& folder, int width, int height, const std::string& out,
-                           const std::string& command) {
+namespace {
+
+// FOLDER's fit_*.json and judge_*.json scenes, the fit set first, each set in name order.
+Result<std::vector<std::pair<bool, std::string>>> search_model_scenes(const std::string& folder) {
     std::vector<std::pair<bool, std::string>> scenes;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
@@ -192,21 +170,15 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
         if (name.rfind("fit_", 0) == 0) scenes.emplace_back(true, entry.path().string());
         else if (name.rfind("judge_", 0) == 0) scenes.emplace_back(false, entry.path().string());
     }
-    if (ec) return fail("--search-model '" + folder + "': " + ec.message());
-    if (scenes.empty()) return fail("--search-model '" + folder + "': no fit_*.json or judge_*.json scenes in it");
+    if (ec) return make_error("--search-model '" + folder + "': " + ec.message());
+    if (scenes.empty()) return make_error("--search-model '" + folder + "': no fit_*.json or judge_*.json scenes in it");
     std::sort(scenes.begin(), scenes.end(), [](const auto& a, const auto& b) {
         return a.first != b.first ? a.first > b.first : a.second < b.second;
     });
-    std::filesystem::create_directories(out, ec);
-    if (ec) return fail("cannot create '" + out + "': " + ec.message());
+    return scenes;
+}
 
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(width, height);
-    if (!target) return fail(target.error().message);
-
+profiling::BenchOptions search_model_bench_options(int width, int height, const std::string& command) {
     profiling::BenchOptions o;
     o.angles = {0, 30, 60, 75, 85, 89};
     o.samples = {4, 8, 16, 32, 64, 128, 256};
@@ -215,80 +187,89 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
     o.width = width;
     o.height = height;
     o.command = command;
+    return o;
+}
 
-    std::vector<Case> cases;
-    std::string date, renderer;
-    for (size_t si = 0; si < scenes.size(); ++si) {
-        const auto& [fit, path] = scenes[si];
-        Result<SceneDesc> scene = load_scene(path);
-        if (!scene) return fail(scene.error().message);
-        if (scene->materials.empty()) return fail(path + ": no material");
-        const MaterialDesc& material = scene->materials[0];
-        const std::string relief = material.name;
-        Result<MaterialImages> images = build_material_images(material, scene->base_dir);
-        if (!images) return fail(path + ": " + images.error().message);
-        // Simulated over the bench image's own rays, angle by angle, at
-        // the quantiles compared (the library predicts from the p95 and
-        // the p97, predicted_with_margin).
-        SearchModel model;
-        model.angles = o.angles;
-        model.curves = search_candidates(o.samples);
-        std::vector<std::vector<std::vector<double>>> by_angle;  // angle, quantile, curve
-        for (double angle : o.angles)
-            by_angle.push_back(simulate_rays(images->traced, material.height_scale, material.polygon_height(),
-                                             bench_rays(angle, width, height, 2048, images->traced.width), o.samples,
-                                             TechniqueOptions{}.refine_steps, kQuantiles));
-        o.materials = {{relief, material, scene->base_dir, ShadowMode::none}};
-        o.scenes.clear();
-        const std::string label = "search model " + std::to_string(si + 1) + "/" + std::to_string(scenes.size()) + " " + relief;
-        Result<profiling::BenchRun> run = profiling::run_bench(
-            o, target->target(), [&target]() { return target->read_pixels(); },
-            [&label](int done, int total, const std::string& what) { show_progress(label.c_str(), done, total, what); });
-        if (!run) return fail(path + ": " + run.error().message);
-        date = run->date;
-        renderer = run->gl_renderer;
-        for (const profiling::BenchRow& row : run->rows) {
-            Result<Technique> t = parse_technique(row.technique);
-            if (!t) continue;
-            const int samples = (technique_info(*t).options & kOptSamples) ? row.samples : 0;
-            size_t curve = model.curves.size();
-            for (size_t k = 0; k < model.curves.size(); ++k)
-                if (model.curves[k].technique == *t && model.curves[k].samples == samples) curve = k;
-            if (curve == model.curves.size()) continue;
-            const auto at = std::find(model.angles.begin(), model.angles.end(), row.angle_deg);
-            if (at == model.angles.end()) continue;
-            const auto& sims = by_angle[static_cast<size_t>(at - model.angles.begin())];
-            Case c;
-            c.fit = fit;
-            c.relief = relief;
-            c.angle = row.angle_deg;
-            c.technique = *t;
-            c.samples = samples;
-            c.measured = row.level_error_p95;
-            c.measured_base = row.uv_error_p95;
-            for (size_t q = 0; q < kQuantiles.size(); ++q) c.simulated_at[q] = sims[q][curve];
-            c.simulated = c.simulated_at[0];
-            c.predicted = predicted_with_margin(*t, c.simulated_at[0], c.simulated_at[3]);  // p95, p97
-            cases.push_back(c);
-        }
+// The GPU's rows of one relief beside the simulation of the same cases.
+void add_cases(const profiling::BenchRun& run, const SearchModel& model,
+               const std::vector<std::vector<std::vector<double>>>& by_angle, bool fit, const std::string& relief,
+               std::vector<Case>& cases) {
+    for (const profiling::BenchRow& row : run.rows) {
+        Result<Technique> t = parse_technique(row.technique);
+        if (!t) continue;
+        const int samples = (technique_info(*t).options & kOptSamples) ? row.samples : 0;
+        size_t curve = model.curves.size();
+        for (size_t k = 0; k < model.curves.size(); ++k)
+            if (model.curves[k].technique == *t && model.curves[k].samples == samples) curve = k;
+        if (curve == model.curves.size()) continue;
+        const auto at = std::find(model.angles.begin(), model.angles.end(), row.angle_deg);
+        if (at == model.angles.end()) continue;
+        const auto& sims = by_angle[static_cast<size_t>(at - model.angles.begin())];
+        Case c;
+        c.fit = fit;
+        c.relief = relief;
+        c.angle = row.angle_deg;
+        c.technique = *t;
+        c.samples = samples;
+        c.measured = row.level_error_p95;
+        c.measured_base = row.uv_error_p95;
+        for (size_t q = 0; q < kQuantiles.size(); ++q) c.simulated_at[q] = sims[q][curve];
+        c.simulated = c.simulated_at[0];
+        c.predicted = predicted_with_margin(*t, c.simulated_at[0], c.simulated_at[3]);  // p95, p97
+        cases.push_back(c);
     }
+}
 
-    // The CSV: every case.
+struct ReliefRun {
+    std::string date, renderer;
+};
+
+// One scene's relief: simulated over the bench image's own rays, angle by
+// angle, at the quantiles compared (the library predicts from the p95 and
+// the p97, predicted_with_margin), and benched on the GPU.
+Result<ReliefRun> measure_relief(bool fit, const std::string& path, const std::string& label, profiling::BenchOptions o,
+                                 OffscreenTarget& target, std::vector<Case>& cases) {
+    Result<SceneDesc> scene = load_scene(path);
+    if (!scene) return scene.error();
+    if (scene->materials.empty()) return make_error(path + ": no material");
+    const MaterialDesc& material = scene->materials[0];
+    Result<MaterialImages> images = build_material_images(material, scene->base_dir);
+    if (!images) return make_error(path + ": " + images.error().message);
+    SearchModel model;
+    model.angles = o.angles;
+    model.curves = search_candidates(o.samples);
+    std::vector<std::vector<std::vector<double>>> by_angle;  // angle, quantile, curve
+    for (double angle : o.angles)
+        by_angle.push_back(simulate_rays(images->traced, material.height_scale, material.polygon_height(),
+                                         bench_rays(angle, o.width, o.height, 2048, images->traced.width), o.samples,
+                                         TechniqueOptions{}.refine_steps, kQuantiles));
+    o.materials = {{material.name, material, scene->base_dir, ShadowMode::none}};
+    o.scenes.clear();
+    Result<profiling::BenchRun> run = profiling::run_bench(
+        o, target.target(), [&target]() { return target.read_pixels(); },
+        [&label](int done, int total, const std::string& what) { show_progress(label.c_str(), done, total, what); });
+    if (!run) return make_error(path + ": " + run.error().message);
+    add_cases(*run, model, by_angle, fit, material.name, cases);
+    return ReliefRun{run->date, run->gl_renderer};
+}
+
+std::string cases_csv(const std::vector<Case>& cases) {
     std::string csv = "set,relief,angle_deg,technique,samples,measured_base_p95,measured_p95,simulated_p95,simulated_p98,simulated_p99,simulated_p97,predicted\n";
     for (const Case& c : cases)
         csv += std::string(c.fit ? "fit" : "judge") + "," + c.relief + "," + num(c.angle, "%g") + "," +
                technique_name(c.technique) + "," + std::to_string(c.samples) + "," + num(c.measured_base, "%.5g") + "," +
                num(c.measured, "%.5g") + "," + num(c.simulated_at[0], "%.5g") + "," + num(c.simulated_at[1], "%.5g") + "," +
                num(c.simulated_at[2], "%.5g") + "," + num(c.simulated_at[3], "%.5g") + "," + num(c.predicted, "%.5g") + "\n";
+    return csv;
+}
 
-    // The fit, per technique, in texels of the level sampled: the floor is
-    // what the GPU measures where the simulation says nothing is left (the
-    // 90th percentile of measured error where simulated < 0.05), and the
-    // scale the 95th percentile of (measured - floor) / simulated where the
-    // simulation says a quarter of a texel or more is left (at least 1).
+// The fit, per technique, in texels of the level sampled: the floor is
+// what the GPU measures where the simulation says nothing is left (the
+// 90th percentile of measured error where simulated < 0.05), and the
+// scale the 95th percentile of (measured - floor) / simulated where the
+// simulation says a quarter of a texel or more is left (at least 1).
+std::string margin_markdown(const std::vector<Case>& cases) {
     std::ostringstream md;
-    md << "# The search model against the GPU\n\nMeasured by `" << command << "` on " << date << " ("
-       << width << "x" << height << ", " << renderer << ").\n\n";
     md << "## Margin suggested by the fit reliefs\n\n| technique | cases | floor (texels) | scale | library's floor | library's scale |\n|---|---|---|---|---|---|\n";
     std::map<Technique, std::vector<const Case*>> by_technique;
     for (const Case& c : cases)
@@ -305,7 +286,16 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
         md << "| " << technique_name(t) << " | " << list.size() << " | " << num(floor, "%.3g") << " | "
            << num(scale, "%.3g") << " | " << num(m.floor, "%.3g") << " | " << num(m.scale, "%.3g") << " |\n";
     }
-    // The judgement: measured over predicted with the library's margin.
+    return md.str();
+}
+
+struct Judgement {
+    int total = 0, within = 0, under = 0;  // judge reliefs' cases
+};
+
+// The judgement: measured over predicted with the library's margin, per relief.
+std::string judgement_markdown(const std::vector<Case>& cases, Judgement& judge) {
+    std::ostringstream md;
     md << "\n## Measured over predicted, with the library's margin\n\n"
        << "A case is one relief, view angle, technique and sample count. \"Within 2x\": measured / predicted in "
           "[0.5, 2], or both under "
@@ -314,7 +304,6 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
     md << "| set | relief | cases | within 2x | under | worst measured / predicted |\n|---|---|---|---|---|---|\n";
     std::map<std::pair<bool, std::string>, std::vector<const Case*>> by_relief;
     for (const Case& c : cases) by_relief[{!c.fit, c.relief}].push_back(&c);
-    int judge_total = 0, judge_within = 0, judge_under = 0;
     for (const auto& [key, list] : by_relief) {
         int within = 0, under = 0;
         double worst = 0.0;
@@ -322,35 +311,67 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
         for (const Case* c : list) {
             within += within_two(*c) ? 1 : 0;
             under += under_predicted(*c) ? 1 : 0;
-            if (c->measured > kResolved) {
-                const double r = c->measured / std::max(c->predicted, 1e-9);
-                if (r > worst) {
-                    worst = r;
-                    worst_case = std::string(technique_name(c->technique)) + (c->samples ? " x" + std::to_string(c->samples) : "") +
-                                 " at " + num(c->angle, "%g");
-                }
+            const double r = c->measured / std::max(c->predicted, 1e-9);
+            if (c->measured > kResolved && r > worst) {
+                worst = r;
+                worst_case = std::string(technique_name(c->technique)) + (c->samples ? " x" + std::to_string(c->samples) : "") +
+                             " at " + num(c->angle, "%g");
             }
         }
         if (key.first) {
-            judge_total += static_cast<int>(list.size());
-            judge_within += within;
-            judge_under += under;
+            judge.total += static_cast<int>(list.size());
+            judge.within += within;
+            judge.under += under;
         }
         md << "| " << (key.first ? "judge" : "fit") << " | " << key.second << " | " << list.size() << " | " << within
            << " | " << under << " | " << (worst_case.empty() ? "-" : num(worst, "%.2f") + " (" + worst_case + ")") << " |\n";
     }
-    md << "\nJudge reliefs: " << judge_within << " of " << judge_total << " cases within a factor of 2 ("
-       << num(judge_total ? 100.0 * judge_within / judge_total : 0.0, "%.1f") << " %), " << judge_under
+    md << "\nJudge reliefs: " << judge.within << " of " << judge.total << " cases within a factor of 2 ("
+       << num(judge.total ? 100.0 * judge.within / judge.total : 0.0, "%.1f") << " %), " << judge.under
        << " under-predicted beyond the margin.\n\n![measured against predicted](search_model.svg)\n";
+    return md.str();
+}
 
-    for (const auto& [name, text] : {std::pair{std::string("search_model.csv"), csv}, std::pair{std::string("search_model.md"), md.str()},
+}  // namespace
+
+int run_search_model_bench(const std::string& folder, int width, int height, const std::string& out,
+                           const std::string& command) {
+    Result<std::vector<std::pair<bool, std::string>>> scenes = search_model_scenes(folder);
+    if (!scenes) return fail(scenes.error().message);
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) return fail("cannot create '" + out + "': " + ec.message());
+    platform::ContextOptions context_options;
+    context_options.es_major = 3;
+    auto context = platform::HeadlessContext::create(context_options);
+    if (!context) return fail(context.error().message);
+    auto target = OffscreenTarget::create(width, height);
+    if (!target) return fail(target.error().message);
+    const profiling::BenchOptions options = search_model_bench_options(width, height, command);
+    std::vector<Case> cases;
+    ReliefRun last;
+    for (size_t si = 0; si < scenes->size(); ++si) {
+        const auto& [fit, path] = (*scenes)[si];
+        const std::string label = "search model " + std::to_string(si + 1) + "/" + std::to_string(scenes->size()) + " " +
+                                  std::filesystem::path(path).stem().string();
+        Result<ReliefRun> run = measure_relief(fit, path, label, options, *target, cases);
+        if (!run) return fail(run.error().message);
+        last = *run;
+    }
+    Judgement judge;
+    std::ostringstream md;
+    md << "# The search model against the GPU\n\nMeasured by `" << command << "` on " << last.date << " ("
+       << width << "x" << height << ", " << last.renderer << ").\n\n"
+       << margin_markdown(cases) << judgement_markdown(cases, judge);
+    for (const auto& [name, text] : {std::pair{std::string("search_model.csv"), cases_csv(cases)},
+                                     std::pair{std::string("search_model.md"), md.str()},
                                      std::pair{std::string("search_model.svg"), plot_svg(cases)}}) {
         Status s = write_file_atomically(out + "/" + name, text);
         if (!s) return fail(s.error().message);
     }
     std::printf("search model: %zu cases over %zu reliefs; judge reliefs %d of %d within 2x, %d under-predicted; wrote "
                 "%s/search_model.md, .csv, .svg\n",
-                cases.size(), scenes.size(), judge_within, judge_total, judge_under, out.c_str());
+                cases.size(), scenes->size(), judge.within, judge.total, judge.under, out.c_str());
     return 0;
 }
 

@@ -140,7 +140,8 @@ std::string svg_plot(const std::vector<PlotSeries>& series, const PlotOptions& o
             if (!x.usable(s.x[i]) || !y.usable(s.y[i])) continue;
             const double px = x.px(s.x[i]), py = y.px(s.y[i]);
             path += (path.empty() ? "M" : " L") + num(px) + " " + num(py);
-            out += "<circle cx=\"" + num(px) + "\" cy=\"" + num(py) + "\" r=\"4\" fill=\"" + s.colour + "\"/>\n";
+            out += "<circle cx=\"" + num(px) + "\" cy=\"" + num(py) + "\" r=\"" + num(s.radius) + "\" fill=\"" + s.colour +
+                   (s.opacity < 1.0 ? "\" fill-opacity=\"" + num(s.opacity) : std::string()) + "\"/>\n";
             if (i < s.labels.size() && !s.labels[i].empty())
                 out += text(px + 6, py - 6, s.labels[i], "start", 10, "#444444");
         }

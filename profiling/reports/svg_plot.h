@@ -16,6 +16,8 @@ struct PlotSeries {
     std::vector<double> x, y;         // one point each; non-finite (or <= 0 on a log axis) points are left out
     std::vector<std::string> labels;  // optional, one per point, written beside it
     bool lines = false;               // join the points in order
+    double radius = 4.0;              // of each point's circle
+    double opacity = 1.0;             // of each point (many overlapping points: below 1)
 };
 
 struct PlotOptions {
