@@ -778,26 +778,35 @@ private:
         return alias == alias_.end() ? pointer : alias->second;
     }
 
-    // Which reads each value, memory location and block waits on: a
-    // flow-insensitive fixpoint over data (through loads, stores and calls)
-    // and control (a block inside a branch or loop whose condition, or exit
-    // test, waits on a read waits on it too).
-    Status dependences(const Function& entry, StageCost& out) {
-        // Reads in order, and each one's function and block.
-        struct Read {
-            const Instruction* in;
-            std::size_t function, block;
-        };
-        std::vector<Read> reads;
+    // What the dependence fixpoint tracks: which reads each value, memory
+    // location (by its root variable), function result and block waits on.
+    struct Read {
+        const Instruction* in;
+        std::size_t function, block;
+    };
+    struct Flow {
+        std::vector<Read> reads;  // in order, each with its function and block
         std::unordered_map<const Instruction*, int> read_index;
+        std::unordered_map<Id, ReadSet> value, memory, returns;
+        std::vector<std::vector<ReadSet>> control;  // per function, per block
+        std::vector<ReadSet> function_control;      // what decides that a function runs at all
+    };
+
+    void collect_reads(Flow& flow) const {
         for (std::size_t fi = 0; fi < m_.functions_.size(); ++fi)
             for (std::size_t bi = 0; bi < m_.functions_[fi].blocks.size(); ++bi)
                 for (const Instruction& in : m_.functions_[fi].blocks[bi].body)
                     if (is_sample(in.op)) {
-                        read_index[&in] = static_cast<int>(reads.size());
-                        reads.push_back({&in, fi, bi});
+                        flow.read_index[&in] = static_cast<int>(flow.reads.size());
+                        flow.reads.push_back({&in, fi, bi});
                     }
-        // Parameters alias what each call passes (context-insensitive).
+        flow.control.resize(m_.functions_.size());
+        flow.function_control.resize(m_.functions_.size());
+        for (std::size_t fi = 0; fi < m_.functions_.size(); ++fi) flow.control[fi].resize(m_.functions_[fi].blocks.size());
+    }
+
+    // Parameters alias what each call passes (context-insensitive).
+    void alias_parameters() {
         for (const Function& f : m_.functions_)
             for (const Block& b : f.blocks)
                 for (const Instruction& in : b.body)
@@ -805,138 +814,161 @@ private:
                         if (const Function* callee = function(in.words[0]))
                             for (std::size_t a = 0; a + 1 < in.words.size() && a < callee->parameters.size(); ++a)
                                 param_args_[callee->parameters[a]].push_back(in.words[a + 1]);
+    }
 
-        std::unordered_map<Id, ReadSet> value, memory, returns;
-        std::vector<std::vector<ReadSet>> control(m_.functions_.size());
-        std::vector<ReadSet> function_control(m_.functions_.size());
-        for (std::size_t fi = 0; fi < m_.functions_.size(); ++fi) control[fi].resize(m_.functions_[fi].blocks.size());
-        auto memory_of = [&](Id pointer) -> ReadSet& { return memory[root_of(pointer)]; };
-
-        bool changed = true;
-        for (int round = 0; changed && round < 256; ++round) {
-            changed = false;
-            for (std::size_t fi = 0; fi < m_.functions_.size(); ++fi) {
-                const Function& f = m_.functions_[fi];
-                // Control: every construct around a block.
-                for (std::size_t bi = 0; bi < f.blocks.size(); ++bi) {
-                    ReadSet c = function_control[fi];
-                    for (const Construct& k : constructs_[fi]) {
-                        if (bi < k.header || bi >= k.merge) continue;
-                        if (!k.loop) {
-                            if (bi > k.header && f.blocks[k.header].condition) c.add(value[f.blocks[k.header].condition]);
-                        } else {
-                            // Whether an iteration runs: every way out of the loop
-                            // (its exit test, a break under a branch) and what
-                            // decides that way is taken.
-                            const Id merge = f.blocks[k.merge].label;
-                            for (std::size_t j = k.header; j < k.merge; ++j) {
-                                const Block& e = f.blocks[j];
-                                if (std::find(e.successors.begin(), e.successors.end(), merge) == e.successors.end()) continue;
-                                if (e.condition) c.add(value[e.condition]);
-                                if (j != bi) c.add(control[fi][j]);
-                            }
-                        }
-                    }
-                    changed |= control[fi][bi].add(c);
+    // Control: a block inside a branch waits on the branch's condition; a
+    // block inside a loop on whether an iteration runs, which is every way
+    // out of the loop (its exit test, a break under a branch) and what
+    // decides that way is taken.
+    bool propagate_control(std::size_t fi, Flow& flow) {
+        const Function& f = m_.functions_[fi];
+        bool changed = false;
+        for (std::size_t bi = 0; bi < f.blocks.size(); ++bi) {
+            ReadSet c = flow.function_control[fi];
+            for (const Construct& k : constructs_[fi]) {
+                if (bi < k.header || bi >= k.merge) continue;
+                if (!k.loop) {
+                    if (bi > k.header && f.blocks[k.header].condition) c.add(flow.value[f.blocks[k.header].condition]);
+                    continue;
                 }
-                // Parameters: what the caller's locations hold.
-                for (Id p : f.parameters)
-                    for (Id arg : param_args_[p]) {
-                        changed |= memory[p].add(memory_of(arg));
-                        changed |= memory_of(arg).add(memory[p]);  // out and inout
-                    }
-                for (std::size_t bi = 0; bi < f.blocks.size(); ++bi) {
-                    for (const Instruction& in : f.blocks[bi].body) {
-                        switch (in.op) {
-                            case spv::OpLoad:
-                                if (!in.words.empty()) changed |= value[in.result].add(memory_of(in.words[0]));
-                                break;
-                            case spv::OpStore:
-                                if (in.words.size() >= 2) {
-                                    ReadSet stored = value[in.words[1]];
-                                    stored.add(control[fi][bi]);
-                                    changed |= memory_of(in.words[0]).add(stored);
-                                }
-                                break;
-                            case spv::OpAccessChain:
-                            case spv::OpInBoundsAccessChain: break;  // roots are followed by root_of
-                            case spv::OpReturnValue:
-                                if (!in.words.empty()) {
-                                    ReadSet r = value[in.words[0]];
-                                    r.add(control[fi][bi]);
-                                    changed |= returns[f.id].add(r);
-                                }
-                                break;
-                            case spv::OpFunctionCall:
-                                if (!in.words.empty()) {
-                                    changed |= value[in.result].add(returns[in.words[0]]);
-                                    if (const Function* callee = function(in.words[0]))
-                                        changed |= function_control[index_of(*callee)].add(control[fi][bi]);
-                                }
-                                break;
-                            default:
-                                if (is_sample(in.op)) {
-                                    ReadSet self;
-                                    self.set(read_index[&in]);
-                                    changed |= value[in.result].add(self);
-                                } else if (in.result) {
-                                    ReadSet r;
-                                    for (Id operand : in.words)
-                                        if (operand < m_.bound_) {
-                                            const auto found = value.find(operand);
-                                            if (found != value.end()) r.add(found->second);
-                                        }
-                                    changed |= value[in.result].add(r);
-                                }
-                                break;
-                        }
-                    }
+                const Id merge = f.blocks[k.merge].label;
+                for (std::size_t j = k.header; j < k.merge; ++j) {
+                    const Block& e = f.blocks[j];
+                    if (std::find(e.successors.begin(), e.successors.end(), merge) == e.successors.end()) continue;
+                    if (e.condition) c.add(flow.value[e.condition]);
+                    if (j != bi) c.add(flow.control[fi][j]);
                 }
             }
+            changed |= flow.control[fi][bi].add(c);
         }
+        return changed;
+    }
 
-        // Each read's waits: its coordinates (and lod or gradients), and its block's control.
-        const std::size_t count = reads.size();
-        std::vector<std::vector<int>> waits(count);
-        for (std::size_t r = 0; r < count; ++r) {
-            ReadSet w = control[reads[r].function][reads[r].block];
-            const Instruction& in = *reads[r].in;
+    // One instruction's data flow: through loads, stores, returns and calls;
+    // a read waits on itself; any other result on its operands.
+    bool propagate_instruction(const Instruction& in, std::size_t fi, std::size_t bi, Flow& flow) {
+        auto memory_of = [&](Id pointer) -> ReadSet& { return flow.memory[root_of(pointer)]; };
+        switch (in.op) {
+            case spv::OpLoad: return !in.words.empty() && flow.value[in.result].add(memory_of(in.words[0]));
+            case spv::OpStore: {
+                if (in.words.size() < 2) return false;
+                ReadSet stored = flow.value[in.words[1]];
+                stored.add(flow.control[fi][bi]);
+                return memory_of(in.words[0]).add(stored);
+            }
+            case spv::OpAccessChain:
+            case spv::OpInBoundsAccessChain: return false;  // roots are followed by root_of
+            case spv::OpReturnValue: {
+                if (in.words.empty()) return false;
+                ReadSet r = flow.value[in.words[0]];
+                r.add(flow.control[fi][bi]);
+                return flow.returns[m_.functions_[fi].id].add(r);
+            }
+            case spv::OpFunctionCall: {
+                if (in.words.empty()) return false;
+                bool changed = flow.value[in.result].add(flow.returns[in.words[0]]);
+                if (const Function* callee = function(in.words[0]))
+                    changed |= flow.function_control[index_of(*callee)].add(flow.control[fi][bi]);
+                return changed;
+            }
+            default: break;
+        }
+        if (is_sample(in.op)) {
+            ReadSet self;
+            self.set(flow.read_index[&in]);
+            return flow.value[in.result].add(self);
+        }
+        if (!in.result) return false;
+        ReadSet r;
+        for (Id operand : in.words)
+            if (operand < m_.bound_) {
+                const auto found = flow.value.find(operand);
+                if (found != flow.value.end()) r.add(found->second);
+            }
+        return flow.value[in.result].add(r);
+    }
+
+    bool propagate_data(std::size_t fi, Flow& flow) {
+        const Function& f = m_.functions_[fi];
+        bool changed = false;
+        // Parameters: what the caller's locations hold (both ways: out and inout).
+        for (Id p : f.parameters)
+            for (Id arg : param_args_[p]) {
+                changed |= flow.memory[p].add(flow.memory[root_of(arg)]);
+                changed |= flow.memory[root_of(arg)].add(flow.memory[p]);
+            }
+        for (std::size_t bi = 0; bi < f.blocks.size(); ++bi)
+            for (const Instruction& in : f.blocks[bi].body) changed |= propagate_instruction(in, fi, bi, flow);
+        return changed;
+    }
+
+    // Each read's waits: its coordinates (and lod or gradients), and its block's control.
+    std::vector<std::vector<int>> read_waits(Flow& flow) const {
+        std::vector<std::vector<int>> waits(flow.reads.size());
+        for (std::size_t r = 0; r < flow.reads.size(); ++r) {
+            ReadSet w = flow.control[flow.reads[r].function][flow.reads[r].block];
+            const Instruction& in = *flow.reads[r].in;
             for (std::size_t o = 1; o < in.words.size(); ++o)
                 if (in.words[o] < m_.bound_) {
-                    const auto found = value.find(in.words[o]);
-                    if (found != value.end()) w.add(found->second);
+                    const auto found = flow.value.find(in.words[o]);
+                    if (found != flow.value.end()) w.add(found->second);
                 }
             waits[r] = w.members();
         }
-        // How often each read runs on the longest path: its loops' trips
-        // times its function's callers'.
-        std::vector<double> function_repeats(m_.functions_.size(), 0.0);
-        function_repeats[index_of(entry)] = 1.0;
+        return waits;
+    }
+
+    // How often each function runs on the longest path: its callers' repeats
+    // times the trips of the loops around each call.
+    std::vector<double> function_repeats(const Function& entry) {
+        std::vector<double> repeats(m_.functions_.size(), 0.0);
+        repeats[index_of(entry)] = 1.0;
         for (int pass = 0; pass < 64; ++pass) {
             bool moved = false;
             for (std::size_t fi = 0; fi < m_.functions_.size(); ++fi) {
                 const Function& f = m_.functions_[fi];
                 for (std::size_t bi = 0; bi < f.blocks.size(); ++bi)
-                    for (const Instruction& in : f.blocks[bi].body)
-                        if (in.op == spv::OpFunctionCall && !in.words.empty())
-                            if (const Function* callee = function(in.words[0])) {
-                                const double k = function_repeats[fi] * multiplier(f, bi);
-                                double& target = function_repeats[index_of(*callee)];
-                                if (k > target) {
-                                    target = k;
-                                    moved = true;
-                                }
-                            }
+                    for (const Instruction& in : f.blocks[bi].body) {
+                        if (in.op != spv::OpFunctionCall || in.words.empty()) continue;
+                        const Function* callee = function(in.words[0]);
+                        if (!callee) continue;
+                        const double k = repeats[fi] * multiplier(f, bi);
+                        double& target = repeats[index_of(*callee)];
+                        if (k > target) {
+                            target = k;
+                            moved = true;
+                        }
+                    }
             }
             if (!moved) break;
         }
-        for (std::size_t r = 0; r < count; ++r) {
+        return repeats;
+    }
+
+    // Which reads each value, memory location and block waits on: a
+    // flow-insensitive fixpoint over data (through loads, stores and calls)
+    // and control (a block inside a branch or loop whose condition, or exit
+    // test, waits on a read waits on it too).
+    Status dependences(const Function& entry, StageCost& out) {
+        Flow flow;
+        collect_reads(flow);
+        alias_parameters();
+        bool changed = true;
+        for (int round = 0; changed && round < 256; ++round) {
+            changed = false;
+            for (std::size_t fi = 0; fi < m_.functions_.size(); ++fi) {
+                changed |= propagate_control(fi, flow);
+                changed |= propagate_data(fi, flow);
+            }
+        }
+        const std::vector<std::vector<int>> waits = read_waits(flow);
+        const std::vector<double> repeats = function_repeats(entry);
+        for (std::size_t r = 0; r < flow.reads.size(); ++r) {
             SampleCost s;
-            s.where = reads[r].in->where;
+            s.where = flow.reads[r].in->where;
             s.waits_on = waits[r];
             s.dependent = !waits[r].empty();
-            s.repeats = function_repeats[reads[r].function] *
-                        multiplier(m_.functions_[reads[r].function], reads[r].block);
+            s.repeats = repeats[flow.reads[r].function] * multiplier(m_.functions_[flow.reads[r].function], flow.reads[r].block);
             if (s.dependent) ++out.dependent_samples;
             out.samples.push_back(s);
         }
