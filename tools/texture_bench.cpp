@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <optional>
 #include <chrono>
+#include <functional>
+#include <memory>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "cli_common.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/platform/headless_context.h"
+#include "parallaxes/profiling/measurement/interleaved.h"
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/offscreen_target.h"
@@ -39,103 +42,75 @@ struct VariantRow {
     std::vector<double> error_mean, error_p95;  // per height-reading object, texels of its height map
 };
 
-}  // namespace
+// The renderer as `parallax render` makes it: the effect planner, the
+// texture-file readers, this context's GL.
+RendererOptions renderer_options() {
+    RendererOptions ro;
+    ro.effect_planner = effect_planner;
+    ro.texture_files = texture_files();
+    ro.get_proc_address = platform::HeadlessContext::proc_loader();
+    return ro;
+}
 
-int run_texture_bench(const std::string& scene_name, int width, int height, int frames, const std::string& out,
-                      const std::string& command) {
-    Result<SceneDesc> loaded = load_scene(scene_name.empty() ? "default" : scene_name);
-    if (!loaded) return fail(loaded.error().message);
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(width, height);
-    if (!target) return fail(target.error().message);
-    Result<TempFolder> folder = make_texture_folder();
-    if (!folder) return fail(folder.error().message);
+// One asset variant: its textures converted, their bytes, and the scene
+// loaded with them (drawn once), for the timing rounds.
+Result<std::unique_ptr<Renderer>> load_variant(const SceneDesc& loaded, const std::string& variant, const TempFolder& folder,
+                                               const OffscreenTarget& target, VariantRow& row, SceneDesc& scene) {
+    scene = loaded;
+    ConvertOptions o;
+    o.formats = *asset_formats(variant);
+    Result<std::vector<ConvertedFile>> files = convert_scene_textures(scene, o, folder.path() + "/" + variant, nullptr);
+    if (!files) return make_error(variant + ": " + files.error().message);
+    row.variant = variant;
+    row.formats = std::string(format_name(o.formats.height)) + " / " + format_name(o.formats.normal) + " / " +
+                  format_name(o.formats.albedo);
+    for (const ConvertedFile& f : *files) {
+        row.bytes += f.bytes;
+        row.rgba8_bytes += f.rgba8_bytes;
+        row.encode_s += f.seconds;
+    }
+    auto renderer = Renderer::create(renderer_options());
+    if (!renderer) return renderer.error();
+    if (Status s = (*renderer)->load(scene); !s) return make_error(variant + ": " + s.error().message);
+    for (const TextureUpload& u : (*renderer)->texture_uploads())
+        if (u.container != "image") row.paths.push_back(std::string(format_name(u.format)) + ": " + u.path);
+    if (Status s = (*renderer)->draw(target.target()); !s) return s.error();
+    glFinish();
+    return std::move(*renderer);
+}
 
-    const std::vector<std::string> variants = {"raw", "etc1", "etc2", "astc", "astc_8x8", "bc", "pvrtc"};
-    std::vector<VariantRow> rows;
-    std::vector<std::unique_ptr<Renderer>> timed;  // per variant, loaded
-    std::optional<reference::ReferenceImage> truth;
-    int step = 0;
-    const int steps = static_cast<int>(variants.size());
-    for (const std::string& v : variants) {
-        show_progress("bench", step++, steps, v);
-        SceneDesc scene = *loaded;
-        ConvertOptions o;
-        o.formats = *asset_formats(v);
-        Result<std::vector<ConvertedFile>> files = convert_scene_textures(scene, o, folder->path() + "/" + v, nullptr);
-        if (!files) return fail(v + ": " + files.error().message);
-        VariantRow row;
-        row.variant = v;
-        row.formats = std::string(format_name(o.formats.height)) + " / " + format_name(o.formats.normal) + " / " +
-                      format_name(o.formats.albedo);
-        for (const ConvertedFile& f : *files) {
-            row.bytes += f.bytes;
-            row.rgba8_bytes += f.rgba8_bytes;
-            row.encode_s += f.seconds;
-        }
-        // Frame time with the scene's own techniques: loaded now, timed
-        // below in interleaved rounds.
-        RendererOptions ro;
-        ro.effect_planner = effect_planner;
-        ro.texture_files = texture_files();
-        ro.get_proc_address = platform::HeadlessContext::proc_loader();
-        auto renderer = Renderer::create(ro);
-        if (!renderer) return fail(renderer.error().message);
-        Status s = (*renderer)->load(scene);
-        if (!s) return fail(v + ": " + s.error().message);
-        for (const TextureUpload& u : (*renderer)->texture_uploads())
-            if (u.container != "image") row.paths.push_back(std::string(format_name(u.format)) + ": " + u.path);
-        if (!(s = (*renderer)->draw(target->target()))) return fail(s.error().message);
-        glFinish();
-        timed.push_back(std::move(*renderer));
-        // Hit error from the height format: maxmip on the variant's texels
-        // against the reference of the uncompressed (8-bit) assets.
-        SceneDesc exact = scene;
-        for (MaterialDesc& m : exact.materials) {
-            m.effects.reset();
-            m.technique = TechniqueOptions{};
-            m.technique.technique = Technique::maxmip;
-        }
-        if (!truth) {
-            Result<reference::ReferenceImage> r = reference::render_reference(exact, width, height);
-            if (!r) return fail(r.error().message);
-            truth = std::move(*r);
-        }
-        auto tracer = Renderer::create(ro);
-        if (!tracer) return fail(tracer.error().message);
-        if (!(s = (*tracer)->load(exact))) return fail(v + " (maxmip): " + s.error().message);
-        Result<SurfaceImage> surfaces = capture_surfaces(**tracer, width, height);
-        if (!surfaces) return fail(surfaces.error().message);
-        for (size_t i = 0; i < exact.objects.size(); ++i) {
-            Result<reference::ObjectError> e = reference::compare_object(*surfaces, *truth, static_cast<int>(i));
-            if (!e) return fail(e.error().message);
-            row.error_mean.push_back(e->base_error_mean);
-            row.error_p95.push_back(e->base_error_p95);
-        }
-        rows.push_back(std::move(row));
+// Hit error from the height format: maxmip on the variant's texels against
+// the reference of the uncompressed (8-bit) assets, made on first use.
+Status variant_errors(const SceneDesc& scene, int width, int height, std::optional<reference::ReferenceImage>& truth,
+                      VariantRow& row) {
+    SceneDesc exact = scene;
+    for (MaterialDesc& m : exact.materials) {
+        m.effects.reset();
+        m.technique = TechniqueOptions{};
+        m.technique.technique = Technique::maxmip;
     }
-    // Rounds: each draws every variant once, so that the machine's drift
-    // falls on all of them alike; per variant the median over rounds.
-    std::vector<std::vector<double>> times(rows.size());
-    for (int round = 0; round < frames; ++round) {
-        for (size_t i = 0; i < rows.size(); ++i) {
-            const auto start = std::chrono::steady_clock::now();
-            Status s = timed[i]->draw(target->target());
-            glFinish();
-            times[i].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-            if (!s) return fail(s.error().message);
-        }
+    if (!truth) {
+        Result<reference::ReferenceImage> r = reference::render_reference(exact, width, height);
+        if (!r) return r.error();
+        truth = std::move(*r);
     }
-    for (size_t i = 0; i < rows.size(); ++i) {
-        std::sort(times[i].begin(), times[i].end());
-        rows[i].frame_ms = times[i][times[i].size() / 2];
+    auto tracer = Renderer::create(renderer_options());
+    if (!tracer) return tracer.error();
+    if (Status s = (*tracer)->load(exact); !s) return make_error(row.variant + " (maxmip): " + s.error().message);
+    Result<SurfaceImage> surfaces = capture_surfaces(**tracer, width, height);
+    if (!surfaces) return surfaces.error();
+    for (size_t i = 0; i < exact.objects.size(); ++i) {
+        Result<reference::ObjectError> e = reference::compare_object(*surfaces, *truth, static_cast<int>(i));
+        if (!e) return e.error();
+        row.error_mean.push_back(e->base_error_mean);
+        row.error_p95.push_back(e->base_error_p95);
     }
-    show_progress("bench", steps, steps, "done");
+    return {};
+}
 
-    std::string md = "# Texture formats on the " + loaded->name + " scene\n\n";
+std::string textures_markdown(const SceneDesc& scene, const std::vector<VariantRow>& rows, int width, int height,
+                              int frames, const std::string& command) {
+    std::string md = "# Texture formats on the " + scene.name + " scene\n\n";
     md += "Measured by `" + command + "` on " + std::string(reinterpret_cast<const char*>(glGetString(GL_RENDERER))) +
           ", " + std::to_string(width) + "x" + std::to_string(height) + ", median of " + std::to_string(frames) +
           " rounds that draw every variant once each (wall clock around glFinish; compare ratios within one run).\n\n";
@@ -145,9 +120,9 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
           "the uncompressed 8-bit assets, per object, in texels of its height map: what the height format alone moves the "
           "hit.\n\n";
     md += "| variant | height / normal / albedo | bytes | of RGBA8 | encode s | frame ms | time vs raw |";
-    for (const ObjectDesc& o : loaded->objects) md += " " + o.name + " hit error mean / p95 |";
+    for (const ObjectDesc& o : scene.objects) md += " " + o.name + " hit error mean / p95 |";
     md += "\n|---|---|---|---|---|---|---|";
-    for (size_t i = 0; i < loaded->objects.size(); ++i) md += "---|";
+    for (size_t i = 0; i < scene.objects.size(); ++i) md += "---|";
     md += "\n";
     const double raw_ms = rows.front().frame_ms;
     char b[256];
@@ -172,6 +147,46 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
         for (size_t i = 0; i < unique.size(); ++i) md += (i ? "; " : "") + unique[i];
         md += "\n";
     }
+    return md;
+}
+
+}  // namespace
+
+int run_texture_bench(const std::string& scene_name, int width, int height, int frames, const std::string& out,
+                      const std::string& command) {
+    Result<SceneDesc> loaded = load_scene(scene_name.empty() ? "default" : scene_name);
+    if (!loaded) return fail(loaded.error().message);
+    platform::ContextOptions context_options;
+    context_options.es_major = 3;
+    auto context = platform::HeadlessContext::create(context_options);
+    if (!context) return fail(context.error().message);
+    auto target = OffscreenTarget::create(width, height);
+    if (!target) return fail(target.error().message);
+    Result<TempFolder> folder = make_texture_folder();
+    if (!folder) return fail(folder.error().message);
+
+    const std::vector<std::string> variants = {"raw", "etc1", "etc2", "astc", "astc_8x8", "bc", "pvrtc"};
+    std::vector<VariantRow> rows(variants.size());
+    std::vector<std::unique_ptr<Renderer>> timed;  // per variant, loaded
+    std::optional<reference::ReferenceImage> truth;
+    const int steps = static_cast<int>(variants.size());
+    for (size_t i = 0; i < variants.size(); ++i) {
+        show_progress("bench", static_cast<int>(i), steps, variants[i]);
+        SceneDesc scene;
+        Result<std::unique_ptr<Renderer>> renderer = load_variant(*loaded, variants[i], *folder, *target, rows[i], scene);
+        if (!renderer) return fail(renderer.error().message);
+        timed.push_back(std::move(*renderer));
+        if (Status s = variant_errors(scene, width, height, truth, rows[i]); !s) return fail(s.error().message);
+    }
+    // Rounds: each draws every variant once, so that the machine's drift
+    // falls on all of them alike; per variant the median over rounds.
+    std::vector<std::function<Status()>> draws;
+    for (const std::unique_ptr<Renderer>& r : timed) draws.push_back([&r, &target] { return r->draw(target->target()); });
+    Result<std::vector<std::vector<double>>> times = profiling::time_in_rounds(draws, frames, false);
+    if (!times) return fail(times.error().message);
+    for (size_t i = 0; i < rows.size(); ++i) rows[i].frame_ms = profiling::median_of((*times)[i]);
+    show_progress("bench", steps, steps, "done");
+    const std::string md = textures_markdown(*loaded, rows, width, height, frames, command);
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     if (ec) return fail("cannot create '" + out + "': " + ec.message());

@@ -13,34 +13,37 @@ double median_of(std::vector<double> values) {
     return values[values.size() / 2];
 }
 
-Result<InterleavedTimes> time_interleaved(const std::function<Status()>& first, const std::function<Status()>& second,
-                                          int rounds, bool warm) {
+Result<std::vector<std::vector<double>>> time_in_rounds(const std::vector<std::function<Status()>>& draws, int rounds,
+                                                        bool warm) {
     if (rounds < 1) return make_error("timing needs at least one round");
-    for (const auto* draw : {&first, &second}) {
+    for (const auto& draw : draws) {
         if (!warm) break;
-        Status drawn = (*draw)();
+        Status drawn = draw();
         if (!drawn) return drawn.error();
     }
     glFinish();
     using clock = std::chrono::steady_clock;
-    const auto ms = [](clock::time_point a, clock::time_point b) {
-        return std::chrono::duration<double, std::milli>(b - a).count();
-    };
-    InterleavedTimes out;
+    std::vector<std::vector<double>> times(draws.size());
     for (int i = 0; i < rounds; ++i) {
-        const auto t0 = clock::now();
-        Status a = first();
-        glFinish();
-        const auto t1 = clock::now();
-        Status b = second();
-        glFinish();
-        const auto t2 = clock::now();
-        if (!a) return a.error();
-        if (!b) return b.error();
-        out.first_ms.push_back(ms(t0, t1));
-        out.second_ms.push_back(ms(t1, t2));
-        out.ratios.push_back(ms(t1, t2) / std::max(ms(t0, t1), 1e-6));
+        for (std::size_t d = 0; d < draws.size(); ++d) {
+            const auto start = clock::now();
+            Status drawn = draws[d]();
+            glFinish();
+            times[d].push_back(std::chrono::duration<double, std::milli>(clock::now() - start).count());
+            if (!drawn) return drawn.error();
+        }
     }
+    return times;
+}
+
+Result<InterleavedTimes> time_interleaved(const std::function<Status()>& first, const std::function<Status()>& second,
+                                          int rounds, bool warm) {
+    Result<std::vector<std::vector<double>>> times = time_in_rounds({first, second}, rounds, warm);
+    if (!times) return times.error();
+    InterleavedTimes out;
+    out.first_ms = (*times)[0];
+    out.second_ms = (*times)[1];
+    for (std::size_t i = 0; i < out.first_ms.size(); ++i) out.ratios.push_back(out.second_ms[i] / std::max(out.first_ms[i], 1e-6));
     out.first_median_ms = median_of(out.first_ms);
     out.second_median_ms = median_of(out.second_ms);
     out.ratio_median = median_of(out.ratios);

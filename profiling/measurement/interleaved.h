@@ -25,6 +25,11 @@ struct InterleavedTimes {
 Result<InterleavedTimes> time_interleaved(const std::function<Status()>& first, const std::function<Status()>& second,
                                           int rounds, bool warm = true);
 
+// The same for any number of draws: each round draws every one once, in
+// order; the result holds each draw's time per round (milliseconds).
+Result<std::vector<std::vector<double>>> time_in_rounds(const std::vector<std::function<Status()>>& draws, int rounds,
+                                                        bool warm = true);
+
 // The median (the upper one of an even count); 0 for none.
 double median_of(std::vector<double> values);
 
