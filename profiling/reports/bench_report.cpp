@@ -688,21 +688,40 @@ private:
     double sx(double x, double x0) const { return x0 + x_axis_.fraction(x) * kPlotW; }
     double sy(double y) const { return top_ + (1.0 - y_axis_.fraction(y)) * kPlotH; }
 
+    // One panel: title, grid, guides, series lines, the frontier, markers,
+    // labels, frame and axes, in that order (later ones drawn on top).
     void panel(size_t index) {
         Panel& p = panels_[index];
         const double x0 = plot_x(index), x1 = x0 + kPlotW, y0 = top_, y1 = top_ + kPlotH;
-        const Rect area{x0, y0, x1, y1};
         out_ += "<g class=\"panel\">\n";
+        panel_title(p, x0, y0);
+        const std::vector<Tick> xt = log_ticks(x_axis_), yt = log_ticks(y_axis_);
+        panel_grid(xt, yt, x0, x1, y0, y1);
+        std::vector<Rect> taken = panel_guides(x1, x0);  // spots labels must avoid
+        for (PlotPoint& pt : p.points) {
+            pt.sx = sx(pt.x, x0);
+            pt.sy = sy(pt.y);
+            taken.push_back({pt.sx - 5.5, pt.sy - 5.5, pt.sx + 5.5, pt.sy + 5.5});
+        }
+        panel_series(p);
+        panel_frontier(p, x1, taken);
+        panel_markers(p);
+        panel_labels(p, Rect{x0, y0, x1, y1}, taken);
+        panel_axes(xt, yt, index, x0, y0, y1);
+        out_ += "</g>\n";
+    }
 
-        // Title: the angle class, then the angles it holds.
+    // The angle class, then the angles it holds.
+    void panel_title(const Panel& p, double x0, double y0) {
         out_ += text_svg(x0 + kPlotW / 2, y0 - 24, kAngleClasses[p.angle_class], "middle", 13, "#111111",
                          " font-weight=\"bold\" class=\"panel-title\"");
         std::string angles;
         for (const double a : p.angles) angles += (angles.empty() ? "" : ", ") + angle_text(a);
         out_ += text_svg(x0 + kPlotW / 2, y0 - 9, "view " + angles, "middle", 11, "#555555", "");
+    }
 
-        // Grid at the labelled ticks.
-        const std::vector<Tick> xt = log_ticks(x_axis_), yt = log_ticks(y_axis_);
+    // Grid at the labelled ticks.
+    void panel_grid(const std::vector<Tick>& xt, const std::vector<Tick>& yt, double x0, double x1, double y0, double y1) {
         for (const Tick& t : xt) {
             const double x = sx(t.value, x0);
             if (t.labelled) out_ += line_svg(x, y0, x, y1, "#e5e5e5", 0.8, "");
@@ -711,8 +730,10 @@ private:
             const double y = sy(t.value);
             if (t.labelled) out_ += line_svg(x0, y, x1, y, "#e5e5e5", 0.8, "");
         }
+    }
 
-        // Error guides, labelled at the right.
+    // Error guides, labelled at the right; returns where their labels are.
+    std::vector<Rect> panel_guides(double x1, double x0) {
         std::vector<Rect> taken;
         for (const double g : kGuides) {
             const double y = sy(g);
@@ -721,14 +742,11 @@ private:
             out_ += text_svg(x1 - 4, y - 3, label, "end", kSmallFont, "#777777", "");
             taken.push_back({x1 - 4 - text_width(label, kSmallFont), y - 3 - 8, x1 - 4, y - 3 + 1});
         }
+        return taken;
+    }
 
-        for (PlotPoint& pt : p.points) {
-            pt.sx = sx(pt.x, x0);
-            pt.sy = sy(pt.y);
-            taken.push_back({pt.sx - 5.5, pt.sy - 5.5, pt.sx + 5.5, pt.sy + 5.5});
-        }
-
-        // Series lines, dashed per scene.
+    // Series lines, dashed per scene.
+    void panel_series(const Panel& p) {
         for (const Series& s : p.series) {
             if (s.points.size() < 2) continue;
             std::string pts;
@@ -739,28 +757,31 @@ private:
                     "\" stroke-width=\"1.4\" stroke-opacity=\"0.85\" stroke-linejoin=\"round\"" +
                     (*dash != '\0' ? std::string(" stroke-dasharray=\"") + dash + "\"" : std::string()) + "/>\n";
         }
+    }
 
-        // The frontier as a step line: from each point across to the next
-        // one's time, then down to its error; on to the right edge.
-        if (!p.frontier.empty()) {
-            // Its segments are kept free of labels.
-            std::string d;
-            for (size_t k = 0; k < p.frontier.size(); ++k) {
-                const PlotPoint& pt = p.points[p.frontier[k]];
-                d += k == 0 ? "M" + num(pt.sx) + "," + num(pt.sy) : " H" + num(pt.sx) + " V" + num(pt.sy);
-                const double next_x = k + 1 < p.frontier.size() ? p.points[p.frontier[k + 1]].sx : x1;
-                taken.push_back({pt.sx, pt.sy - 1.5, next_x, pt.sy + 1.5});
-                if (k + 1 < p.frontier.size())
-                    taken.push_back({next_x - 1.5, pt.sy, next_x + 1.5, p.points[p.frontier[k + 1]].sy});
-            }
-            d += " H" + num(x1);
-            out_ += "<path class=\"frontier\" d=\"" + d +
-                    "\" fill=\"none\" stroke=\"#111111\" stroke-width=\"1.8\" stroke-opacity=\"0.8\"/>\n";
+    // The frontier as a step line: from each point across to the next
+    // one's time, then down to its error; on to the right edge. Its
+    // segments are kept free of labels.
+    void panel_frontier(const Panel& p, double x1, std::vector<Rect>& taken) {
+        if (p.frontier.empty()) return;
+        std::string d;
+        for (size_t k = 0; k < p.frontier.size(); ++k) {
+            const PlotPoint& pt = p.points[p.frontier[k]];
+            d += k == 0 ? "M" + num(pt.sx) + "," + num(pt.sy) : " H" + num(pt.sx) + " V" + num(pt.sy);
+            const double next_x = k + 1 < p.frontier.size() ? p.points[p.frontier[k + 1]].sx : x1;
+            taken.push_back({pt.sx, pt.sy - 1.5, next_x, pt.sy + 1.5});
+            if (k + 1 < p.frontier.size())
+                taken.push_back({next_x - 1.5, pt.sy, next_x + 1.5, p.points[p.frontier[k + 1]].sy});
         }
+        d += " H" + num(x1);
+        out_ += "<path class=\"frontier\" d=\"" + d +
+                "\" fill=\"none\" stroke=\"#111111\" stroke-width=\"1.8\" stroke-opacity=\"0.8\"/>\n";
+    }
 
-        // Markers, each with a tooltip; frontier points ringed. Where the
-        // panel holds several angles, its highest (hardest) is drawn filled
-        // and the lower ones hollow.
+    // Markers, each with a tooltip; frontier points ringed. Where the
+    // panel holds several angles, its highest (hardest) is drawn filled
+    // and the lower ones hollow.
+    void panel_markers(const Panel& p) {
         for (const PlotPoint& pt : p.points) {
             const bool hollow = pt.row->angle_deg < p.angles.back();
             const TechniqueEntry& t = techniques_[technique_index(techniques_, pt.row->technique)];
@@ -774,9 +795,11 @@ private:
                         "\" r=\"8\" fill=\"none\" stroke=\"#111111\" stroke-width=\"1\"/>";
             out_ += marker_svg(t.marker, pt.sx, pt.sy, 4.6, t.colour, hollow) + "</g>\n";
         }
+    }
 
-        // Sample-count labels where there is room; frontier points first. In a
-        // panel with several angles, the last label of a line names its angle.
+    // Sample-count labels where there is room; frontier points first. In a
+    // panel with several angles, the last label of a line names its angle.
+    void panel_labels(const Panel& p, const Rect& area, std::vector<Rect>& taken) {
         std::vector<size_t> order;
         for (const size_t i : p.frontier) order.push_back(i);
         for (size_t i = 0; i < p.points.size(); ++i)
@@ -792,8 +815,10 @@ private:
             if (label.empty()) continue;
             place_label(pt.sx, pt.sy, label, area, taken);
         }
+    }
 
-        // Frame and axes.
+    // Frame and axes; the y axis's title on the first panel only.
+    void panel_axes(const std::vector<Tick>& xt, const std::vector<Tick>& yt, size_t index, double x0, double y0, double y1) {
         out_ += "<rect x=\"" + num(x0) + "\" y=\"" + num(y0) + "\" width=\"" + num(kPlotW) + "\" height=\"" +
                 num(kPlotH) + "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"0.9\"/>\n";
         for (const Tick& t : xt) {
@@ -814,7 +839,6 @@ private:
                     "\" text-anchor=\"middle\" fill=\"#222222\" transform=\"rotate(-90 " + num(lx) + " " + num(ly) +
                     ")\">mean hit-uv error, texels (log scale)</text>\n";
         }
-        out_ += "</g>\n";
     }
 
     // Puts `label` next to (x, y) in the first free spot inside `area`, or not at all.
