@@ -128,116 +128,141 @@ public:
         if (words[0] != spv::MagicNumber) return make_error("SPIR-V: bad magic number");
         bound_ = words[3];
         if (bound_ == 0 || bound_ > (1u << 22)) return make_error("SPIR-V: id bound " + std::to_string(bound_) + " out of range");
-        Function* function = nullptr;
-        Block* block = nullptr;
-        std::string where;
+        Cursor cursor;
         for (std::size_t at = 5; at < words.size();) {
-            const std::uint32_t count = words[at] >> 16;
-            const auto op = static_cast<spv::Op>(words[at] & 0xFFFF);
-            if (count == 0 || at + count > words.size())
-                return make_error("SPIR-V: instruction at word " + std::to_string(at) + " runs past the module");
-            Instruction in;
-            in.op = op;
-            in.words.assign(words.begin() + static_cast<std::ptrdiff_t>(at) + 1,
-                            words.begin() + static_cast<std::ptrdiff_t>(at + count));
-            at += count;
-            bool has_result = false, has_type = false;
-            spv::HasResultAndType(op, &has_result, &has_type);
-            std::size_t next = 0;
-            if (has_type) {
-                if (in.words.size() <= next) return make_error("SPIR-V: truncated instruction");
-                in.type = in.words[next++];
-            }
-            if (has_result) {
-                if (in.words.size() <= next) return make_error("SPIR-V: truncated instruction");
-                in.result = in.words[next++];
-                if (in.result >= bound_) return make_error("SPIR-V: id past the bound");
-            }
-            in.words.erase(in.words.begin(), in.words.begin() + static_cast<std::ptrdiff_t>(next));
-            switch (op) {
-                case spv::OpString: break;
-                case spv::OpLine:
-                    if (in.words.size() >= 2) {
-                        const std::uint32_t line = in.words[1];
-                        if (line >= 1 && line <= origins.size())
-                            where = origins[line - 1].file + ":" + std::to_string(origins[line - 1].line);
-                        else
-                            where = "source:" + std::to_string(line);
-                    }
-                    continue;
-                case spv::OpNoLine: where.clear(); continue;
-                case spv::OpDecorate:
-                    if (in.words.size() >= 2 && in.words[1] == spv::DecorationRelaxedPrecision) relaxed_.insert(in.words[0]);
-                    if (in.words.size() >= 2 && in.words[1] == spv::DecorationBuiltIn) builtin_.insert(in.words[0]);
-                    continue;
-                case spv::OpExtInstImport: break;
-                case spv::OpEntryPoint:
-                    if (in.words.size() >= 2) entry_ = in.words[1];
-                    continue;
-                case spv::OpFunction:
-                    functions_.emplace_back();
-                    function = &functions_.back();
-                    function->id = in.result;
-                    block = nullptr;
-                    continue;
-                case spv::OpFunctionParameter:
-                    if (function) function->parameters.push_back(in.result);
-                    continue;
-                case spv::OpFunctionEnd:
-                    function = nullptr;
-                    block = nullptr;
-                    continue;
-                case spv::OpLabel:
-                    if (!function) return make_error("SPIR-V: a label outside a function");
-                    function->index[in.result] = function->blocks.size();
-                    function->blocks.emplace_back();
-                    block = &function->blocks.back();
-                    block->label = in.result;
-                    continue;
-                default: break;
-            }
-            in.where = where;
+            Result<Instruction> read = read_instruction(words, at);
+            if (!read) return read.error();
+            Instruction& in = *read;
+            Result<bool> taken = structure(in, origins, cursor);
+            if (!taken) return taken.error();
+            if (*taken) continue;
+            in.where = cursor.where;
             if (in.result) definitions_[in.result] = in;
-            if (!block) continue;  // module-level: types, constants, globals
-            switch (op) {
-                case spv::OpLoopMerge:
-                    if (in.words.size() < 2) return make_error("SPIR-V: truncated OpLoopMerge");
-                    block->loop_header = true;
-                    block->merge = in.words[0];
-                    block->continue_target = in.words[1];
-                    break;
-                case spv::OpSelectionMerge:
-                    if (in.words.empty()) return make_error("SPIR-V: truncated OpSelectionMerge");
-                    block->selection_header = true;
-                    block->merge = in.words[0];
-                    break;
-                case spv::OpBranch:
-                    if (in.words.empty()) return make_error("SPIR-V: truncated OpBranch");
-                    block->successors = {in.words[0]};
-                    break;
-                case spv::OpBranchConditional:
-                    if (in.words.size() < 3) return make_error("SPIR-V: truncated OpBranchConditional");
-                    block->condition = in.words[0];
-                    block->successors = {in.words[1], in.words[2]};
-                    break;
-                case spv::OpSwitch:
-                    if (in.words.size() < 2) return make_error("SPIR-V: truncated OpSwitch");
-                    block->condition = in.words[0];
-                    block->successors.push_back(in.words[1]);
-                    for (std::size_t i = 3; i < in.words.size(); i += 2) block->successors.push_back(in.words[i]);
-                    break;
-                case spv::OpReturn:
-                case spv::OpReturnValue:
-                case spv::OpKill:
-                case spv::OpUnreachable: block->returns = true; break;
-                default: break;
-            }
-            block->body.push_back(std::move(in));
+            if (!cursor.block) continue;  // module-level: types, constants, globals
+            if (Status s = control_flow(in, *cursor.block); !s) return s;
+            cursor.block->body.push_back(std::move(in));
         }
         for (const Function& f : functions_)
             for (const Block& b : f.blocks)
                 for (Id s : b.successors)
                     if (!f.index.count(s)) return make_error("SPIR-V: a branch to a label outside its function");
+        return {};
+    }
+
+    // Where parse is: the function and block being read, the last source line.
+    struct Cursor {
+        Function* function = nullptr;
+        Block* block = nullptr;
+        std::string where;
+    };
+
+    // The instruction at words[at] with its type and result split off; `at`
+    // moves past it.
+    Result<Instruction> read_instruction(const std::vector<std::uint32_t>& words, std::size_t& at) const {
+        const std::uint32_t count = words[at] >> 16;
+        const auto op = static_cast<spv::Op>(words[at] & 0xFFFF);
+        if (count == 0 || at + count > words.size())
+            return make_error("SPIR-V: instruction at word " + std::to_string(at) + " runs past the module");
+        Instruction in;
+        in.op = op;
+        in.words.assign(words.begin() + static_cast<std::ptrdiff_t>(at) + 1, words.begin() + static_cast<std::ptrdiff_t>(at + count));
+        at += count;
+        bool has_result = false, has_type = false;
+        spv::HasResultAndType(op, &has_result, &has_type);
+        std::size_t next = 0;
+        if (has_type) {
+            if (in.words.size() <= next) return make_error("SPIR-V: truncated instruction");
+            in.type = in.words[next++];
+        }
+        if (has_result) {
+            if (in.words.size() <= next) return make_error("SPIR-V: truncated instruction");
+            in.result = in.words[next++];
+            if (in.result >= bound_) return make_error("SPIR-V: id past the bound");
+        }
+        in.words.erase(in.words.begin(), in.words.begin() + static_cast<std::ptrdiff_t>(next));
+        return in;
+    }
+
+    // Debug lines, decorations, the entry point, and the function and block
+    // structure: true where the instruction is taken here (not a body's).
+    Result<bool> structure(const Instruction& in, const std::vector<LineOrigin>& origins, Cursor& c) {
+        switch (in.op) {
+            case spv::OpLine:
+                if (in.words.size() >= 2) {
+                    const std::uint32_t line = in.words[1];
+                    if (line >= 1 && line <= origins.size())
+                        c.where = origins[line - 1].file + ":" + std::to_string(origins[line - 1].line);
+                    else
+                        c.where = "source:" + std::to_string(line);
+                }
+                return true;
+            case spv::OpNoLine: c.where.clear(); return true;
+            case spv::OpDecorate:
+                if (in.words.size() >= 2 && in.words[1] == spv::DecorationRelaxedPrecision) relaxed_.insert(in.words[0]);
+                if (in.words.size() >= 2 && in.words[1] == spv::DecorationBuiltIn) builtin_.insert(in.words[0]);
+                return true;
+            case spv::OpEntryPoint:
+                if (in.words.size() >= 2) entry_ = in.words[1];
+                return true;
+            case spv::OpFunction:
+                functions_.emplace_back();
+                c.function = &functions_.back();
+                c.function->id = in.result;
+                c.block = nullptr;
+                return true;
+            case spv::OpFunctionParameter:
+                if (c.function) c.function->parameters.push_back(in.result);
+                return true;
+            case spv::OpFunctionEnd:
+                c.function = nullptr;
+                c.block = nullptr;
+                return true;
+            case spv::OpLabel:
+                if (!c.function) return make_error("SPIR-V: a label outside a function");
+                c.function->index[in.result] = c.function->blocks.size();
+                c.function->blocks.emplace_back();
+                c.block = &c.function->blocks.back();
+                c.block->label = in.result;
+                return true;
+            default: return false;
+        }
+    }
+
+    // A block's merge, branches and exits.
+    static Status control_flow(const Instruction& in, Block& block) {
+        switch (in.op) {
+            case spv::OpLoopMerge:
+                if (in.words.size() < 2) return make_error("SPIR-V: truncated OpLoopMerge");
+                block.loop_header = true;
+                block.merge = in.words[0];
+                block.continue_target = in.words[1];
+                break;
+            case spv::OpSelectionMerge:
+                if (in.words.empty()) return make_error("SPIR-V: truncated OpSelectionMerge");
+                block.selection_header = true;
+                block.merge = in.words[0];
+                break;
+            case spv::OpBranch:
+                if (in.words.empty()) return make_error("SPIR-V: truncated OpBranch");
+                block.successors = {in.words[0]};
+                break;
+            case spv::OpBranchConditional:
+                if (in.words.size() < 3) return make_error("SPIR-V: truncated OpBranchConditional");
+                block.condition = in.words[0];
+                block.successors = {in.words[1], in.words[2]};
+                break;
+            case spv::OpSwitch:
+                if (in.words.size() < 2) return make_error("SPIR-V: truncated OpSwitch");
+                block.condition = in.words[0];
+                block.successors.push_back(in.words[1]);
+                for (std::size_t i = 3; i < in.words.size(); i += 2) block.successors.push_back(in.words[i]);
+                break;
+            case spv::OpReturn:
+            case spv::OpReturnValue:
+            case spv::OpKill:
+            case spv::OpUnreachable: block.returns = true; break;
+            default: break;
+        }
         return {};
     }
 
