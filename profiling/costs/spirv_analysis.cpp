@@ -432,42 +432,30 @@ std::vector<Construct> constructs_of(const Function& f) {
 // <=, >, >=, !=) with A, B and S constants, as glslang translates it: the
 // induction variable stored before the header, compared in the header's
 // conditional branch (or a block it branches to), stepped in the loop.
-int trip_count(const Module& m, const Function& f, const Construct& loop) {
-    // The exit test: the first conditional branch from the header on whose
-    // targets include the merge block.
+// A loop's exit test: the first conditional branch from the header on
+// whose targets include the merge block.
+const Block* exit_test(const Function& f, const Construct& loop) {
     const Id merge_label = f.blocks[loop.merge].label;
-    const Block* test = nullptr;
     for (std::size_t i = loop.header, hops = 0; i < loop.merge && hops < 4; ++hops) {
         const Block& b = f.blocks[i];
-        if (b.condition && b.successors.size() == 2) {
-            if (b.successors[0] == merge_label || b.successors[1] == merge_label) test = &b;
-            break;
-        }
-        if (b.successors.size() != 1) break;
+        if (b.condition && b.successors.size() == 2)
+            return b.successors[0] == merge_label || b.successors[1] == merge_label ? &b : nullptr;
+        if (b.successors.size() != 1) return nullptr;
         i = f.index.at(b.successors[0]);
     }
-    if (!test) return -1;
-    const Instruction* compare = m.def(test->condition);
-    if (!compare || compare->words.size() < 2) return -1;
-    const bool exits_when_true = test->successors[0] == merge_label;
-    // One side loads the induction variable, the other is a constant.
-    const Instruction* left = m.def(compare->words[0]);
-    std::optional<std::int32_t> bound = m.int_constant(compare->words[1]);
-    bool swapped = false;
-    if (!bound) {
-        bound = m.int_constant(compare->words[0]);
-        left = m.def(compare->words[1]);
-        swapped = true;
-    }
-    if (!bound || !left || left->op != spv::OpLoad || left->words.empty()) return -1;
-    const Id variable = left->words[0];
-    // The start: the last constant stored to it before the header.
-    std::optional<std::int32_t> start;
+    return nullptr;
+}
+
+// The induction variable's start (the last constant stored to it before the
+// header) and step (its one store inside the loop, of itself +/- a constant).
+struct Induction {
+    std::optional<std::int32_t> start, step;
+};
+Induction induction(const Module& m, const Function& f, const Construct& loop, Id variable) {
+    Induction v;
     for (std::size_t i = 0; i < loop.header; ++i)
         for (const Instruction& in : f.blocks[i].body)
-            if (in.op == spv::OpStore && in.words.size() >= 2 && in.words[0] == variable) start = m.int_constant(in.words[1]);
-    // The step: a store of (load variable) +/- constant inside the loop.
-    std::optional<std::int32_t> step;
+            if (in.op == spv::OpStore && in.words.size() >= 2 && in.words[0] == variable) v.start = m.int_constant(in.words[1]);
     int steps_seen = 0;
     for (std::size_t i = loop.header; i < loop.merge; ++i)
         for (const Instruction& in : f.blocks[i].body) {
@@ -478,11 +466,16 @@ int trip_count(const Module& m, const Function& f, const Construct& loop) {
             const Instruction* from = m.def(value->words[0]);
             const std::optional<std::int32_t> s = m.int_constant(value->words[1]);
             if (!from || from->op != spv::OpLoad || from->words.empty() || from->words[0] != variable || !s) continue;
-            step = value->op == spv::OpIAdd ? *s : -*s;
+            v.step = value->op == spv::OpIAdd ? *s : -*s;
         }
-    if (!start || !step || steps_seen != 1 || *step == 0) return -1;
-    // Normalise to "continue while i OP bound".
-    spv::Op op = compare->op;
+    if (steps_seen != 1) v.step.reset();
+    return v;
+}
+
+// The comparison as "continue while i OP bound": mirrored where the
+// constant is on the left, negated where the branch exits on true;
+// OpNop where it cannot be.
+spv::Op continue_condition(spv::Op op, bool swapped, bool exits_when_true) {
     if (swapped) {
         switch (op) {
             case spv::OpSLessThan: op = spv::OpSGreaterThan; break;
@@ -492,26 +485,51 @@ int trip_count(const Module& m, const Function& f, const Construct& loop) {
             default: break;
         }
     }
-    if (exits_when_true) {
-        switch (op) {
-            case spv::OpSLessThan: op = spv::OpSGreaterThanEqual; break;
-            case spv::OpSLessThanEqual: op = spv::OpSGreaterThan; break;
-            case spv::OpSGreaterThan: op = spv::OpSLessThanEqual; break;
-            case spv::OpSGreaterThanEqual: op = spv::OpSLessThan; break;
-            case spv::OpIEqual: op = spv::OpINotEqual; break;
-            default: return -1;
-        }
-    }
-    const std::int64_t a = *start, b = *bound, s = *step;
-    std::int64_t trips = -1;
+    if (!exits_when_true) return op;
     switch (op) {
-        case spv::OpSLessThan: trips = s > 0 ? (b > a ? (b - a + s - 1) / s : 0) : -1; break;
-        case spv::OpSLessThanEqual: trips = s > 0 ? (b >= a ? (b - a) / s + 1 : 0) : -1; break;
-        case spv::OpSGreaterThan: trips = s < 0 ? (a > b ? (a - b - s - 1) / -s : 0) : -1; break;
-        case spv::OpSGreaterThanEqual: trips = s < 0 ? (a >= b ? (a - b) / -s + 1 : 0) : -1; break;
-        case spv::OpINotEqual: trips = (b - a) % s == 0 && (b - a) / s >= 0 ? (b - a) / s : -1; break;
+        case spv::OpSLessThan: return spv::OpSGreaterThanEqual;
+        case spv::OpSLessThanEqual: return spv::OpSGreaterThan;
+        case spv::OpSGreaterThan: return spv::OpSLessThanEqual;
+        case spv::OpSGreaterThanEqual: return spv::OpSLessThan;
+        case spv::OpIEqual: return spv::OpINotEqual;
+        default: return spv::OpNop;
+    }
+}
+
+// Iterations of "for (i = a; i OP b; i += s)"; -1 where it does not end.
+std::int64_t iterations(spv::Op op, std::int64_t a, std::int64_t b, std::int64_t s) {
+    switch (op) {
+        case spv::OpSLessThan: return s > 0 ? (b > a ? (b - a + s - 1) / s : 0) : -1;
+        case spv::OpSLessThanEqual: return s > 0 ? (b >= a ? (b - a) / s + 1 : 0) : -1;
+        case spv::OpSGreaterThan: return s < 0 ? (a > b ? (a - b - s - 1) / -s : 0) : -1;
+        case spv::OpSGreaterThanEqual: return s < 0 ? (a >= b ? (a - b) / -s + 1 : 0) : -1;
+        case spv::OpINotEqual: return (b - a) % s == 0 && (b - a) / s >= 0 ? (b - a) / s : -1;
         default: return -1;
     }
+}
+
+// A counted loop's trips: its exit test compares the induction variable
+// with a constant; -1 where the loop is not of that shape.
+int trip_count(const Module& m, const Function& f, const Construct& loop) {
+    const Block* test = exit_test(f, loop);
+    if (!test) return -1;
+    const Instruction* compare = m.def(test->condition);
+    if (!compare || compare->words.size() < 2) return -1;
+    const bool exits_when_true = test->successors[0] == f.blocks[loop.merge].label;
+    // One side loads the induction variable, the other is a constant.
+    const Instruction* left = m.def(compare->words[0]);
+    std::optional<std::int32_t> bound = m.int_constant(compare->words[1]);
+    bool swapped = false;
+    if (!bound) {
+        bound = m.int_constant(compare->words[0]);
+        left = m.def(compare->words[1]);
+        swapped = true;
+    }
+    if (!bound || !left || left->op != spv::OpLoad || left->words.empty()) return -1;
+    const Induction v = induction(m, f, loop, left->words[0]);
+    if (!v.start || !v.step || *v.step == 0) return -1;
+    const spv::Op op = continue_condition(compare->op, swapped, exits_when_true);
+    const std::int64_t trips = iterations(op, *v.start, *bound, *v.step);
     return trips >= 0 && trips <= 1 << 20 ? static_cast<int>(trips) : -1;
 }
 
