@@ -707,8 +707,9 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
     return 0;
 }
 
-int run_profile(ProfileArgs a) {
-    if (!a.nir_child.empty()) return run_nir_child(a);
+// --calibrate and --make-calibration-set (profile_calibration.h); -1 where
+// neither was asked for. Their options are refused without them.
+int run_calibration_modes(const ProfileArgs& a) {
     if (a.calibrate || !a.calibration.make_set.empty()) {
         if (a.calibrate && !a.calibration.make_set.empty())
             return fail("--calibrate and --make-calibration-set: one at a time (make the set, then calibrate on it)");
@@ -722,77 +723,95 @@ int run_profile(ProfileArgs a) {
         return fail("--calibration-set and --model-out go with --calibrate");
     if (!a.calibration.shaders.empty() || !a.calibration.reports.empty() || !a.calibration.source.empty())
         return fail("--shaders, --reports and --set-source go with --make-calibration-set");
+    return -1;
+}
+
+// Every option checked, and where the reports go, before anything is
+// compiled or timed.
+Status check_profile_args(const ProfileArgs& a, int& width, int& height) {
+    if (!parse_size(a.size, width, height, 2048)) return make_error("--size: '" + a.size + "' is not WIDTHxHEIGHT within 1..2048");
+    if (a.frames < 1 || a.frames > 1000) return make_error("--frames: must be within 1..1000");
+    if (!(a.vendor_timeout > 0.0 && a.vendor_timeout <= 86400.0))
+        return make_error("--vendor-timeout: must be within (0, 86400] seconds");
+    if (!(a.angle >= 0.0 && a.angle < 90.0)) return make_error("--angle: must be within [0, 90) degrees");
+    if (!a.out.empty())
+        if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return make_error("--out: " + unwritable);
+    if (!a.doc.empty())
+        if (const std::string unwritable = check_output_file(a.doc); !unwritable.empty()) return make_error("--doc: " + unwritable);
+    return {};
+}
+
+// The model the reports use: the carried, calibrated one, or --model's file as written.
+Result<profiling::CostModel> load_cost_model(const std::string& file) {
+    if (file.empty()) return profiling::default_cost_model();
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(file, 1u << 20, "cost model");
+    if (!bytes) return bytes.error();
+    return profiling::parse_cost_model(std::string(bytes->begin(), bytes->end()), file);
+}
+
+// The variants asked for: the ladder's steps, the two compared, or those matching --variants.
+Result<std::vector<VariantKey>> profile_keys(const ProfileArgs& a) {
+    if (a.ladder) return ladder_keys(a.es);
+    if (a.compare.empty()) return select_variants(a.variants, a.es);
+    if (a.compare.size() != 2) return make_error("--compare takes two variants: --compare A B");
+    std::vector<VariantKey> keys;
+    for (const std::string& pattern : a.compare) {
+        Result<VariantKey> k = select_one(pattern, a.es);
+        if (!k) return k.error();
+        keys.push_back(*k);
+    }
+    return keys;
+}
+
+// The ladder's, the comparison's or the profile's report in one format.
+std::string profile_text(const ProfileArgs& a, const std::vector<profiling::VariantProfile>& profiles,
+                         profiling::ReportFormat format, const profiling::ReportContext& context) {
+    std::string text = a.ladder              ? profiling::ladder_report(profiles, format, context)
+                       : !a.compare.empty() ? profiling::compare_report(profiles[0], profiles[1], format, context)
+                                            : profiling::profile_report(profiles, format, context);
+    if (format != profiling::ReportFormat::json) text += "\n" + profiling::model_section(*context.model, format);
+    return text;
+}
+
+// --out: the report as Markdown and JSON.
+Status write_profile_outputs(const ProfileArgs& a, const std::vector<profiling::VariantProfile>& profiles,
+                             const profiling::ReportContext& context) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.out, ec);
+    if (ec) return make_error("cannot create '" + a.out + "': " + ec.message());
+    const std::string stem = a.out + "/" + (a.ladder ? "ladder" : !a.compare.empty() ? "compare" : "profile");
+    for (profiling::ReportFormat f : {profiling::ReportFormat::markdown, profiling::ReportFormat::json}) {
+        Status w = write_file(stem + (f == profiling::ReportFormat::json ? ".json" : ".md"), profile_text(a, profiles, f, context));
+        if (!w) return w;
+    }
+    std::fprintf(stderr, "wrote %s.md and %s.json\n", stem.c_str(), stem.c_str());
+    return {};
+}
+
+int run_profile(ProfileArgs a) {
+    if (!a.nir_child.empty()) return run_nir_child(a);
+    if (const int calibration = run_calibration_modes(a); calibration >= 0) return calibration;
     Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
     if (!format) return fail("--format: " + format.error().message);
     int width = 0, height = 0;
-    if (!parse_size(a.size, width, height, 2048)) return fail("--size: '" + a.size + "' is not WIDTHxHEIGHT within 1..2048");
-    if (a.frames < 1 || a.frames > 1000) return fail("--frames: must be within 1..1000");
-    if (!(a.vendor_timeout > 0.0 && a.vendor_timeout <= 86400.0))
-        return fail("--vendor-timeout: must be within (0, 86400] seconds");
-    if (!(a.angle >= 0.0 && a.angle < 90.0)) return fail("--angle: must be within [0, 90) degrees");
-    // Where the reports go, checked before anything is compiled or timed.
-    if (!a.out.empty())
-        if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
-    if (!a.doc.empty())
-        if (const std::string unwritable = check_output_file(a.doc); !unwritable.empty()) return fail("--doc: " + unwritable);
-    profiling::CostModel model = profiling::default_cost_model();
-    if (!a.model_file.empty()) {
-        Result<std::vector<std::uint8_t>> bytes = read_file_bounded(a.model_file, 1u << 20, "cost model");
-        if (!bytes) return fail(bytes.error().message);
-        Result<profiling::CostModel> parsed =
-            profiling::parse_cost_model(std::string(bytes->begin(), bytes->end()), a.model_file);
-        if (!parsed) return fail(parsed.error().message);
-        model = *parsed;
-    }
+    if (Status s = check_profile_args(a, width, height); !s) return fail(s.error().message);
+    Result<profiling::CostModel> model = load_cost_model(a.model_file);
+    if (!model) return fail(model.error().message);
     // One time budget for every vendor compiler run of this command.
     profiling::VendorRun vendor(profiling::find_vendor_tools(),
                                 std::chrono::milliseconds(static_cast<long long>(a.vendor_timeout * 1000.0)));
-    if (!a.doc.empty()) return run_doc(a, model, width, height, vendor);
+    if (!a.doc.empty()) return run_doc(a, *model, width, height, vendor);
     profiling::ReportContext context;
     context.command = a.command;
-    context.model = &model;
-
-    std::vector<VariantKey> keys;
-    if (a.ladder) {
-        keys = ladder_keys(a.es);    } else if (!a.compare.empty()) {
-        if (a.compare.size() != 2) return fail("--compare takes two variants: --compare A B");
-        for (const std::string& pattern : a.compare) {
-            Result<VariantKey> k = select_one(pattern, a.es);
-            if (!k) return fail(k.error().message);
-            keys.push_back(*k);
-        }
-    } else {
-        Result<std::vector<VariantKey>> selected = select_variants(a.variants, a.es);
-        if (!selected) return fail(selected.error().message);
-        keys = *selected;
-    }
-    if (!a.against.empty()) return run_against(a, keys, model, *format, context);
-
-    Result<std::vector<profiling::VariantProfile>> profiled = profile_all(keys, a, model, width, height, context, vendor);
-    if (!profiled) return fail(profiled.error().message);
-    std::vector<profiling::VariantProfile>& profiles = *profiled;
-
-    std::string report;
-    if (a.ladder) report = profiling::ladder_report(profiles, *format, context);
-    else if (!a.compare.empty()) report = profiling::compare_report(profiles[0], profiles[1], *format, context);
-    else report = profiling::profile_report(profiles, *format, context);
-    if (*format != profiling::ReportFormat::json) report += "\n" + profiling::model_section(model, *format);
-    std::fputs(report.c_str(), stdout);
-    if (!a.out.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(a.out, ec);
-        if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
-        const std::string stem = a.out + "/" + (a.ladder ? "ladder" : !a.compare.empty() ? "compare" : "profile");
-        for (profiling::ReportFormat f : {profiling::ReportFormat::markdown, profiling::ReportFormat::json}) {
-            std::string text = a.ladder ? profiling::ladder_report(profiles, f, context)
-                               : !a.compare.empty() ? profiling::compare_report(profiles[0], profiles[1], f, context)
-                                                    : profiling::profile_report(profiles, f, context);
-            if (f == profiling::ReportFormat::markdown) text += "\n" + profiling::model_section(model, f);
-            Status w = write_file(stem + (f == profiling::ReportFormat::json ? ".json" : ".md"), text);
-            if (!w) return fail(w.error().message);
-        }
-        std::fprintf(stderr, "wrote %s.md and %s.json\n", stem.c_str(), stem.c_str());
-    }
+    context.model = &*model;
+    Result<std::vector<VariantKey>> keys = profile_keys(a);
+    if (!keys) return fail(keys.error().message);
+    if (!a.against.empty()) return run_against(a, *keys, *model, *format, context);
+    Result<std::vector<profiling::VariantProfile>> profiles = profile_all(*keys, a, *model, width, height, context, vendor);
+    if (!profiles) return fail(profiles.error().message);
+    std::fputs(profile_text(a, *profiles, *format, context).c_str(), stdout);
+    if (!a.out.empty())
+        if (Status s = write_profile_outputs(a, *profiles, context); !s) return fail(s.error().message);
     return 0;
 }
 
