@@ -118,66 +118,64 @@ struct ConvertArgs {
     std::string out;
 };
 
-int run_convert(const ConvertArgs& a) {
-    if (a.out.empty()) return fail("convert: --out DIR is required");
-    if (a.height.empty() == a.scene.empty()) return fail("convert: give a HEIGHT image or --scene SCENE (one of them)");
+// The formats, container, mip chain and compression --format and its
+// overrides ask for; an error names the option.
+Result<ConvertOptions> convert_options(const ConvertArgs& a) {
     Result<AssetFormats> formats = asset_formats(a.format);
-    if (!formats) return fail("--format: " + formats.error().message);
+    if (!formats) return make_error("--format: " + formats.error().message);
     const std::pair<const std::string*, TextureFormat*> overrides[] = {
         {&a.height_format, &formats->height}, {&a.normal_format, &formats->normal}, {&a.albedo_format, &formats->albedo}};
     for (auto [text, slot] : overrides) {
         if (text->empty()) continue;
         Result<TextureFormat> f = parse_format(*text);
-        if (!f) return fail(f.error().message);
+        if (!f) return f.error();
         *slot = *f;
     }
     if (format_info(formats->normal).channels < 2)
-        return fail(std::string("--normal-format: a normal map needs two or more channels; ") +
-                    format_name(formats->normal) + " has one");
+        return make_error(std::string("--normal-format: a normal map needs two or more channels; ") +
+                          format_name(formats->normal) + " has one");
     ConvertOptions options;
     options.formats = *formats;
     options.mipmaps = !a.no_mipmaps;
     if (a.container == "ktx") options.container = ContainerKind::ktx1;
     else if (a.container == "ktx2") options.container = ContainerKind::ktx2;
     else if (a.container == "pvr") options.container = ContainerKind::pvr3;
-    else return fail("--container must be ktx, ktx2 or pvr, got '" + a.container + "'");
-    if (a.zstd < 0 || a.zstd > 22) return fail("--zstd must be 0 (none) or a level 1..22");
-    if (a.zstd > 0 && options.container != ContainerKind::ktx2) return fail("--zstd needs --container ktx2");
+    else return make_error("--container must be ktx, ktx2 or pvr, got '" + a.container + "'");
+    if (a.zstd < 0 || a.zstd > 22) return make_error("--zstd must be 0 (none) or a level 1..22");
+    if (a.zstd > 0 && options.container != ContainerKind::ktx2) return make_error("--zstd needs --container ktx2");
     options.zstd_level = a.zstd;
+    return options;
+}
 
-    SceneDesc scene;
-    if (!a.scene.empty()) {
-        Result<SceneDesc> loaded = load_scene(a.scene);
-        if (!loaded) return fail(loaded.error().message);
-        scene = std::move(*loaded);
-    } else {
-        if (!(a.height_scale >= 0.0f && a.height_scale <= 4.0f)) return fail("--height-scale must be within 0..4");
-        MaterialDesc m;
-        m.name = std::filesystem::path(a.height).stem().string();
-        m.height.kind = TextureSource::Kind::file;
-        m.height.path = a.height;
-        m.height.convention = a.depth ? HeightConvention::depth : HeightConvention::height;
-        if (!a.albedo.empty()) {
-            m.albedo.kind = TextureSource::Kind::file;
-            m.albedo.path = a.albedo;
-        }
-        if (!a.normal.empty()) {
-            m.normal.kind = TextureSource::Kind::file;
-            m.normal.path = a.normal;
-        }
-        m.height_scale = a.height_scale;
-        scene.materials.push_back(m);
+// The scene whose textures are converted: --scene's, or one material made
+// of the images given.
+Result<SceneDesc> convert_scene(const ConvertArgs& a) {
+    if (!a.scene.empty()) return load_scene(a.scene);
+    if (!(a.height_scale >= 0.0f && a.height_scale <= 4.0f)) return make_error("--height-scale must be within 0..4");
+    MaterialDesc m;
+    m.name = std::filesystem::path(a.height).stem().string();
+    m.height.kind = TextureSource::Kind::file;
+    m.height.path = a.height;
+    m.height.convention = a.depth ? HeightConvention::depth : HeightConvention::height;
+    if (!a.albedo.empty()) {
+        m.albedo.kind = TextureSource::Kind::file;
+        m.albedo.path = a.albedo;
     }
-    Status resources = check_scene_resources(scene, true);
-    if (!resources) return fail(in_scene_file(scene.source, resources.error().message));
-    // The folder made and checked writable once the arguments are known good, before any encoding.
-    if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
-    Result<std::vector<ConvertedFile>> files = convert_scene_textures(scene, options, a.out, show_progress);
-    if (!files) return fail(in_scene_file(scene.source, files.error().message));
+    if (!a.normal.empty()) {
+        m.normal.kind = TextureSource::Kind::file;
+        m.normal.path = a.normal;
+    }
+    m.height_scale = a.height_scale;
+    SceneDesc scene;
+    scene.materials.push_back(m);
+    return scene;
+}
+
+void print_converted(const std::vector<ConvertedFile>& files) {
     std::uint64_t total = 0, rgba = 0;
     std::printf("%-12s %-7s %-16s %-10s %-7s %12s %12s %8s  %s\n", "material", "slot", "format", "size", "levels",
                 "bytes", "RGBA8+mips", "encode s", "file");
-    for (const ConvertedFile& f : *files) {
+    for (const ConvertedFile& f : files) {
         std::printf("%-12s %-7s %-16s %4ux%-5u %-7d %12llu %12llu %8.2f  %s\n", f.material.c_str(), f.slot.c_str(),
                     format_name(f.format), f.width, f.height, f.levels, static_cast<unsigned long long>(f.bytes),
                     static_cast<unsigned long long>(f.rgba8_bytes), f.seconds, f.path.c_str());
@@ -185,22 +183,43 @@ int run_convert(const ConvertArgs& a) {
         rgba += f.rgba8_bytes;
     }
     std::printf("total      %s in %zu file(s), %.1f%% of RGBA8 with mips (%s)\n", bytes_text(total).c_str(),
-                files->size(), rgba ? 100.0 * static_cast<double>(total) / static_cast<double>(rgba) : 0.0,
+                files.size(), rgba ? 100.0 * static_cast<double>(total) / static_cast<double>(rgba) : 0.0,
                 bytes_text(rgba).c_str());
-    // A material snippet per material, to paste into a scene (paths relative to DIR).
+}
+
+// A material snippet per material, to paste into a scene (paths relative to DIR).
+Status write_materials_snippet(const SceneDesc& scene, const std::vector<ConvertedFile>& files, const std::string& out) {
     nlohmann::json materials = nlohmann::json::array();
     for (const MaterialDesc& m : scene.materials) {
         nlohmann::json j = {{"name", m.name}, {"height_scale", m.height_scale}};
-        for (const ConvertedFile& f : *files)
+        for (const ConvertedFile& f : files)
             if (f.material == m.name) j[f.slot] = std::filesystem::path(f.path).filename().string();
         materials.push_back(j);
     }
     const std::string snippet = nlohmann::json{{"materials", materials}}.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-    const std::string snippet_path = a.out + "/materials.json";
+    const std::string snippet_path = out + "/materials.json";
     Status written = write_file_atomically(snippet_path, snippet);
-    if (!written) return fail(written.error().message);
-    std::printf("materials  %s (the materials, reading these files; paste into a scene in %s)\n",
-                snippet_path.c_str(), a.out.c_str());
+    if (!written) return written;
+    std::printf("materials  %s (the materials, reading these files; paste into a scene in %s)\n", snippet_path.c_str(),
+                out.c_str());
+    return {};
+}
+
+int run_convert(const ConvertArgs& a) {
+    if (a.out.empty()) return fail("convert: --out DIR is required");
+    if (a.height.empty() == a.scene.empty()) return fail("convert: give a HEIGHT image or --scene SCENE (one of them)");
+    Result<ConvertOptions> options = convert_options(a);
+    if (!options) return fail(options.error().message);
+    Result<SceneDesc> scene = convert_scene(a);
+    if (!scene) return fail(scene.error().message);
+    Status resources = check_scene_resources(*scene, true);
+    if (!resources) return fail(in_scene_file(scene->source, resources.error().message));
+    // The folder made and checked writable once the arguments are known good, before any encoding.
+    if (const std::string unwritable = check_output_folder(a.out); !unwritable.empty()) return fail("--out: " + unwritable);
+    Result<std::vector<ConvertedFile>> files = convert_scene_textures(*scene, *options, a.out, show_progress);
+    if (!files) return fail(in_scene_file(scene->source, files.error().message));
+    print_converted(*files);
+    if (Status s = write_materials_snippet(*scene, *files, a.out); !s) return fail(s.error().message);
     return 0;
 }
 
