@@ -241,6 +241,50 @@ RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir
     return o;
 }
 
+// The scene to draw: loaded (validated once, by prepare_scene, unless the
+// asset step converts its textures first: it needs a valid scene), with
+// --technique's technique for every material.
+Result<SceneDesc> render_scene(const RenderArgs& a) {
+    if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
+        return make_error("--camera-path must be orbit or dolly, got '" + a.camera_path + "'");
+    const SceneChecks checks = a.textures.empty() ? SceneChecks::syntax_only : SceneChecks::validate;
+    Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene, checks);
+    if (!scene) return scene;
+    if (!a.technique.empty()) {
+        Result<Technique> t = parse_technique(a.technique);
+        if (!t) return make_error("--technique: " + t.error().message);
+        // An explicit technique for every material: effect requests give way.
+        for (MaterialDesc& m : scene->materials) {
+            m.technique.technique = *t;
+            m.effects.reset();
+        }
+    }
+    return scene;
+}
+
+// The image written (default: out/<scene>.png, named after the built-in
+// scene or file), its folder made.
+Result<std::string> write_render(const RenderArgs& a, const Image& image) {
+    const std::string output = a.output.empty() ? "out/" + scene_stem(a) + ".png" : a.output;
+    const std::filesystem::path out(output);
+    if (out.has_parent_path()) {
+        std::error_code ec;
+        std::filesystem::create_directories(out.parent_path(), ec);
+        if (ec) return make_error("cannot create folder '" + out.parent_path().string() + "': " + ec.message());
+    }
+    Status written = write_png(output, image);
+    if (!written) return written.error();
+    return output;
+}
+
+void print_pipeline_stats(const PipelineCounters& c, const Renderer& renderer) {
+    std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
+                "%llu object plan(s) over %llu frame(s) drawn, %llu program(s) built\n",
+                static_cast<unsigned long long>(c.validations), static_cast<unsigned long long>(c.image_builds),
+                static_cast<unsigned long long>(c.mesh_builds), static_cast<unsigned long long>(c.object_plans),
+                static_cast<unsigned long long>(renderer.stats().frames), static_cast<unsigned long long>(c.programs_built));
+}
+
 int run_render(const RenderArgs& a, std::optional<int>& compared) {
     if (a.list) {
         list_everything();
@@ -250,25 +294,9 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     int width = 0, height = 0;
     if (const int status = render_size(a, tolerance, width, height); status != 0) return status;
     if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
-
-    if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
-        return fail("--camera-path must be orbit or dolly, got '" + a.camera_path + "'");
-    // The scene is validated once, by prepare_scene below, unless the asset
-    // step converts its textures first (it needs a valid scene).
-    const SceneChecks checks = a.textures.empty() ? SceneChecks::syntax_only : SceneChecks::validate;
     const PipelineCounters counters_before = pipeline_counters();
-    Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene, checks);
+    Result<SceneDesc> scene = render_scene(a);
     if (!scene) return fail(scene.error().message);
-    if (!a.technique.empty()) {
-        Result<Technique> t = parse_technique(a.technique);
-        if (!t) return fail("--technique: " + t.error().message);
-        // An explicit technique for every material: effect requests give way.
-        for (MaterialDesc& m : scene->materials) {
-            m.technique.technique = *t;
-            m.effects.reset();
-        }
-    }
-
     std::optional<TempFolder> texture_folder;
     if (const int status = convert_textures(a, *scene, texture_folder); status != 0) return status;
 
@@ -277,52 +305,31 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
-    const RendererOptions renderer_options = render_options(a, cache_dir);
-    Result<std::unique_ptr<Renderer>> renderer = Renderer::create(renderer_options);
+    Result<std::unique_ptr<Renderer>> renderer = Renderer::create(render_options(a, cache_dir));
     if (!renderer) return fail(renderer.error().message);
     Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
     if (!target) return fail(target.error().message);
-
     // One preparation of the scene, for this context's texture rules.
     Result<std::shared_ptr<const PreparedScene>> prepared = prepare_scene(*scene, (*renderer)->prepare_options());
     if (!prepared) return fail(in_scene_file(scene->source, prepared.error().message));
     Status loaded = (*renderer)->load(*prepared);
     if (!loaded) return fail(in_scene_file(scene->source, loaded.error().message));
-
     Result<FrameRun> run = run_frames(a, **renderer, *scene, *target, width, height);
     if (!run) return fail(in_scene_file(scene->source, run.error().message));
-
-    // Default output: out/<scene>.png, named after the built-in scene or file.
-    std::string output = a.output;
-    if (output.empty()) output = "out/" + scene_stem(a) + ".png";
     Result<Image> image = target->read_pixels();
     if (!image) return fail(image.error().message);
-    const std::filesystem::path out(output);
-    if (out.has_parent_path()) {
-        std::error_code ec;
-        std::filesystem::create_directories(out.parent_path(), ec);
-        if (ec) return fail("cannot create folder '" + out.parent_path().string() + "': " + ec.message());
-    }
-    Status written = write_png(output, *image);
-    if (!written) return fail(written.error().message);
+    Result<std::string> output = write_render(a, *image);
+    if (!output) return fail(output.error().message);
 
-    if (a.stats) {
-        const PipelineCounters c = pipeline_counters() - counters_before;
-        std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
-                    "%llu object plan(s) over %llu frame(s) drawn, %llu program(s) built\n",
-                    static_cast<unsigned long long>(c.validations), static_cast<unsigned long long>(c.image_builds),
-                    static_cast<unsigned long long>(c.mesh_builds), static_cast<unsigned long long>(c.object_plans),
-                    static_cast<unsigned long long>((*renderer)->stats().frames),
-                    static_cast<unsigned long long>(c.programs_built));
-    }
+    if (a.stats) print_pipeline_stats(pipeline_counters() - counters_before, **renderer);
     const Caps& caps = (*renderer)->caps();
     std::printf("scene      %s%s\n", scene->name.c_str(), a.technique.empty() ? "" : (" (every material: " + a.technique + ")").c_str());
     std::printf("context    %s | %s | %s\n", caps.version.c_str(), caps.renderer.c_str(),
                 (*context)->display_description().c_str());
     print_draws(a, **renderer, *run, width, height);
-    std::printf("image      %s (%dx%d)\n", output.c_str(), width, height);
+    std::printf("image      %s (%dx%d)\n", output->c_str(), width, height);
     print_timing(a, **renderer, *run, cache_dir);
-    if (tolerance) compared = compare_with_golden(*image, output, a.golden, *tolerance, a.golden_options);
+    if (tolerance) compared = compare_with_golden(*image, *output, a.golden, *tolerance, a.golden_options);
     if (a.verify) return verify_plan(**renderer, *scene, width, height);
     return 0;
 }
