@@ -302,6 +302,57 @@ std::vector<Setting> scene_settings(const std::vector<Setting>& settings, Shadow
     return out;
 }
 
+// One scene at one angle: its scene, the exact reference, the traced height
+// field and (timed) normal mapping loaded as the baseline.
+Status prepare_angle(const BenchOptions& options, SceneDesc base, const std::string& scene_name, double angle,
+                     const RenderTarget& target, AngleContext& at) {
+    at.base = std::move(base);
+    at.angle = angle;
+    reference::ReferenceOptions reference_options;
+    reference_options.shadow = at.shadow;
+    Result<reference::ReferenceImage> truth = reference::render_reference(at.base, target.width, target.height, reference_options);
+    if (!truth) return with_context("reference for " + scene_name, truth.error());
+    at.truth = std::move(*truth);
+    Result<MaterialImages> images = build_material_images(at.base.materials[0], at.base.base_dir);
+    if (!images) return images.error();
+    at.field = images->traced;
+    at.normal.reset();
+    if (!options.timed) return {};
+    SceneDesc normal_scene = at.base;
+    normal_scene.materials[0].technique.technique = Technique::normal;
+    RendererOptions baseline_options = options.renderer;
+    baseline_options.variant_transform = nullptr;
+    Result<std::unique_ptr<Renderer>> loaded = load_renderer(normal_scene, baseline_options);
+    if (!loaded) return loaded.error();
+    at.normal = std::move(*loaded);
+    return {};
+}
+
+// The run's header: when, what, on which renderer, at what size.
+BenchRun run_header(const BenchOptions& options, const RenderTarget& target) {
+    BenchRun run;
+    run.date = now_iso8601();
+    run.command = options.command;
+    run.gl_renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    run.gl_version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    run.threads = options.threads;
+    run.width = target.width;
+    run.height = target.height;
+    run.frames = options.frames;
+    return run;
+}
+
+Status check_bench_options(const BenchOptions& options, const std::vector<std::string>& scenes) {
+    if (options.frames < 1) return make_error("frames must be at least 1");
+    if (options.segments < 1 || options.segments > 1024) return make_error("segments must be within 1..1024");
+    for (const std::string& s : scenes)
+        if (!find_spec(s)) return bench_scene(s, 0.0).error();
+    if (options.shadow_samples.empty()) return make_error("shadow_samples: needs at least one count");
+    for (int k : options.shadow_samples)
+        if (k < 1 || k > 128) return make_error("shadow_samples: " + std::to_string(k) + " is outside 1..128");
+    return {};
+}
+
 }  // namespace
 
 Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& target,
@@ -309,10 +360,7 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
     std::vector<std::string> scenes = options.scenes.empty() && options.materials.empty() ? bench_scene_names() : options.scenes;
     const std::vector<std::string> techniques =
         options.techniques.empty() ? bench_technique_names() : options.techniques;
-    if (options.frames < 1) return make_error("frames must be at least 1");
-    if (options.segments < 1 || options.segments > 1024) return make_error("segments must be within 1..1024");
-    for (const std::string& s : scenes)
-        if (!find_spec(s)) return bench_scene(s, 0.0).error();
+    if (Status s = check_bench_options(options, scenes); !s) return s.error();
     for (const BenchMaterial& m : options.materials) scenes.push_back(m.name);
     auto scene_at = [&](const std::string& name, double angle) -> Result<SceneDesc> {
         for (const BenchMaterial& m : options.materials)
@@ -325,63 +373,29 @@ Result<BenchRun> run_bench(const BenchOptions& options, const RenderTarget& targ
             if (m.name == name) return m.shadow;
         return bench_scene_shadow(name);
     };
-    if (options.shadow_samples.empty()) return make_error("shadow_samples: needs at least one count");
-    for (int k : options.shadow_samples)
-        if (k < 1 || k > 128) return make_error("shadow_samples: " + std::to_string(k) + " is outside 1..128");
     Result<std::vector<Setting>> settings = bench_settings(options, techniques);
     if (!settings) return settings.error();
-
-    BenchRun run;
-    run.date = now_iso8601();
-    run.command = options.command;
-    run.gl_renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    run.gl_version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-    run.threads = options.threads;
-    run.width = target.width;
-    run.height = target.height;
-    run.frames = options.frames;
-    int total = 0;
+    BenchRun run = run_header(options, target);
+    int total = 0, done = 0;
     for (const std::string& scene_name : scenes)
         total += static_cast<int>(options.angles.size() *
                                   scene_settings(*settings, shadow_of(scene_name), options.shadow_samples).size());
-    int done = 0;
     for (const std::string& scene_name : scenes) {
         AngleContext at;
         at.shadow = shadow_of(scene_name);
         for (double angle : options.angles) {
             Result<SceneDesc> base = scene_at(scene_name, angle);
             if (!base) return base.error();
-            at.base = std::move(*base);
-            at.angle = angle;
-            reference::ReferenceOptions reference_options;
-            reference_options.shadow = at.shadow;
-            Result<reference::ReferenceImage> truth =
-                reference::render_reference(at.base, target.width, target.height, reference_options);
-            if (!truth) return with_context("reference for " + scene_name, truth.error());
-            at.truth = std::move(*truth);
-            Result<MaterialImages> images = build_material_images(at.base.materials[0], at.base.base_dir);
-            if (!images) return images.error();
-            at.field = images->traced;
-            at.normal.reset();
-            if (options.timed) {
-                SceneDesc normal_scene = at.base;
-                normal_scene.materials[0].technique.technique = Technique::normal;
-                RendererOptions baseline_options = options.renderer;
-                baseline_options.variant_transform = nullptr;
-                Result<std::unique_ptr<Renderer>> loaded = load_renderer(normal_scene, baseline_options);
-                if (!loaded) return loaded.error();
-                at.normal = std::move(*loaded);
-            }
+            if (Status s = prepare_angle(options, std::move(*base), scene_name, angle, target, at); !s) return s.error();
             for (const Setting& setting : scene_settings(*settings, at.shadow, options.shadow_samples)) {
                 Result<BenchRow> row = measure_setting(options, at, setting, scene_name, target, read_color);
                 if (!row) return row.error();
                 run.rows.push_back(std::move(*row));
                 ++done;
-                if (progress) {
-                    std::string what = scene_name + " " + std::to_string(static_cast<int>(angle)) + "deg " + setting.technique;
-                    if (setting.samples) what += " " + std::to_string(setting.samples);
-                    progress(done, total, what);
-                }
+                if (!progress) continue;
+                std::string what = scene_name + " " + std::to_string(static_cast<int>(angle)) + "deg " + setting.technique;
+                if (setting.samples) what += " " + std::to_string(setting.samples);
+                progress(done, total, what);
             }
         }
     }
