@@ -5,6 +5,7 @@
 // renames that over path, so a failure never leaves a partial file behind.
 // Numbers are formatted with std::to_chars, which ignores the C locale.
 #include "parallaxes/profiling/reports/bench_results.h"
+#include "parallaxes/profiling/reports/svg_plot.h"
 
 #include "parallaxes/core/files.h"
 #include "parallaxes/core/numeric.h"
@@ -188,39 +189,6 @@ size_t utf8_length(const std::string& s) {
         std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
 }
 
-std::string xml_escape(const std::string& s) {
-    std::string out;
-    out.reserve(s.size());
-    for (const char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&apos;";
-                break;
-            case '\n':
-            case '\r':
-            case '\t':
-                out += ' ';
-                break;
-            default:
-                // Other control characters are not allowed in XML 1.0.
-                if (static_cast<unsigned char>(c) >= 0x20) out += c;
-                break;
-        }
-    }
-    return out;
-}
 
 // One line, with '|' escaped, for a markdown table cell or list item.
 std::string md_text(const std::string& s) {
@@ -425,29 +393,10 @@ LogAxis log_axis(const std::vector<double>& values, const std::vector<double>& m
     return axis;
 }
 
-struct Tick {
-    double value;
-    bool labelled;
-};
+using Tick = svg::Tick;
 
-// Decades labelled; 2 and 5 (and 3 on short axes) labelled too where the axis
-// spans few decades; the other multiples as unlabelled minor ticks.
-std::vector<Tick> log_ticks(const LogAxis& axis) {
-    const double span = axis.hi - axis.lo;
-    std::vector<Tick> ticks;
-    const int first = static_cast<int>(std::floor(axis.lo));
-    const int last = static_cast<int>(std::ceil(axis.hi));
-    for (int decade = first; decade <= last; ++decade) {
-        for (int m = 1; m <= 9; ++m) {
-            const double v = m * std::pow(10.0, decade);
-            const double lv = std::log10(v);
-            if (lv < axis.lo - 1e-9 || lv > axis.hi + 1e-9) continue;
-            const bool labelled = m == 1 || (span < 2.2 && (m == 2 || m == 5)) || (span < 1.2 && m == 3);
-            ticks.push_back({v, labelled});
-        }
-    }
-    return ticks;
-}
+// The shared log ticks (svg_plot.h) on this axis.
+std::vector<Tick> log_ticks(const LogAxis& axis) { return svg::log_ticks(axis.lo, axis.hi); }
 
 std::string tick_label(double v) { return general(v, 3); }
 
@@ -568,7 +517,7 @@ public:
         out_ += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
         header();
         if (panels_.empty()) {
-            out_ += text_svg(kLeft, top_ + 40, "No rows with a finite, positive time ratio and error to plot.", "start",
+            out_ += svg::text(kLeft, top_ + 40, "No rows with a finite, positive time ratio and error to plot.", "start",
                              kFont, "#444444", "");
         }
         for (size_t i = 0; i < panels_.size(); ++i) panel(i);
@@ -674,12 +623,12 @@ private:
     void header() {
         double y = 26;
         for (const std::string& line : title_lines_) {
-            out_ += text_svg(kLeft, y, line, "start", 15, "#111111", " font-weight=\"bold\" class=\"title\"");
+            out_ += svg::text(kLeft, y, line, "start", 15, "#111111", " font-weight=\"bold\" class=\"title\"");
             y += 19;
         }
         y += 1;
         for (const std::string& line : subtitle_lines_) {
-            out_ += text_svg(kLeft, y, line, "start", kFont, "#444444", " class=\"subtitle\"");
+            out_ += svg::text(kLeft, y, line, "start", kFont, "#444444", " class=\"subtitle\"");
             y += 16;
         }
     }
@@ -713,22 +662,22 @@ private:
 
     // The angle class, then the angles it holds.
     void panel_title(const Panel& p, double x0, double y0) {
-        out_ += text_svg(x0 + kPlotW / 2, y0 - 24, kAngleClasses[p.angle_class], "middle", 13, "#111111",
+        out_ += svg::text(x0 + kPlotW / 2, y0 - 24, kAngleClasses[p.angle_class], "middle", 13, "#111111",
                          " font-weight=\"bold\" class=\"panel-title\"");
         std::string angles;
         for (const double a : p.angles) angles += (angles.empty() ? "" : ", ") + angle_text(a);
-        out_ += text_svg(x0 + kPlotW / 2, y0 - 9, "view " + angles, "middle", 11, "#555555", "");
+        out_ += svg::text(x0 + kPlotW / 2, y0 - 9, "view " + angles, "middle", 11, "#555555", "");
     }
 
     // Grid at the labelled ticks.
     void panel_grid(const std::vector<Tick>& xt, const std::vector<Tick>& yt, double x0, double x1, double y0, double y1) {
         for (const Tick& t : xt) {
             const double x = sx(t.value, x0);
-            if (t.labelled) out_ += line_svg(x, y0, x, y1, "#e5e5e5", 0.8, "");
+            if (t.labelled) out_ += svg::line(x, y0, x, y1, "#e5e5e5", 0.8, "");
         }
         for (const Tick& t : yt) {
             const double y = sy(t.value);
-            if (t.labelled) out_ += line_svg(x0, y, x1, y, "#e5e5e5", 0.8, "");
+            if (t.labelled) out_ += svg::line(x0, y, x1, y, "#e5e5e5", 0.8, "");
         }
     }
 
@@ -737,9 +686,9 @@ private:
         std::vector<Rect> taken;
         for (const double g : kGuides) {
             const double y = sy(g);
-            out_ += line_svg(x0, y, x1, y, "#8a8a8a", 0.9, " stroke-dasharray=\"5 4\" class=\"guide\"");
+            out_ += svg::line(x0, y, x1, y, "#8a8a8a", 0.9, " stroke-dasharray=\"5 4\" class=\"guide\"");
             const std::string label = g == 1.0 ? "1 texel" : general(g);
-            out_ += text_svg(x1 - 4, y - 3, label, "end", kSmallFont, "#777777", "");
+            out_ += svg::text(x1 - 4, y - 3, label, "end", kSmallFont, "#777777", "");
             taken.push_back({x1 - 4 - text_width(label, kSmallFont), y - 3 - 8, x1 - 4, y - 3 + 1});
         }
         return taken;
@@ -789,7 +738,7 @@ private:
                                     angle_text(pt.row->angle_deg) + ": " + human_sig(pt.row->uv_error_mean) +
                                     " texels, " + human_fixed(pt.row->ratio_to_normal, 2) + "× normal";
             out_ += std::string("<g class=\"point") + (pt.frontier ? " on-frontier" : "") + "\"><title>" +
-                    xml_escape(tip) + "</title>";
+                    svg::escape(tip) + "</title>";
             if (pt.frontier)
                 out_ += "<circle cx=\"" + num(pt.sx) + "\" cy=\"" + num(pt.sy) +
                         "\" r=\"8\" fill=\"none\" stroke=\"#111111\" stroke-width=\"1\"/>";
@@ -823,15 +772,15 @@ private:
                 num(kPlotH) + "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"0.9\"/>\n";
         for (const Tick& t : xt) {
             const double x = sx(t.value, x0);
-            out_ += line_svg(x, y1, x, y1 + (t.labelled ? 5 : 3), "#333333", 0.8, "");
-            if (t.labelled) out_ += text_svg(x, y1 + 18, tick_label(t.value) + "×", "middle", kFont, "#222222", "");
+            out_ += svg::line(x, y1, x, y1 + (t.labelled ? 5 : 3), "#333333", 0.8, "");
+            if (t.labelled) out_ += svg::text(x, y1 + 18, tick_label(t.value) + "×", "middle", kFont, "#222222", "");
         }
         for (const Tick& t : yt) {
             const double y = sy(t.value);
-            out_ += line_svg(x0 - (t.labelled ? 5 : 3), y, x0, y, "#333333", 0.8, "");
-            if (t.labelled) out_ += text_svg(x0 - 8, y + 4, tick_label(t.value), "end", kFont, "#222222", "");
+            out_ += svg::line(x0 - (t.labelled ? 5 : 3), y, x0, y, "#333333", 0.8, "");
+            if (t.labelled) out_ += svg::text(x0 - 8, y + 4, tick_label(t.value), "end", kFont, "#222222", "");
         }
-        out_ += text_svg(x0 + kPlotW / 2, y1 + 38, "frame time ÷ normal mapping (log scale)", "middle", kFont,
+        out_ += svg::text(x0 + kPlotW / 2, y1 + 38, "frame time ÷ normal mapping (log scale)", "middle", kFont,
                          "#222222", "");
         if (index == 0) {
             const double lx = x0 - 56, ly = y0 + kPlotH / 2;
@@ -864,7 +813,7 @@ private:
             if (r.x0 < area.x0 + 2 || r.x1 > area.x1 - 2 || r.y0 < area.y0 + 2 || r.y1 > area.y1 - 2) continue;
             if (std::any_of(taken.begin(), taken.end(), [&](const Rect& t) { return t.overlaps(r); })) continue;
             taken.push_back(r);
-            out_ += text_svg(ax, base, label, anchor, kSmallFont, "#333333",
+            out_ += svg::text(ax, base, label, anchor, kSmallFont, "#333333",
                              " class=\"point-label\" stroke=\"#ffffff\" stroke-width=\"2.5\" paint-order=\"stroke\"");
             return;
         }
@@ -882,15 +831,15 @@ private:
         std::string body;
         auto heading = [&](const std::string& text, double gap) {
             y += gap;
-            body += text_svg(x + 10, y, text, "start", kFont, "#111111", " font-weight=\"bold\"");
+            body += svg::text(x + 10, y, text, "start", kFont, "#111111", " font-weight=\"bold\"");
         };
-        auto label = [&](const std::string& text) { body += text_svg(x + 46, y, text, "start", kFont, "#222222", ""); };
+        auto label = [&](const std::string& text) { body += svg::text(x + 46, y, text, "start", kFont, "#222222", ""); };
 
         heading("technique", 20);
         for (const TechniqueEntry& t : techniques_) {
             y += 20;
             body += "<g class=\"legend-entry\">";
-            body += line_svg(x + 10, y - 4, x + 38, y - 4, t.colour, 1.4, "");
+            body += svg::line(x + 10, y - 4, x + 38, y - 4, t.colour, 1.4, "");
             body += marker_svg(t.marker, x + 24, y - 4, 4.6, t.colour, false);
             label(fit(t.name, kLegendW - 52, kFont));
             body += "</g>\n";
@@ -900,7 +849,7 @@ private:
             for (size_t s = 0; s < scenes_.size(); ++s) {
                 y += 20;
                 const char* dash = kSceneDashes[s % kSceneDashes.size()];
-                body += line_svg(x + 10, y - 4, x + 38, y - 4, "#555555", 1.4,
+                body += svg::line(x + 10, y - 4, x + 38, y - 4, "#555555", 1.4,
                                  *dash != '\0' ? std::string(" stroke-dasharray=\"") + dash + "\"" : std::string());
                 label(fit(scenes_[s], kLegendW - 52, kFont));
             }
@@ -915,9 +864,9 @@ private:
             label("lower ones");
         }
         y += 28;
-        body += line_svg(x + 10, y - 7, x + 24, y - 7, "#111111", 1.8, "");
-        body += line_svg(x + 24, y - 7, x + 24, y - 1, "#111111", 1.8, "");
-        body += line_svg(x + 24, y - 1, x + 38, y - 1, "#111111", 1.8, "");
+        body += svg::line(x + 10, y - 7, x + 24, y - 7, "#111111", 1.8, "");
+        body += svg::line(x + 24, y - 7, x + 24, y - 1, "#111111", 1.8, "");
+        body += svg::line(x + 24, y - 1, x + 38, y - 1, "#111111", 1.8, "");
         label("Pareto frontier");
         y += 20;
         body += "<circle cx=\"" + num(x + 24) + "\" cy=\"" + num(y - 4) +
@@ -925,7 +874,7 @@ private:
         body += marker_svg(Marker::circle, x + 24, y - 4, 4.6, "#555555", false);
         label("on the frontier");
         y += 20;
-        body += line_svg(x + 10, y - 4, x + 38, y - 4, "#8a8a8a", 0.9, " stroke-dasharray=\"5 4\"");
+        body += svg::line(x + 10, y - 4, x + 38, y - 4, "#8a8a8a", 0.9, " stroke-dasharray=\"5 4\"");
         label("error guides");
         const double height = y + 12 - top_;
         const std::string frame = "<rect x=\"" + num(x) + "\" y=\"" + num(top_) + "\" width=\"" + num(kLegendW) +
@@ -937,23 +886,9 @@ private:
     void footnotes() {
         double y = footnote_y_;
         for (const std::string& line : footnote_lines_) {
-            out_ += text_svg(kLeft, y, line, "start", 11, "#555555", " class=\"footnote\"");
+            out_ += svg::text(kLeft, y, line, "start", 11, "#555555", " class=\"footnote\"");
             y += 15;
         }
-    }
-
-    static std::string text_svg(double x, double y, const std::string& text, const std::string& anchor, double font,
-                                const std::string& fill, const std::string& extra) {
-        return "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\"" +
-               (anchor == "start" ? std::string() : " text-anchor=\"" + anchor + "\"") +
-               (font == kFont ? std::string() : " font-size=\"" + num(font) + "\"") + " fill=\"" + fill + "\"" + extra +
-               ">" + xml_escape(text) + "</text>\n";
-    }
-
-    static std::string line_svg(double xa, double ya, double xb, double yb, const std::string& stroke, double width,
-                                const std::string& extra) {
-        return "<line x1=\"" + num(xa) + "\" y1=\"" + num(ya) + "\" x2=\"" + num(xb) + "\" y2=\"" + num(yb) +
-               "\" stroke=\"" + stroke + "\" stroke-width=\"" + general(width, 3) + "\"" + extra + "/>\n";
     }
 
     const BenchRun& run_;

@@ -9,35 +9,10 @@
 namespace px::profiling {
 namespace {
 
-std::string num(double v) {
-    std::array<char, 64> buf{};
-    auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), v, std::chars_format::general, 6);
-    return ec == std::errc() ? std::string(buf.data(), end) : std::string("0");
-}
-
-std::string escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '&') out += "&amp;";
-        else if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '"') out += "&quot;";
-        else out += c;
-    }
-    return out;
-}
-
-std::string text(double x, double y, const std::string& s, const char* anchor, int size, const char* fill,
-                 const std::string& extra = "") {
-    return "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\" text-anchor=\"" + anchor + "\" font-size=\"" +
-           std::to_string(size) + "\" fill=\"" + fill + "\"" + extra + ">" + escape(s) + "</text>\n";
-}
-
-std::string line(double xa, double ya, double xb, double yb, const std::string& stroke, double width,
-                 const std::string& extra = "") {
-    return "<line x1=\"" + num(xa) + "\" y1=\"" + num(ya) + "\" x2=\"" + num(xb) + "\" y2=\"" + num(yb) +
-           "\" stroke=\"" + stroke + "\" stroke-width=\"" + num(width) + "\"" + extra + "/>\n";
-}
+std::string num(double v) { return svg::number(v); }
+using svg::escape;
+using svg::line;
+using svg::text;
 
 // One axis: its range (in log10 where logarithmic) and the map to pixels.
 struct Axis {
@@ -64,17 +39,15 @@ void fit(Axis& axis, const std::vector<double>& values, bool pad_zero) {
     axis.hi = axis.log ? std::ceil(hi + pad) : hi + pad;
 }
 
-// Tick values: powers of ten on a log axis, about six round steps on a linear one.
-std::vector<double> ticks(const Axis& axis) {
-    std::vector<double> out;
-    if (axis.log) {
-        for (double e = std::ceil(axis.lo); e <= axis.hi + 1e-9; e += 1.0) out.push_back(std::pow(10.0, e));
-        return out;
-    }
+// Ticks: svg::log_ticks on a log axis, about six round steps (all
+// labelled) on a linear one.
+std::vector<svg::Tick> ticks(const Axis& axis) {
+    if (axis.log) return svg::log_ticks(axis.lo, axis.hi);
+    std::vector<svg::Tick> out;
     const double raw = (axis.hi - axis.lo) / 6.0;
     const double mag = std::pow(10.0, std::floor(std::log10(raw)));
     const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2.0 * mag : raw / mag < 7.5 ? 5.0 * mag : 10.0 * mag;
-    for (double v = std::ceil(axis.lo / step) * step; v <= axis.hi + 1e-9; v += step) out.push_back(v);
+    for (double v = std::ceil(axis.lo / step) * step; v <= axis.hi + 1e-9; v += step) out.push_back({v, true});
     return out;
 }
 
@@ -103,9 +76,9 @@ std::string svg_plot(const std::vector<PlotSeries>& series, const PlotOptions& o
     if (!o.subtitle.empty()) out += text(left, 44, o.subtitle, "start", 12, "#444444");
     // Grid and ticks.
     if (o.x_categories.empty()) {
-        for (double v : ticks(x)) {
-            out += line(x.px(v), y.a, x.px(v), y.b, "#e5e5e5", 0.8);
-            out += text(x.px(v), y.a + 18, num(v), "middle", 11, "#222222");
+        for (const svg::Tick& t : ticks(x)) {
+            out += line(x.px(t.value), y.a, x.px(t.value), t.labelled ? y.b : y.a - 4, t.labelled ? "#e5e5e5" : "#333333", 0.8);
+            if (t.labelled) out += text(x.px(t.value), y.a + 18, num(t.value), "middle", 11, "#222222");
         }
     } else {
         for (size_t i = 0; i < o.x_categories.size(); ++i) {
@@ -114,9 +87,9 @@ std::string svg_plot(const std::vector<PlotSeries>& series, const PlotOptions& o
             out += text(px, y.a + 18, o.x_categories[i], "middle", 11, "#222222");
         }
     }
-    for (double v : ticks(y)) {
-        out += line(x.a, y.px(v), x.b, y.px(v), "#e5e5e5", 0.8);
-        out += text(x.a - 8, y.px(v) + 4, num(v), "end", 11, "#222222");
+    for (const svg::Tick& t : ticks(y)) {
+        out += line(x.a, y.px(t.value), t.labelled ? x.b : x.a + 4, y.px(t.value), t.labelled ? "#e5e5e5" : "#333333", 0.8);
+        if (t.labelled) out += text(x.a - 8, y.px(t.value) + 4, num(t.value), "end", 11, "#222222");
     }
     out += line(x.a, y.a, x.b, y.a, "#333333", 1.0) + line(x.a, y.a, x.a, y.b, "#333333", 1.0);
     out += text((x.a + x.b) / 2, o.height - 18, o.x_label, "middle", 12, "#222222");
@@ -158,5 +131,60 @@ std::string svg_plot(const std::vector<PlotSeries>& series, const PlotOptions& o
     }
     return out + "</svg>\n";
 }
+
+namespace svg {
+
+std::string number(double v) {
+    std::array<char, 64> buf{};
+    auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), v, std::chars_format::general, 6);
+    return ec == std::errc() ? std::string(buf.data(), end) : std::string("0");
+}
+
+std::string escape(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (const char c : s) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&apos;"; break;
+            case '\n':
+            case '\r':
+            case '\t': out += ' '; break;
+            default: out += c;
+        }
+    }
+    return out;
+}
+
+std::string text(double x, double y, const std::string& s, const std::string& anchor, double size, const std::string& fill,
+                 const std::string& extra) {
+    return "<text x=\"" + number(x) + "\" y=\"" + number(y) + "\"" +
+           (anchor == "start" ? std::string() : " text-anchor=\"" + anchor + "\"") + " font-size=\"" + number(size) +
+           "\" fill=\"" + fill + "\"" + extra + ">" + escape(s) + "</text>\n";
+}
+
+std::string line(double xa, double ya, double xb, double yb, const std::string& stroke, double width, const std::string& extra) {
+    return "<line x1=\"" + number(xa) + "\" y1=\"" + number(ya) + "\" x2=\"" + number(xb) + "\" y2=\"" + number(yb) +
+           "\" stroke=\"" + stroke + "\" stroke-width=\"" + number(width) + "\"" + extra + "/>\n";
+}
+
+std::vector<Tick> log_ticks(double lo, double hi) {
+    const double span = hi - lo;
+    std::vector<Tick> ticks;
+    const int first = static_cast<int>(std::floor(lo)), last = static_cast<int>(std::ceil(hi));
+    for (int decade = first; decade <= last; ++decade)
+        for (int m = 1; m <= 9; ++m) {
+            const double v = m * std::pow(10.0, decade);
+            const double lv = std::log10(v);
+            if (lv < lo - 1e-9 || lv > hi + 1e-9) continue;
+            ticks.push_back({v, m == 1 || (span < 2.2 && (m == 2 || m == 5)) || (span < 1.2 && m == 3)});
+        }
+    return ticks;
+}
+
+}  // namespace svg
 
 }  // namespace px::profiling

@@ -35,4 +35,30 @@ struct PlotOptions {
 
 std::string svg_plot(const std::vector<PlotSeries>& series, const PlotOptions& options);
 
+// The pieces every chart of the reports is drawn with (svg_plot above and
+// the benchmark's Pareto panels, bench_report.cpp).
+namespace svg {
+
+// Text for an attribute or element: & < > " ' escaped, line breaks and tabs
+// as spaces, so that no name or tooltip can break the document.
+std::string escape(const std::string& s);
+// Up to six significant digits, the shortest form (std::to_chars).
+std::string number(double v);
+// <text>: `anchor` start, middle or end; `extra` more attributes (" class=...").
+std::string text(double x, double y, const std::string& s, const std::string& anchor, double size, const std::string& fill,
+                 const std::string& extra = "");
+std::string line(double xa, double ya, double xb, double yb, const std::string& stroke, double width,
+                 const std::string& extra = "");
+
+// Ticks of a logarithmic axis spanning [lo, hi] in log10: the decades
+// labelled; 2 and 5 labelled too where it spans few decades (and 3 on a
+// short one); the other multiples as unlabelled minor ticks.
+struct Tick {
+    double value;
+    bool labelled;
+};
+std::vector<Tick> log_ticks(double lo, double hi);
+
+}  // namespace svg
+
 }  // namespace px::profiling
