@@ -17,6 +17,7 @@
 #include "parallaxes/profiling/measurement/showcase.h"
 #include "plan_report.h"
 #include "cli_common.h"
+#include "draw_surface.h"
 #include "commands.h"
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/render/offscreen_target.h"
@@ -73,12 +74,9 @@ int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
         grid.light_elevations = {35};
         grid.frames = 2;
     }
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(grid.width, grid.height);
-    if (!target) return fail(target.error().message);
+    Result<DrawSurface> surface = make_draw_surface(grid.width, grid.height);
+    if (!surface) return fail(surface.error().message);
+    OffscreenTarget* target = &*surface->target;
     std::optional<CostTable> keep;
     if (a.shadows_only) {
         Result<std::vector<std::uint8_t>> bytes = read_file_bounded(a.planner_table, 64u << 20, "cost table");
@@ -103,12 +101,9 @@ int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
 int run_showcase_bench(const BenchArgs& a, int width, int height) {
     Result<SceneDesc> scene = load_scene(a.showcase);
     if (!scene) return fail(scene.error().message);
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;  // float debug captures
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(width, height);
-    if (!target) return fail(target.error().message);
+    Result<DrawSurface> surface = make_draw_surface(width, height);
+    if (!surface) return fail(surface.error().message);
+    OffscreenTarget* target = &*surface->target;
     RendererOptions options;
     options.effect_planner = effect_planner;
     options.texture_files = texture_files();
@@ -169,12 +164,9 @@ int run(BenchArgs a) {
     std::filesystem::create_directories(a.out, ec);
     if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
 
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;  // float debug targets; maxmip needs ES 3.0
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(width, height);
-    if (!target) return fail(target.error().message);
+    Result<DrawSurface> surface = make_draw_surface(width, height);
+    if (!surface) return fail(surface.error().message);
+    OffscreenTarget* target = &*surface->target;
     const PipelineCounters counters_before = pipeline_counters();
     auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
                                        [](int done, int total, const std::string& what) {

@@ -19,6 +19,7 @@
 #include <glm/glm.hpp>
 
 #include "cli_common.h"
+#include "draw_surface.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/planner/search_model.h"
 #include "parallaxes/platform/headless_context.h"
@@ -341,12 +342,9 @@ int run_search_model_bench(const std::string& folder, int width, int height, con
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     if (ec) return fail("cannot create '" + out + "': " + ec.message());
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(width, height);
-    if (!target) return fail(target.error().message);
+    Result<DrawSurface> surface = make_draw_surface(width, height);
+    if (!surface) return fail(surface.error().message);
+    OffscreenTarget* target = &*surface->target;
     const profiling::BenchOptions options = search_model_bench_options(width, height, command);
     std::vector<Case> cases;
     ReliefRun last;

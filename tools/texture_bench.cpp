@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "draw_surface.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/profiling/measurement/interleaved.h"
@@ -156,12 +157,9 @@ int run_texture_bench(const std::string& scene_name, int width, int height, int 
                       const std::string& command) {
     Result<SceneDesc> loaded = load_scene(scene_name.empty() ? "default" : scene_name);
     if (!loaded) return fail(loaded.error().message);
-    platform::ContextOptions context_options;
-    context_options.es_major = 3;
-    auto context = platform::HeadlessContext::create(context_options);
-    if (!context) return fail(context.error().message);
-    auto target = OffscreenTarget::create(width, height);
-    if (!target) return fail(target.error().message);
+    Result<DrawSurface> surface = make_draw_surface(width, height);
+    if (!surface) return fail(surface.error().message);
+    OffscreenTarget* target = &*surface->target;
     Result<TempFolder> folder = make_texture_folder();
     if (!folder) return fail(folder.error().message);
 

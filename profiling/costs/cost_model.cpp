@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "parallaxes/profiling/costs/json_input.h"
+
 namespace px::profiling {
 
 namespace px_generated {
@@ -111,14 +113,10 @@ std::map<std::string, int> CostModel::trip_overrides() const {
 }
 
 Result<CostModel> parse_cost_model(const std::string& text, const std::string& where) {
-    json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        return make_error(where + ": not JSON: " + e.what());
-    }
+    Result<json> parsed = parse_json_object(text, where, "the cost model");
+    if (!parsed) return parsed.error();
+    const json& root = *parsed;
     auto fail = [&](const Error& e) { return make_error(where + ": " + e.message); };
-    if (!root.is_object()) return make_error(where + ": the cost model must be a JSON object");
     CostModel m;
     if (root.contains("name") && root["name"].is_string()) m.name = root["name"].get<std::string>();
     if (root.contains("about") && root["about"].is_string()) m.about = root["about"].get<std::string>();

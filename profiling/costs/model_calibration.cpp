@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "parallaxes/profiling/costs/json_input.h"
+
 #include "parallaxes/profiling/costs/vendor_compilers.h"
 
 namespace px::profiling {
@@ -324,14 +326,10 @@ double spearman(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 Result<CalibrationSet> parse_calibration_set(const std::string& text, const std::string& where) {
-    json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        return make_error(where + ": not JSON: " + e.what());
-    }
+    Result<json> parsed = parse_json_object(text, where, "a calibration set");
+    if (!parsed) return parsed.error();
+    const json& root = *parsed;
     auto fail = [&](const Error& e) { return make_error(where + ": " + e.message); };
-    if (!root.is_object()) return make_error(where + ": a calibration set must be a JSON object");
     CalibrationSet set;
     std::string* fields[] = {&set.gpu, &set.compiler, &set.source, &set.made_by};
     const char* keys[] = {"gpu", "compiler", "source", "made_by"};

@@ -1,0 +1,34 @@
+// A headless context and an offscreen target of one size: what the
+// benchmark commands draw into. The target is released before the context.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "parallaxes/core/result.h"
+#include "parallaxes/platform/headless_context.h"
+#include "parallaxes/render/offscreen_target.h"
+
+namespace px::tools {
+
+struct DrawSurface {
+    std::unique_ptr<platform::HeadlessContext> context;  // declared first: released last
+    std::optional<OffscreenTarget> target;                // always engaged (made after the context)
+};
+
+// OpenGL ES 3.0 by default: float debug captures, and every technique
+// (maxmip needs ES 3.0).
+inline Result<DrawSurface> make_draw_surface(int width, int height, int es_major = 3) {
+    platform::ContextOptions options;
+    options.es_major = es_major;
+    Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
+    if (!context) return context.error();
+    DrawSurface surface;
+    surface.context = std::move(*context);
+    Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
+    if (!target) return target.error();
+    surface.target.emplace(std::move(*target));
+    return surface;
+}
+
+}  // namespace px::tools
