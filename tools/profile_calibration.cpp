@@ -196,6 +196,37 @@ std::string read_text(const std::string& path, std::size_t limit, const char* wh
     return std::string(bytes->begin(), bytes->end());
 }
 
+// Every calibration set beside the carried one (profiling/costs/calibration/,
+// from the repository the doc is written in), fitted the same way: one row
+// per GPU, the fit's held-out figures or why it cannot be made.
+std::string other_classes_table(const std::string& doc_path) {
+    const std::filesystem::path root = std::filesystem::path(doc_path).parent_path().parent_path();
+    const std::filesystem::path folder = root / std::filesystem::path(profiling::default_calibration_set_path()).parent_path();
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+        if (it->path().extension() == ".json") files.push_back(it->path());
+    std::sort(files.begin(), files.end());
+    std::vector<std::vector<std::string>> rows;
+    for (const std::filesystem::path& file : files) {
+        Result<profiling::CalibrationSet> set = load_set(file.string());
+        if (!set) continue;
+        Result<profiling::CalibrationFit> fit = profiling::fit_cost_model(*set, profiling::base_cost_model());
+        const std::string name = "`" + file.filename().string() + "`";
+        if (!fit) {
+            rows.push_back({set->gpu, name, "-", "-", "-", "-", "cannot be fitted: " + fit.error().message});
+            continue;
+        }
+        rows.push_back({set->gpu, name, decimals(fit->held_out.spearman, 3), decimals(100.0 * fit->held_out.median_abs_error, 1) + " %",
+                        decimals(fit->held_out.spearman_uncalibrated, 3), decimals(fit->leave_one_out.spearman, 3),
+                        goal_met(fit->held_out) ? "met" : "not met"});
+    }
+    if (rows.empty()) return "";
+    return profiling::render_table({"GPU", "set", "held-out Spearman", "held-out median error", "hand-chosen rates' Spearman",
+                                    "leave-one-out Spearman", "goal"},
+                                   rows, profiling::ReportFormat::markdown);
+}
+
 }  // namespace
 
 int run_calibrate(const CalibrationArgs& a) {
@@ -303,12 +334,21 @@ Status doc_calibration(std::ostringstream& doc, const std::string& doc_path) {
         << "comparison).\n\n"
         << fit_report(set, *fit, profiling::ReportFormat::markdown) << "\n"
         << "![the model against the compiler, one point per shader](" << picture << ")\n\n"
+        << "### Other GPU classes\n\n"
+        << "The same shaders' reports on other Mali GPUs make sets of their own (`profiling/costs/calibration/`, "
+        << "made the same way); `parallax profile --calibrate --calibration-set FILE --model-out MODEL` fits one, "
+        << "and `--model MODEL` uses it. Each fitted the same way:\n\n"
+        << other_classes_table(doc_path) << "\n"
+        << "The model's three pipes are Valhall's and Bifrost's: on the newer Valhall (Mali-G710) the fit does as "
+        << "well as on the Mali-G78; on Bifrost (Mali-G76) it sizes the shaders within 20 % but ranks the held-out "
+        << "half below the goal, worse than the hand-chosen rates; Midgard (Mali-T880) interpolates varyings "
+        << "through its load/store pipe, which the model does not have, so no varying rate can be fitted.\n\n"
         << "What the figures do not show: half the set are Impeller's advanced blend shaders, which differ in "
         << "their blend function only, so the held-out half resembles the fitting half more than an unrelated "
         << "shader would (the leave-one-out line is the same test with every shader held out once). The set's "
         << "shaders are short and read one or two textures; this project's marches are loops of dependent reads, "
-        << "whose cost the model's loop trip counts and texture latency (not calibrated) decide. Varyings are "
-        << "counted per component whatever their precision, as every varying of the set is highp. Only fragment "
+        << "whose cost the model's loop trip counts and texture latency (not calibrated) decide. mediump varyings "
+        << "are charged at the 16-bit rate, a ratio the set cannot fit (every varying in it is highp). Only fragment "
         << "shaders are used: the model has no load/store pipe, which bounds most vertex shaders on this GPU. "
         << "The two largest misses, under-predictions of about 40 %, are the two shaders whose loops run a "
         << "uniform number of times (gaussian_blur, morphology_filter), where the compiler's total row is "
