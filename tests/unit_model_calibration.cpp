@@ -114,6 +114,27 @@ TEST(ModelCalibration, AFitRecoversTheWeightsThatMadeTheFigures) {
     EXPECT_FALSE(fit_cost_model(set, base_cost_model()));
 }
 
+// Midgard's reports have no varying pipe (A, LS, T): no varying rate can be
+// fitted, and the fit says so rather than make a model that charges nothing.
+TEST(ModelCalibration, ACompilerWithoutAVaryingPipeCannotCalibrateTheModel) {
+    CalibrationSet set;
+    set.gpu = "Mali-T880 r2p0 (Midgard)";
+    for (int i = 0; i < 10; ++i) {
+        CalibrationShader s;
+        s.name = "m" + std::to_string(i) + ".frag";
+        s.counts.arithmetic = 10.0 + 7.0 * i;
+        s.counts.samples = 1 + i % 3;
+        s.varying_components = 2 + i % 4;
+        s.row = "longest";
+        s.pipes = {"A", "LS", "T"};
+        s.cycles = {0.07 * s.counts.arithmetic, 0.5 * s.varying_components, s.counts.samples};
+        set.shaders.push_back(s);
+    }
+    Result<CalibrationFit> fit = fit_cost_model(set, base_cost_model());
+    ASSERT_FALSE(fit);
+    EXPECT_NE(fit.error().message.find("varying 0"), std::string::npos) << fit.error().message;
+}
+
 TEST(ModelCalibration, SpearmanRanksWithTies) {
     EXPECT_DOUBLE_EQ(spearman({1, 2, 3, 4}, {10, 20, 30, 40}), 1.0);
     EXPECT_DOUBLE_EQ(spearman({1, 2, 3, 4}, {4, 3, 2, 1}), -1.0);
