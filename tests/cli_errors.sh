@@ -143,6 +143,29 @@ else
     echo "FAIL: a tiny bench did not write its four files"; failures=$((failures + 1))
 fi
 
+# The sweep on a true OpenGL ES 2.0 context: its own table (the file says
+# ES 2.0), every default technique that runs there; those that need ES 3.0
+# refused when named, and the modes that need ES 3.0 refused with --es 2.
+if "$parallax" bench --es 2 --scenes sine --angles 60 --samples 8 --size 32x32 --frames 1 \
+        --out "$work/bench_es2" >/dev/null 2>&1 &&
+    python3 - "$work/bench_es2/results.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert "OpenGL ES 2.0" in d["gl_version"], d["gl_version"]
+techniques = {r["technique"] for r in d["rows"]}
+assert {"normal", "parallax", "offset_limited", "steep", "pom", "relief", "displaced_mesh"} <= techniques, techniques
+assert "maxmip" not in techniques, techniques
+PY
+then
+    echo "ok: bench --es 2 sweeps every technique that runs on a true ES 2.0 context"
+else
+    echo "FAIL: bench --es 2 did not write an ES 2.0 table"; failures=$((failures + 1))
+fi
+expect_error "bench --es 2 naming an ES 3.0 technique" "maxmip needs OpenGL ES 3.0; this sweep runs on OpenGL ES 2.0" \
+    bench --es 2 --techniques maxmip --scenes sine --out "$work/bench"
+expect_error "bench --es 2 --showcase" "--es 2 is for the sweep only" bench --es 2 --showcase showcase --out "$work/bench"
+expect_error "bench --es 4" "--es: 4 not in {2,3}" bench --es 4 --out "$work/bench"
+
 # --- The effect planner: bad requests name the object and the field ----------
 effects_scene() {  # effects_scene FILE EFFECTS_JSON [CAMERA_JSON]
     printf '{"camera": %s, "objects": [{"name": "wall", "mesh": {"type": "plane", "segments": 8}, "material": "m"}],

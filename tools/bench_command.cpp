@@ -51,6 +51,7 @@ struct BenchArgs {
     bool textures = false;      // the texture-format table instead of the sweep
     std::string textures_scene; // --textures-scene: its scene (default: the default scene)
     std::string search_model;   // a folder of fit_*.json and judge_*.json scenes
+    int es = 3;                 // the sweep's OpenGL ES version
 };
 
 
@@ -153,6 +154,9 @@ int run(BenchArgs a) {
     const char* threads = std::getenv("LP_NUM_THREADS");
     o.threads = threads ? std::atoi(threads) : static_cast<int>(std::thread::hardware_concurrency());
 
+    if (a.es != 3 && (!a.planner_table.empty() || !a.showcase.empty() || !a.search_model.empty() || a.textures))
+        return fail("--es 2 is for the sweep only: --planner-table, --showcase, --search-model and --textures run on "
+                    "OpenGL ES 3.0");
     if (!a.planner_table.empty()) return run_planner_table(a, o);
     // Every other mode writes into --out at the end: refuse a folder that
     // cannot be written before measuring anything.
@@ -164,9 +168,11 @@ int run(BenchArgs a) {
     std::filesystem::create_directories(a.out, ec);
     if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
 
-    Result<DrawSurface> surface = make_draw_surface(width, height);
+    Result<DrawSurface> surface = make_draw_surface(width, height, a.es);
     if (!surface) return fail(surface.error().message);
     OffscreenTarget* target = &*surface->target;
+    o.es_major = a.es;
+    if (a.es < 3 && a.techniques.empty()) o.techniques = profiling::bench_technique_names(a.es);
     const PipelineCounters counters_before = pipeline_counters();
     auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
                                        [](int done, int total, const std::string& what) {
@@ -208,6 +214,11 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--angles", args->angles, "View angles from the normal, degrees (default 0,30,60,75,85,89)")
         ->delimiter(',');
     cmd->add_option("--size", args->size, "Image size")->capture_default_str();
+    cmd->add_option("--es", args->es,
+                    "OpenGL ES major version of the sweep: 2 (a true ES 2.0 context; techniques that need ES 3.0 are "
+                    "left out of the default list and refused when named) or 3")
+        ->check(CLI::IsMember({2, 3}))
+        ->capture_default_str();
     cmd->add_option("--frames", args->frames, "Timed rounds per setting (default 7; --quick 3)");
     cmd->add_flag("--quick", args->quick, "A small grid that finishes in under 2 minutes");
     cmd->add_flag("--stats", args->stats,

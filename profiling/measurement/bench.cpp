@@ -113,10 +113,10 @@ ShadowMode bench_scene_shadow(const std::string& name) {
     return spec ? spec->shadow : ShadowMode::none;
 }
 
-std::vector<std::string> bench_technique_names() {
+std::vector<std::string> bench_technique_names(int es_major) {
     std::vector<std::string> names;
     for (const TechniqueInfo& info : technique_table())
-        if (info.benched) names.push_back(info.name);
+        if (info.benched && info.min_es_major <= es_major) names.push_back(info.name);
     names.push_back(kDisplacedMesh);
     return names;
 }
@@ -190,6 +190,10 @@ Result<std::vector<Setting>> bench_settings(const BenchOptions& options, const s
         Result<Technique> t = parse_technique(name);
         if (!t) return make_error("--techniques: " + t.error().message + ", " + kDisplacedMesh);
         const TechniqueInfo& info = technique_info(*t);
+        if (info.min_es_major > options.es_major)
+            return make_error("--techniques: " + std::string(info.name) + " needs OpenGL ES " +
+                              std::to_string(info.min_es_major) + ".0; this sweep runs on OpenGL ES " +
+                              std::to_string(options.es_major) + ".0");
         if (!(info.options & kOptSamples)) {
             settings.push_back({name, 0});
             continue;

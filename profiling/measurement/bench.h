@@ -43,7 +43,9 @@ struct BenchMaterial {
 };
 
 // Every benched technique of the catalogue, then kDisplacedMesh.
-std::vector<std::string> bench_technique_names();
+// The techniques a sweep measures by default on a context of `es_major`
+// (those that need a later version left out), and displaced_mesh.
+std::vector<std::string> bench_technique_names(int es_major = 3);
 
 struct BenchOptions {
     std::vector<std::string> scenes;      // empty: every bench scene
@@ -56,6 +58,7 @@ struct BenchOptions {
     // false: errors only (one debug-output draw per setting): no colour, no
     // timing; the rows' times and ratios are 0 (a calibration without timing).
     bool timed = true;
+    int es_major = 3;  // the context's OpenGL ES version: techniques that need a later one are refused
     std::string command;     // recorded in the results
     int threads = 0;         // recorded: llvmpipe's thread count
     int segments = 64;       // quads per side of each bench plane
