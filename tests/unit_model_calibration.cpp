@@ -222,6 +222,7 @@ TEST(ModelCalibration, ABadSetIsRefusedNamingTheFieldAndTheFile) {
     refused(with("[0.1, 0.25]", "[0.1, \"x\"]"), "$.shaders[0].theirs.cycles[1]");
     refused(with("\"arithmetic\": 1", "\"arithmetic\": -1"), "$.shaders[0].ours.arithmetic");
     refused(with("\"fp16\": 0", "\"fp16\": 5"), "$.shaders[0].ours.fp16");
+    refused(with("\"varying_components\": 2", "\"varying_components\": 2.5"), "$.shaders[0].ours.varying_components");
     refused(with("\"fragment\"", "\"compute\""), "$.shaders[0].stage");
     refused(with("\"longest\"", "\"middle\""), "$.shaders[0].theirs.row");
     refused(set_text(good + "," + good), "$.shaders[1].name: \"a.frag\" appears twice");

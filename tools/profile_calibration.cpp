@@ -289,10 +289,10 @@ int run_make_calibration_set(const CalibrationArgs& a) {
         Result<profiling::CalibrationShader> entry =
             profiling::calibration_entry(name, source, vertex ? ShaderStage::vertex : ShaderStage::fragment, report);
         if (!entry) return fail(entry.error().message + " (source " + file.string() + ", report " + report_path + ")");
-        Result<profiling::VendorCycles> figures = report.find('{') == 0 ? profiling::parse_malioc_json(report)
-                                                                         : profiling::parse_malioc_text(report);
+        Result<profiling::VendorCycles> figures = profiling::parse_malioc_report(report);
         if (figures) {
-            const std::string gpu = figures->target, tool = figures->tool;
+            const std::string gpu = figures->target.empty() ? "an unnamed GPU (the report names none)" : figures->target;
+            const std::string tool = figures->tool.empty() ? "malioc (version unknown)" : figures->tool;
             if (set.gpu.empty()) set.gpu = gpu, set.compiler = tool;
             else if (set.gpu != gpu || set.compiler != tool)
                 return fail(report_path + ": " + tool + " on " + gpu + ", where the set's other reports are " + set.compiler +

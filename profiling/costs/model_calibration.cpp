@@ -34,6 +34,14 @@ Result<std::string> string_at(const json& o, const char* key, const std::string&
     return f->get<std::string>();
 }
 
+// A whole number of components within [0, 4096].
+Result<int> components_at(const json& o, const char* key, const std::string& path) {
+    const auto f = o.find(key);
+    if (f == o.end() || !f->is_number_integer() || f->get<long long>() < 0 || f->get<long long>() > 4096)
+        return make_error(path + "." + key + ": missing or not a whole number within 0..4096");
+    return static_cast<int>(f->get<long long>());
+}
+
 // A finite number within [0, 1e6].
 Result<double> count_at(const json& o, const char* key, const std::string& path) {
     const auto f = o.find(key);
@@ -64,14 +72,14 @@ Result<CalibrationShader> read_shader(const json& s, const std::string& path) {
         *fields[i] = *v;
     }
     if (c.counts.fp16 > c.counts.arithmetic) return make_error(op + ".fp16: more than the arithmetic it is a share of");
-    Result<double> varying = count_at(*ours, "varying_components", op);
+    Result<int> varying = components_at(*ours, "varying_components", op);
     if (!varying) return varying.error();
-    c.varying_components = static_cast<int>(*varying);
+    c.varying_components = *varying;
     if (ours->contains("relaxed_varying_components")) {
-        Result<double> relaxed = count_at(*ours, "relaxed_varying_components", op);
+        Result<int> relaxed = components_at(*ours, "relaxed_varying_components", op);
         if (!relaxed) return relaxed.error();
         if (*relaxed > *varying) return make_error(op + ".relaxed_varying_components: more than the varying components");
-        c.relaxed_varying_components = static_cast<int>(*relaxed);
+        c.relaxed_varying_components = *relaxed;
     }
     const auto theirs = s.find("theirs");
     if (theirs == s.end() || !theirs->is_object()) return make_error(path + ".theirs: missing or not an object");
@@ -403,15 +411,18 @@ const CostModel& default_cost_model() {
     return model;
 }
 
+Result<VendorCycles> parse_malioc_report(const std::string& report) {
+    const std::size_t first = report.find_first_not_of(" \t\r\n");
+    return first != std::string::npos && report[first] == '{' ? parse_malioc_json(report) : parse_malioc_text(report);
+}
+
 Result<CalibrationShader> calibration_entry(const std::string& name, const std::string& source, ShaderStage stage,
                                             const std::string& report) {
     Result<std::vector<std::uint32_t>> words = compile_spirv(source, stage);
     if (!words) return make_error(name + ": " + words.error().message);
     Result<StageCost> cost = analyse_spirv(*words, stage);
     if (!cost) return make_error(name + ": " + cost.error().message);
-    const bool is_json = report.find_first_not_of(" \t\r\n") != std::string::npos &&
-                         report[report.find_first_not_of(" \t\r\n")] == '{';
-    Result<VendorCycles> figures = is_json ? parse_malioc_json(report) : parse_malioc_text(report);
+    Result<VendorCycles> figures = parse_malioc_report(report);
     if (!figures) return make_error(name + " (report): " + figures.error().message);
     const std::string want = stage == ShaderStage::vertex ? "Vertex" : "Fragment";
     if (!figures->shader_type.empty() && figures->shader_type.find(want) == std::string::npos)

@@ -21,6 +21,7 @@
 #include "parallaxes/effects/variant.h"
 #include "parallaxes/profiling/costs/cost_model.h"
 #include "parallaxes/profiling/costs/shader_costs.h"
+#include "parallaxes/profiling/costs/vendor_compilers.h"
 
 namespace px::profiling {
 
@@ -55,6 +56,10 @@ std::string calibration_set_json(const CalibrationSet& set);
 // The set the program carries (profiling/costs/calibration/mali_g78_impeller.json).
 const CalibrationSet& default_calibration_set();
 const char* default_calibration_set_path();
+
+// A malioc report, text or JSON (`--format json`: its first non-blank
+// character is '{').
+Result<VendorCycles> parse_malioc_report(const std::string& report);
 
 // One shader's entry from its source (GLSL ES, compiled by glslang) and a
 // compiler report of that source (malioc text or JSON). Refused, with the
