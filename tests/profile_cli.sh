@@ -199,6 +199,15 @@ PY
     echo "ok: a calibration set made from sources and reports, fitted, and its model used"
 else fail "make, calibrate and use a set: $(cat "$work/err") ${out:-}"; fi
 
+# Another GPU class's set: the reports use the model fitted to it, and say
+# which GPU; a set that cannot calibrate the model (Midgard: no varying pipe)
+# is refused with the reason.
+if out=$("$parallax" profile --no-time --no-nir --variants 'normal es3' \
+        --calibration-set "$source_dir/profiling/costs/calibration/mali_g710_impeller.json" 2>&1) &&
+    grep -q "calibrated against Mali-G710 r0p0 (Valhall), malioc 7.7.0" <<<"$out"; then
+    echo "ok: profile --calibration-set: the reports use that GPU's fit and name it"
+else fail "profile --calibration-set: $out"; fi
+
 # Refusals: each names what was wrong, nothing is written.
 refuse() {  # EXPECTED ARGS...: the command fails and says EXPECTED
     local expected=$1; shift
@@ -211,8 +220,10 @@ refuse "$work/cal/bad.json: \$.compiler" --calibrate --calibration-set "$work/ca
 refuse "$work/cal/missing.json" --calibrate --calibration-set "$work/cal/missing.json"
 refuse "needs --shaders DIR" --make-calibration-set "$work/cal/x.json"
 refuse "go with --make-calibration-set" --shaders "$work/cal/shaders"
-refuse "go with --calibrate" --model-out "$work/cal/m.json"
+refuse "goes with --calibrate" --model-out "$work/cal/m.json"
 refuse "one at a time" --calibrate --make-calibration-set "$work/cal/x.json"
+refuse "mali_t880_impeller.json: the fit gave a pipe no cost" --no-time --no-nir --variants 'normal es3' \
+    --calibration-set "$source_dir/profiling/costs/calibration/mali_t880_impeller.json"
 sed -i 's/OpenGL ES Fragment/OpenGL ES Vertex/' "$work/cal/reports/frag/s03.frag.txt"
 refuse "s03.frag (report): a OpenGL ES Vertex report for a fragment shader" --make-calibration-set "$work/cal/x.json"     --shaders "$work/cal/shaders" --reports "$work/cal/reports"
 [ -e "$work/cal/x.json" ] && fail "a refused --make-calibration-set wrote its file"

@@ -229,6 +229,16 @@ std::string other_classes_table(const std::string& doc_path) {
 
 }  // namespace
 
+Result<profiling::CostModel> model_fitted_to(const std::string& set_file, const std::string& base_file) {
+    Result<profiling::CostModel> base = load_model(base_file);
+    if (!base) return base.error();
+    Result<profiling::CalibrationSet> set = load_set(set_file);
+    if (!set) return set.error();
+    Result<profiling::CalibrationFit> fit = profiling::fit_cost_model(*set, *base);
+    if (!fit) return make_error(set_file + ": " + fit.error().message);
+    return profiling::calibrated_model(*base, *fit, *set, set_file);
+}
+
 int run_calibrate(const CalibrationArgs& a) {
     Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
     if (!format) return fail("--format: " + format.error().message);
@@ -336,8 +346,9 @@ Status doc_calibration(std::ostringstream& doc, const std::string& doc_path) {
         << "![the model against the compiler, one point per shader](" << picture << ")\n\n"
         << "### Other GPU classes\n\n"
         << "The same shaders' reports on other Mali GPUs make sets of their own (`profiling/costs/calibration/`, "
-        << "made the same way); `parallax profile --calibrate --calibration-set FILE --model-out MODEL` fits one, "
-        << "and `--model MODEL` uses it. Each fitted the same way:\n\n"
+        << "made the same way); `parallax profile --calibration-set FILE` profiles with the model fitted to one "
+        << "(and names its GPU), `--calibrate --calibration-set FILE` shows that fit, `--model-out MODEL` keeps it. "
+        << "Each fitted the same way:\n\n"
         << other_classes_table(doc_path) << "\n"
         << "The model's three pipes are Valhall's and Bifrost's: on the newer Valhall (Mali-G710) the fit does as "
         << "well as on the Mali-G78; on Bifrost (Mali-G76) it sizes the shaders within 20 % but ranks the held-out "

@@ -26,6 +26,12 @@ struct CalibrationArgs {
 };
 
 int run_calibrate(const CalibrationArgs& a);
+
+// The model a set calibrates: `base_file` (empty: profiling/costs/
+// cost_model.json) fitted to `set_file`, for `parallax profile
+// --calibration-set FILE` without --calibrate. An error names the file and
+// why the set cannot calibrate the model (a compiler without a varying pipe).
+Result<profiling::CostModel> model_fitted_to(const std::string& set_file, const std::string& base_file);
 int run_make_calibration_set(const CalibrationArgs& a);
 
 // docs/profiling.md's section: the carried set's fit as a table and a

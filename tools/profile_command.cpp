@@ -719,8 +719,7 @@ int run_calibration_modes(const ProfileArgs& a) {
         c.command = a.command;
         return a.calibrate ? run_calibrate(c) : run_make_calibration_set(c);
     }
-    if (!a.calibration.set_file.empty() || !a.calibration.model_out.empty())
-        return fail("--calibration-set and --model-out go with --calibrate");
+    if (!a.calibration.model_out.empty()) return fail("--model-out goes with --calibrate");
     if (!a.calibration.shaders.empty() || !a.calibration.reports.empty() || !a.calibration.source.empty())
         return fail("--shaders, --reports and --set-source go with --make-calibration-set");
     return -1;
@@ -741,8 +740,11 @@ Status check_profile_args(const ProfileArgs& a, int& width, int& height) {
     return {};
 }
 
-// The model the reports use: the carried, calibrated one, or --model's file as written.
-Result<profiling::CostModel> load_cost_model(const std::string& file) {
+// The model the reports use: the carried, calibrated one; --model's file as
+// written; or, with --calibration-set, that set's fit of the base (--model's
+// file, or the carried base).
+Result<profiling::CostModel> load_cost_model(const std::string& file, const std::string& set_file) {
+    if (!set_file.empty()) return model_fitted_to(set_file, file);
     if (file.empty()) return profiling::default_cost_model();
     Result<std::vector<std::uint8_t>> bytes = read_file_bounded(file, 1u << 20, "cost model");
     if (!bytes) return bytes.error();
@@ -795,7 +797,7 @@ int run_profile(ProfileArgs a) {
     if (!format) return fail("--format: " + format.error().message);
     int width = 0, height = 0;
     if (Status s = check_profile_args(a, width, height); !s) return fail(s.error().message);
-    Result<profiling::CostModel> model = load_cost_model(a.model_file);
+    Result<profiling::CostModel> model = load_cost_model(a.model_file, a.calibration.set_file);
     if (!model) return fail(model.error().message);
     // One time budget for every vendor compiler run of this command.
     profiling::VendorRun vendor(profiling::find_vendor_tools(),
@@ -851,7 +853,9 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
     cmd->add_flag("--calibrate", args->calibrate,
                   "The cost model fitted to a real compiler's figures (the carried Mali-G78 set): weights, and how "
                   "the fit does on the shaders held out of it");
-    cmd->add_option("--calibration-set", args->calibration.set_file, "With --calibrate: another calibration set file");
+    cmd->add_option("--calibration-set", args->calibration.set_file,
+                    "A calibration set file (profiling/costs/calibration/): with --calibrate, the fit on it; otherwise "
+                    "the reports use the model fitted to it (another GPU class)");
     cmd->add_option("--model-out", args->calibration.model_out,
                     "With --calibrate: write the fitted model (the base is --model, or profiling/costs/cost_model.json)");
     cmd->add_option("--make-calibration-set", args->calibration.make_set,
