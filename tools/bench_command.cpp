@@ -105,10 +105,7 @@ int run_showcase_bench(const BenchArgs& a, int width, int height) {
     Result<DrawSurface> surface = make_draw_surface(width, height);
     if (!surface) return fail(surface.error().message);
     OffscreenTarget* target = &*surface->target;
-    RendererOptions options;
-    options.effect_planner = effect_planner;
-    options.texture_files = texture_files();
-    options.get_proc_address = platform::HeadlessContext::proc_loader();
+    RendererOptions options = program_renderer_options();
     options.planner.find_calibration = calibration_finder(a.calibration_cache);
     Result<profiling::ShowcaseRun> run = profiling::run_showcase(
         *scene, options, a.frames > 0 ? a.frames : 9, target->target(), a.command,

@@ -6,8 +6,10 @@
 #include <optional>
 
 #include "parallaxes/core/result.h"
+#include "parallaxes/planner/planner.h"
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/render/offscreen_target.h"
+#include "parallaxes/render/renderer.h"
 
 namespace px::tools {
 
@@ -15,6 +17,16 @@ struct DrawSurface {
     std::unique_ptr<platform::HeadlessContext> context;  // declared first: released last
     std::optional<OffscreenTarget> target;                // always engaged (made after the context)
 };
+
+// The renderer as the `parallax` program makes it: the effect planner, every
+// texture-file reader, and GL from the headless context (or `get_proc_address`).
+inline RendererOptions program_renderer_options(GetProcAddress get_proc_address = platform::HeadlessContext::proc_loader()) {
+    RendererOptions o;
+    o.effect_planner = effect_planner;
+    o.texture_files = texture_files();
+    o.get_proc_address = get_proc_address;
+    return o;
+}
 
 // OpenGL ES 3.0 by default: float debug captures, and every technique
 // (maxmip needs ES 3.0).

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_common.h"
+#include "draw_surface.h"
 #include "commands.h"
 #include "parallaxes/core/files.h"
 #include "plan_report.h"
@@ -61,10 +62,7 @@ int calibrate(const PlanArgs& a, const SceneDesc& scene, const std::string& dir,
     options.es_major = 3;  // float debug captures; every technique
     auto context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
-    RendererOptions renderer_options;
-    renderer_options.effect_planner = effect_planner;
-    renderer_options.texture_files = texture_files();
-    renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
+    RendererOptions renderer_options = program_renderer_options();
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(scene);
@@ -126,10 +124,7 @@ int run_plan(const PlanArgs& a) {
     options.es_major = a.es;
     auto context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
-    RendererOptions renderer_options;
-    renderer_options.effect_planner = effect_planner;
-    renderer_options.texture_files = texture_files();
-    renderer_options.get_proc_address = platform::HeadlessContext::proc_loader();
+    RendererOptions renderer_options = program_renderer_options();
     renderer_options.planner.find_calibration = calibration_finder(dir);
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);

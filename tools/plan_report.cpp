@@ -1,4 +1,5 @@
 #include "plan_report.h"
+#include "draw_surface.h"
 
 #include <map>
 #include <set>
@@ -243,10 +244,7 @@ Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& sc
     const MaterialDesc* m = scene.find_material(scene.objects[index].material);
     if (!m || !m->effects) return std::vector<Tried>{};
     const Caps& caps = planned.caps();
-    RendererOptions options;
-    options.texture_files = texture_files();
-    options.get_proc_address = platform::HeadlessContext::proc_loader();
-    options.effect_planner = effect_planner;
+    RendererOptions options = program_renderer_options();
     Result<std::unique_ptr<Renderer>> other = Renderer::create(options);
     if (!other) return other.error();
     Status loaded = (*other)->load(planned.prepared());

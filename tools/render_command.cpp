@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "draw_surface.h"
 #include "commands.h"
 #include "compare_command.h"
 #include "parallaxes/core/counters.h"
@@ -229,10 +230,7 @@ int convert_textures(const RenderArgs& a, SceneDesc& scene, std::optional<TempFo
 }
 
 RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir) {
-    RendererOptions o;
-    o.effect_planner = effect_planner;
-    o.texture_files = texture_files();
-    o.get_proc_address = platform::HeadlessContext::proc_loader();
+    RendererOptions o = program_renderer_options();
     o.force_texture_decode = a.decode_textures;
     o.preserve_host_state = !a.no_state_restore;
     o.planner.find_calibration =

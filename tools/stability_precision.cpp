@@ -1,4 +1,5 @@
 #include "stability_precision.h"
+#include "draw_surface.h"
 
 #include "parallaxes/emulation/precision.h"
 
@@ -10,10 +11,7 @@ bool is_emulated_precision(const std::string& name) {
 
 profiling::RendererFactory make_renderer_factory(GetProcAddress get_proc_address) {
     return [get_proc_address](const std::string& precision, int variant_es) -> Result<RendererOptions> {
-        RendererOptions o;
-        o.effect_planner = effect_planner;
-        o.texture_files = texture_files();
-        o.get_proc_address = get_proc_address;
+        RendererOptions o = program_renderer_options(get_proc_address);
         if (precision == "native") return o;
         Result<emulation::PrecisionProfile> profile = emulation::parse_profile(precision);
         if (!profile) return profile.error();

@@ -43,16 +43,6 @@ struct VariantRow {
     std::vector<double> error_mean, error_p95;  // per height-reading object, texels of its height map
 };
 
-// The renderer as `parallax render` makes it: the effect planner, the
-// texture-file readers, this context's GL.
-RendererOptions renderer_options() {
-    RendererOptions ro;
-    ro.effect_planner = effect_planner;
-    ro.texture_files = texture_files();
-    ro.get_proc_address = platform::HeadlessContext::proc_loader();
-    return ro;
-}
-
 // One asset variant: its textures converted, their bytes, and the scene
 // loaded with them (drawn once), for the timing rounds.
 Result<std::unique_ptr<Renderer>> load_variant(const SceneDesc& loaded, const std::string& variant, const TempFolder& folder,
@@ -70,7 +60,7 @@ Result<std::unique_ptr<Renderer>> load_variant(const SceneDesc& loaded, const st
         row.rgba8_bytes += f.rgba8_bytes;
         row.encode_s += f.seconds;
     }
-    auto renderer = Renderer::create(renderer_options());
+    auto renderer = Renderer::create(program_renderer_options());
     if (!renderer) return renderer.error();
     if (Status s = (*renderer)->load(scene); !s) return make_error(variant + ": " + s.error().message);
     for (const TextureUpload& u : (*renderer)->texture_uploads())
@@ -95,7 +85,7 @@ Status variant_errors(const SceneDesc& scene, int width, int height, std::option
         if (!r) return r.error();
         truth = std::move(*r);
     }
-    auto tracer = Renderer::create(renderer_options());
+    auto tracer = Renderer::create(program_renderer_options());
     if (!tracer) return tracer.error();
     if (Status s = (*tracer)->load(exact); !s) return make_error(row.variant + " (maxmip): " + s.error().message);
     Result<SurfaceImage> surfaces = capture_surfaces(**tracer, width, height);
