@@ -175,10 +175,10 @@ Result<std::vector<std::filesystem::path>> shader_files(const std::string& dir) 
     return files;
 }
 
-// The report for `name` in `dir`: NAME.txt or NAME.json, directly or in a
-// frag/ or vert/ sub-folder (the layout malioc report collections use).
-std::string find_report(const std::string& dir, const std::string& name, bool vertex) {
-    for (const char* sub : {"", vertex ? "vert/" : "frag/"})
+// The report for fragment shader `name` in `dir`: NAME.txt or NAME.json,
+// directly or in a frag/ sub-folder (the layout malioc report collections use).
+std::string find_report(const std::string& dir, const std::string& name) {
+    for (const char* sub : {"", "frag/"})
         for (const char* ext : {".txt", ".json"}) {
             const std::string path = dir + "/" + sub + name + ext;
             std::error_code ec;
@@ -234,7 +234,7 @@ Result<profiling::CostModel> model_fitted_to(const std::string& set_file, const 
     if (!base) return base.error();
     Result<profiling::CalibrationSet> set = load_set(set_file);
     if (!set) return set.error();
-    Result<profiling::CalibrationFit> fit = profiling::fit_cost_model(*set, *base);
+    Result<profiling::CalibrationFit> fit = profiling::fit_cost_model(*set, *base, false);
     if (!fit) return make_error(set_file + ": " + fit.error().message);
     return profiling::calibrated_model(*base, *fit, *set, set_file);
 }
@@ -278,14 +278,13 @@ int run_make_calibration_set(const CalibrationArgs& a) {
     int skipped = 0, vertex_shaders = 0;
     for (const std::filesystem::path& file : *files) {
         const std::string name = file.filename().string();
-        const bool vertex = file.extension() == ".vert";
         // The model has no load/store pipe, which bounds most vertex shaders:
         // the set is of fragment shaders.
-        if (vertex) {
+        if (file.extension() == ".vert") {
             ++vertex_shaders;
             continue;
         }
-        const std::string report_path = find_report(a.reports, name, vertex);
+        const std::string report_path = find_report(a.reports, name);
         if (report_path.empty()) {
             std::fprintf(stderr, "parallax: %s: no report %s{.txt,.json} in %s; left out\n", name.c_str(), name.c_str(),
                          a.reports.c_str());
@@ -296,18 +295,17 @@ int run_make_calibration_set(const CalibrationArgs& a) {
         const std::string source = read_text(file.string(), kMaxShaderBytes, "shader source", error);
         const std::string report = error.empty() ? read_text(report_path, kMaxShaderBytes, "compiler report", error) : "";
         if (!error.empty()) return fail(error);
-        Result<profiling::CalibrationShader> entry =
-            profiling::calibration_entry(name, source, vertex ? ShaderStage::vertex : ShaderStage::fragment, report);
-        if (!entry) return fail(entry.error().message + " (source " + file.string() + ", report " + report_path + ")");
+        const std::string where = " (source " + file.string() + ", report " + report_path + ")";
         Result<profiling::VendorCycles> figures = profiling::parse_malioc_report(report);
-        if (figures) {
-            const std::string gpu = figures->target.empty() ? "an unnamed GPU (the report names none)" : figures->target;
-            const std::string tool = figures->tool.empty() ? "malioc (version unknown)" : figures->tool;
-            if (set.gpu.empty()) set.gpu = gpu, set.compiler = tool;
-            else if (set.gpu != gpu || set.compiler != tool)
-                return fail(report_path + ": " + tool + " on " + gpu + ", where the set's other reports are " + set.compiler +
-                            " on " + set.gpu + ": one set is one compiler on one GPU");
-        }
+        if (!figures) return fail(name + " (report): " + figures.error().message + where);
+        Result<profiling::CalibrationShader> entry = profiling::calibration_entry(name, source, ShaderStage::fragment, *figures);
+        if (!entry) return fail(entry.error().message + where);
+        const std::string gpu = figures->target.empty() ? "an unnamed GPU (the report names none)" : figures->target;
+        const std::string tool = figures->tool.empty() ? "malioc (version unknown)" : figures->tool;
+        if (set.gpu.empty()) set.gpu = gpu, set.compiler = tool;
+        else if (set.gpu != gpu || set.compiler != tool)
+            return fail(report_path + ": " + tool + " on " + gpu + ", where the set's other reports are " + set.compiler +
+                        " on " + set.gpu + ": one set is one compiler on one GPU");
         set.shaders.push_back(std::move(*entry));
     }
     if (set.shaders.empty()) return fail("no shader in " + a.shaders + " has a report in " + a.reports);

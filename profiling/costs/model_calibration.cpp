@@ -403,7 +403,7 @@ const CostModel& default_cost_model() {
     static const CostModel model = [] {
         // The carried set and base are checked by the unit tests (a fit that
         // fails is a build defect); the base is what is left then.
-        Result<CalibrationFit> fit = fit_cost_model(default_calibration_set(), base_cost_model());
+        Result<CalibrationFit> fit = fit_cost_model(default_calibration_set(), base_cost_model(), false);
         if (!fit) return base_cost_model();
         Result<CostModel> m = calibrated_model(base_cost_model(), *fit, default_calibration_set(), default_calibration_set_path());
         return m ? *m : base_cost_model();
@@ -418,35 +418,40 @@ Result<VendorCycles> parse_malioc_report(const std::string& report) {
 
 Result<CalibrationShader> calibration_entry(const std::string& name, const std::string& source, ShaderStage stage,
                                             const std::string& report) {
+    Result<VendorCycles> figures = parse_malioc_report(report);
+    if (!figures) return make_error(name + " (report): " + figures.error().message);
+    return calibration_entry(name, source, stage, *figures);
+}
+
+Result<CalibrationShader> calibration_entry(const std::string& name, const std::string& source, ShaderStage stage,
+                                            const VendorCycles& figures) {
     Result<std::vector<std::uint32_t>> words = compile_spirv(source, stage);
     if (!words) return make_error(name + ": " + words.error().message);
     Result<StageCost> cost = analyse_spirv(*words, stage);
     if (!cost) return make_error(name + ": " + cost.error().message);
-    Result<VendorCycles> figures = parse_malioc_report(report);
-    if (!figures) return make_error(name + " (report): " + figures.error().message);
     const std::string want = stage == ShaderStage::vertex ? "Vertex" : "Fragment";
-    if (!figures->shader_type.empty() && figures->shader_type.find(want) == std::string::npos)
-        return make_error(name + " (report): a " + figures->shader_type + " report for a " + stage_name(stage) + " shader");
+    if (!figures.shader_type.empty() && figures.shader_type.find(want) == std::string::npos)
+        return make_error(name + " (report): a " + figures.shader_type + " report for a " + stage_name(stage) + " shader");
     CalibrationShader c;
     c.name = name;
     c.stage = stage;
     c.counts = cost->longest;
     c.varying_components = cost->varying_components;
     c.relaxed_varying_components = cost->relaxed_varying_components;
-    c.pipes = figures->pipes;
-    const bool longest_known = !figures->longest.empty() &&
-                               std::none_of(figures->longest.begin(), figures->longest.end(), [](double v) { return std::isnan(v); });
-    const bool total_known = !figures->total.empty() &&
-                             std::none_of(figures->total.begin(), figures->total.end(), [](double v) { return std::isnan(v); });
+    c.pipes = figures.pipes;
+    const bool longest_known = !figures.longest.empty() &&
+                               std::none_of(figures.longest.begin(), figures.longest.end(), [](double v) { return std::isnan(v); });
+    const bool total_known = !figures.total.empty() &&
+                             std::none_of(figures.total.begin(), figures.total.end(), [](double v) { return std::isnan(v); });
     if (!longest_known && !total_known) return make_error(name + " (report): neither the longest path nor the total has figures");
     c.row = longest_known ? "longest" : "total";
-    c.cycles = longest_known ? figures->longest : figures->total;
+    c.cycles = longest_known ? figures.longest : figures.total;
     if (c.cycles.size() != c.pipes.size()) return make_error(name + " (report): figures and pipes differ in number");
     if (c.bound_cycles() <= 0.0) return make_error(name + " (report): every pipe is 0 cycles");
     return c;
 }
 
-Result<CalibrationFit> fit_cost_model(const CalibrationSet& set, const CostModel& base) {
+Result<CalibrationFit> fit_cost_model(const CalibrationSet& set, const CostModel& base, bool leave_one_out) {
     std::vector<const CalibrationShader*> shaders;
     for (const CalibrationShader& s : set.shaders)
         if (s.stage == ShaderStage::fragment) shaders.push_back(&s);
@@ -480,6 +485,7 @@ Result<CalibrationFit> fit_cost_model(const CalibrationSet& set, const CostModel
         const PipeCycles u = estimate(stage, s->counts, 0.0, base);
         r.uncalibrated = std::max({u.arithmetic, u.texture, u.varying});
         result.rows.push_back(r);
+        if (!leave_one_out) continue;
         // Leave-one-out: every other shader fits, this one is predicted.
         std::vector<const CalibrationShader*> others;
         for (const CalibrationShader* o : shaders)

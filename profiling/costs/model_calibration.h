@@ -67,6 +67,9 @@ Result<VendorCycles> parse_malioc_report(const std::string& report);
 // of another stage, a report without figures on either row.
 Result<CalibrationShader> calibration_entry(const std::string& name, const std::string& source, ShaderStage stage,
                                             const std::string& report);
+// The same from a report already read (parse_malioc_report).
+Result<CalibrationShader> calibration_entry(const std::string& name, const std::string& source, ShaderStage stage,
+                                            const VendorCycles& figures);
 
 // What a fit found. Arithmetic (A) is fitted as
 //   fp32 ops * w + fp16 ops * w * (the base model's fp16 ratio)
@@ -109,8 +112,10 @@ struct CalibrationFit {
 // Shaders are taken in name order, alternately into the fitting half and the
 // held-out half (the first fits). Only fragment shaders are used (the model
 // has no load/store pipe, which bounds most vertex shaders); an error if
-// either half has fewer than four.
-Result<CalibrationFit> fit_cost_model(const CalibrationSet& set, const CostModel& base);
+// either half has fewer than four. `leave_one_out`: also refit once per
+// shader for CalibrationFit::leave_one_out (the reports' figure; the model
+// the program uses does not need it).
+Result<CalibrationFit> fit_cost_model(const CalibrationSet& set, const CostModel& base, bool leave_one_out = true);
 
 // `base` with the fitted weights (rates are their inverses), its texture
 // latency kept at the same number of sample times, and the calibration
