@@ -10,6 +10,7 @@
 
 #include "cli_common.h"
 #include "parallaxes/core/files.h"
+#include "parallaxes/core/text.h"
 #include "parallaxes/profiling/costs/model_calibration.h"
 #include "parallaxes/profiling/costs/shader_profile.h"
 #include "parallaxes/profiling/reports/svg_plot.h"
@@ -23,22 +24,11 @@ constexpr std::size_t kMaxSetBytes = 16u << 20;
 constexpr std::size_t kMaxShaderBytes = 4u << 20;
 constexpr std::size_t kMaxSetShaders = 10000;
 
-std::string decimals(double v, int digits) {
-    if (!std::isfinite(v)) return "n/a";
-    char b[64];
-    std::snprintf(b, sizeof b, "%.*f", digits, v);
-    return b;
-}
-
-std::string significant(double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.4g", v);
-    return b;
-}
+std::string significant_text4(double v) { return significant_text(v, 4); }
 
 std::string signed_percent(double share) {
     const double rounded = std::round(100.0 * share);
-    return (rounded > 0 ? "+" : "") + decimals(rounded == 0.0 ? 0.0 : rounded, 0) + " %";
+    return (rounded > 0 ? "+" : "") + fixed_text(rounded == 0.0 ? 0.0 : rounded, 0) + " %";
 }
 
 Result<profiling::CostModel> load_model(const std::string& file) {
@@ -56,16 +46,16 @@ Result<profiling::CalibrationSet> load_set(const std::string& file) {
 }
 
 std::string weights_text(const profiling::CalibrationFit& fit) {
-    return "A " + significant(fit.fp32_op) + " per fp32 scalar operation, " + significant(fit.transcendental) +
-           " per transcendental, " + significant(fit.branch) + " per branch, " + significant(fit.fixed) +
-           " per invocation; T " + significant(fit.sample) + " per texture sample; V " + significant(fit.varying_component) +
+    return "A " + significant_text4(fit.fp32_op) + " per fp32 scalar operation, " + significant_text4(fit.transcendental) +
+           " per transcendental, " + significant_text4(fit.branch) + " per branch, " + significant_text4(fit.fixed) +
+           " per invocation; T " + significant_text4(fit.sample) + " per texture sample; V " + significant_text4(fit.varying_component) +
            " per varying component";
 }
 
 std::string summary_line(const char* half, const profiling::CalibrationSummary& s) {
-    return std::string(half) + " (" + std::to_string(s.shaders) + " shaders): Spearman " + decimals(s.spearman, 3) +
-           " (the hand-chosen rates: " + decimals(s.spearman_uncalibrated, 3) + "), median |error| " +
-           decimals(100.0 * s.median_abs_error, 1) + " %, worst " + decimals(100.0 * s.worst_abs_error, 0) + " %";
+    return std::string(half) + " (" + std::to_string(s.shaders) + " shaders): Spearman " + fixed_text(s.spearman, 3) +
+           " (the hand-chosen rates: " + fixed_text(s.spearman_uncalibrated, 3) + "), median |error| " +
+           fixed_text(100.0 * s.median_abs_error, 1) + " %, worst " + fixed_text(100.0 * s.worst_abs_error, 0) + " %";
 }
 
 bool goal_met(const profiling::CalibrationSummary& held) { return held.spearman >= 0.9 && held.median_abs_error <= 0.30; }
@@ -73,8 +63,8 @@ bool goal_met(const profiling::CalibrationSummary& held) { return held.spearman 
 std::string fit_table(const profiling::CalibrationFit& fit, profiling::ReportFormat format) {
     std::vector<std::vector<std::string>> rows;
     for (const profiling::CalibrationRow& r : fit.rows)
-        rows.push_back({r.name, r.held_out ? "held out" : "fit", decimals(r.real, 2) + " " + r.real_pipe,
-                        decimals(r.predicted, 2) + " " + r.predicted_pipe, signed_percent(r.error())});
+        rows.push_back({r.name, r.held_out ? "held out" : "fit", fixed_text(r.real, 2) + " " + r.real_pipe,
+                        fixed_text(r.predicted, 2) + " " + r.predicted_pipe, signed_percent(r.error())});
     return profiling::render_table({"shader", "half", "compiler: bound cycles", "model: bound cycles", "error"}, rows, format);
 }
 
@@ -129,9 +119,9 @@ std::string fit_report(const profiling::CalibrationSet& set, const profiling::Ca
     s += bullet + summary_line("Held out", fit.held_out) + "\n";
     s += bullet + summary_line("Fitted", fit.fitted) + "\n";
     s += bullet + "Leave-one-out (each of the " + std::to_string(fit.leave_one_out.shaders) +
-         " predicted by weights fitted on the others): Spearman " + decimals(fit.leave_one_out.spearman, 3) +
-         ", median |error| " + decimals(100.0 * fit.leave_one_out.median_abs_error, 1) + " %, worst " +
-         decimals(100.0 * fit.leave_one_out.worst_abs_error, 0) + " %\n";
+         " predicted by weights fitted on the others): Spearman " + fixed_text(fit.leave_one_out.spearman, 3) +
+         ", median |error| " + fixed_text(100.0 * fit.leave_one_out.median_abs_error, 1) + " %, worst " +
+         fixed_text(100.0 * fit.leave_one_out.worst_abs_error, 0) + " %\n";
     s += bullet + "Goal on the held-out half (Spearman >= 0.9, median |error| <= 30 %): " +
          (goal_met(fit.held_out) ? "met" : "NOT met") + "\n";
     return s;
@@ -217,8 +207,8 @@ std::string other_classes_table(const std::string& doc_path) {
             rows.push_back({set->gpu, name, "-", "-", "-", "-", "cannot be fitted: " + fit.error().message});
             continue;
         }
-        rows.push_back({set->gpu, name, decimals(fit->held_out.spearman, 3), decimals(100.0 * fit->held_out.median_abs_error, 1) + " %",
-                        decimals(fit->held_out.spearman_uncalibrated, 3), decimals(fit->leave_one_out.spearman, 3),
+        rows.push_back({set->gpu, name, fixed_text(fit->held_out.spearman, 3), fixed_text(100.0 * fit->held_out.median_abs_error, 1) + " %",
+                        fixed_text(fit->held_out.spearman_uncalibrated, 3), fixed_text(fit->leave_one_out.spearman, 3),
                         goal_met(fit->held_out) ? "met" : "not met"});
     }
     if (rows.empty()) return "";

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "parallaxes/core/text.h"
 #include "parallaxes/profiling/costs/json_input.h"
 
 namespace px::profiling {
@@ -64,19 +65,14 @@ Status read_calibration(const json& c, CostModel::Calibration& out) {
     return {};
 }
 
-std::string decimals(double v, int digits) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-    return buf;
-}
 
 }  // namespace
 
 std::string CostModel::Calibration::summary() const {
     if (!present()) return "not calibrated against a real compiler (rates chosen by hand)";
     return "calibrated against " + gpu + ", " + compiler + ": on " + std::to_string(held_out) +
-           " shaders held out of the fit, Spearman " + decimals(spearman, 2) + ", median error of the bound pipe's cycles " +
-           decimals(100.0 * median_abs_error, 0) + " %";
+           " shaders held out of the fit, Spearman " + fixed_text(spearman, 2) + ", median error of the bound pipe's cycles " +
+           fixed_text(100.0 * median_abs_error, 0) + " %";
 }
 
 std::string cost_model_json(const CostModel& m) {

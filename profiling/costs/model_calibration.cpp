@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "parallaxes/core/text.h"
 #include "parallaxes/profiling/costs/json_input.h"
 
 #include "parallaxes/profiling/costs/vendor_compilers.h"
@@ -21,6 +22,8 @@ extern const char* const kEmbeddedCalibrationSet;
 namespace {
 
 using nlohmann::json;
+
+std::string significant6(double v) { return significant_text(v, 6); }
 
 constexpr std::size_t kMaxShaders = 10000;
 constexpr std::size_t kMaxPipes = 16;
@@ -108,11 +111,6 @@ Result<CalibrationShader> read_shader(const json& s, const std::string& path) {
     return c;
 }
 
-std::string number_text(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
 
 // The least-squares weights of `columns` (each column's values over the rows)
 // for y, on the columns `use` selects, by the normal equations and Gaussian
@@ -300,8 +298,8 @@ Result<Weights> fit_weights(const std::vector<const CalibrationShader*>& fit, co
     w.varying_fp16_ratio = base.varying_components_per_cycle / base.varying_fp16_components_per_cycle;
     w.varying = fit_one(fit, [&](const CalibrationShader& s) { return varying_cost(s, w.varying_fp16_ratio); }, "V");
     if (w.fp32 <= 0.0 || w.sample <= 0.0 || w.varying <= 0.0)
-        return make_error("the fit gave a pipe no cost (fp32 " + number_text(w.fp32) + ", sample " + number_text(w.sample) +
-                          ", varying " + number_text(w.varying) + "): the set cannot calibrate this model");
+        return make_error("the fit gave a pipe no cost (fp32 " + significant6(w.fp32) + ", sample " + significant6(w.sample) +
+                          ", varying " + significant6(w.varying) + "): the set cannot calibrate this model");
     return w;
 }
 
@@ -365,16 +363,16 @@ std::string calibration_set_json(const CalibrationSet& set) {
     for (const CalibrationShader& s : set.shaders) {
         // One line per shader: a diff of a remade set shows which changed.
         std::string line = "    {\"name\": " + json(s.name).dump() + ", \"stage\": \"" + stage_name(s.stage) +
-                           "\", \"ours\": {\"arithmetic\": " + number_text(s.counts.arithmetic) +
-                           ", \"fp16\": " + number_text(s.counts.fp16) +
-                           ", \"transcendental\": " + number_text(s.counts.transcendental) +
-                           ", \"samples\": " + number_text(s.counts.samples) +
-                           ", \"branches\": " + number_text(s.counts.branches) +
+                           "\", \"ours\": {\"arithmetic\": " + significant6(s.counts.arithmetic) +
+                           ", \"fp16\": " + significant6(s.counts.fp16) +
+                           ", \"transcendental\": " + significant6(s.counts.transcendental) +
+                           ", \"samples\": " + significant6(s.counts.samples) +
+                           ", \"branches\": " + significant6(s.counts.branches) +
                            ", \"varying_components\": " + std::to_string(s.varying_components) +
                            ", \"relaxed_varying_components\": " + std::to_string(s.relaxed_varying_components) +
                            "}, \"theirs\": {\"row\": \"" +
                            s.row + "\", \"pipes\": " + json(s.pipes).dump() + ", \"cycles\": [";
-        for (std::size_t i = 0; i < s.cycles.size(); ++i) line += (i ? ", " : "") + number_text(s.cycles[i]);
+        for (std::size_t i = 0; i < s.cycles.size(); ++i) line += (i ? ", " : "") + significant6(s.cycles[i]);
         shaders.push_back(line + "]}}");
     }
     std::string out = "{\n";
@@ -549,18 +547,18 @@ Result<CostModel> calibrated_model(const CostModel& base, const CalibrationFit& 
     m.assumptions.clear();
     m.assumptions.push_back("Rates: fitted to " + set.compiler + "'s figures for " + std::to_string(fit.fitted.shaders) +
                             " fragment shaders (" + set.source + "), the other " + std::to_string(fit.held_out.shaders) +
-                            " held out to judge the fit: arithmetic " + number_text(fit.fp32_op) + " per fp32 scalar operation (" +
-                            number_text(fit.fp32_op * fp16_ratio) + " per mediump/lowp one, the base model's ratio), " +
-                            number_text(fit.transcendental) + " per transcendental, " + number_text(fit.branch) +
-                            " per branch, " + number_text(fit.fixed) + " per invocation; texture " + number_text(fit.sample) +
-                            " per bilinear sample; varying " + number_text(fit.varying_component) +
+                            " held out to judge the fit: arithmetic " + significant6(fit.fp32_op) + " per fp32 scalar operation (" +
+                            significant6(fit.fp32_op * fp16_ratio) + " per mediump/lowp one, the base model's ratio), " +
+                            significant6(fit.transcendental) + " per transcendental, " + significant6(fit.branch) +
+                            " per branch, " + significant6(fit.fixed) + " per invocation; texture " + significant6(fit.sample) +
+                            " per bilinear sample; varying " + significant6(fit.varying_component) +
                             " per interpolated highp component (mediump ones at the base model's ratio: the set's "
                             "varyings are all highp);" + per + ". The counts are of glslang's unoptimised SPIR-V, so a "
                             "weight absorbs what the vendor compiler folds away.");
     m.assumptions.push_back("Latency: not in the compiler's figures, so not fitted: each texture result the longest path waits for "
-                            "in turn exposes " + number_text(latency_in_samples) + " sample times (" +
-                            number_text(m.texture_latency_cycles) + " cycles), of which other threads hide " +
-                            number_text(100.0 * m.latency_hidden_share) + " %.");
+                            "in turn exposes " + significant6(latency_in_samples) + " sample times (" +
+                            significant6(m.texture_latency_cycles) + " cycles), of which other threads hide " +
+                            significant6(100.0 * m.latency_hidden_share) + " %.");
     for (const std::string& note : fit.notes) m.assumptions.push_back("Fit: " + note + ".");
     m.assumptions.insert(m.assumptions.end(), kept.begin(), kept.end());
     return m;

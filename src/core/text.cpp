@@ -1,6 +1,7 @@
 #include "parallaxes/core/text.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace px {
@@ -20,6 +21,20 @@ std::string echo(const std::string& value, std::size_t max_bytes) {
     }
     if (shown < value.size()) out += "... (" + std::to_string(value.size()) + " bytes)";
     return out;
+}
+
+std::string fixed_text(double v, int decimals) {
+    if (!std::isfinite(v)) return "n/a";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", decimals, v);
+    return b;
+}
+
+std::string significant_text(double v, int digits) {
+    if (!std::isfinite(v)) return "n/a";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    return b;
 }
 
 }  // namespace px

@@ -14,4 +14,10 @@ namespace px {
 std::string echo(const std::string& value, std::size_t max_bytes = kMaxEchoBytes);
 inline std::string echo_path(const std::string& path) { return echo(path, kMaxEchoPathBytes); }
 
+// Numbers for reports: `decimals` digits after the point ("0.25"), or
+// `digits` significant ones in the shortest form ("0.008031", "1e+06");
+// "n/a" for NaN and infinities.
+std::string fixed_text(double v, int decimals);
+std::string significant_text(double v, int digits);
+
 }  // namespace px
