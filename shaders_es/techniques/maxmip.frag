@@ -1,6 +1,9 @@
 // maxmip: maximum mip-maps / quadtree displacement mapping (Tevs, Ihrke &
 // Seidel 2008; Drobot 2010), exact against the bilinearly filtered surface.
-// GLSL ES 3.00 only (texelFetch with a level, integer bit operations).
+// GLSL ES 3.00 and GLSL ES 1.00 (Appendix A: a constant loop bound with an
+// early exit, texture2D at texel centres, no lod reads): one walk in float
+// arithmetic (cells are whole numbers, exact in highp up to 2^24), the
+// pyramid read per version (px_node_max, px_cell_corners below).
 //
 // The pyramid bounds the FILTERED surface, not the texel samples (cone maps
 // and sample-based max maps are not conservative under bilinear filtering:
@@ -22,18 +25,21 @@
 // The GPU tests and the stability catalogue hold this function to the exact
 // reference, and its mobile precisions are emulated on this source itself
 // (src/emulation), so there is no second, CPU transcription to drift.
-#if PX_ES < 3 || !defined(PX_READS_HEIGHT)
-#error "maxmip needs GLSL ES 3.00 (texelFetch with a level) and PX_READS_HEIGHT"
+// Exactness needs highp: without GL_FRAGMENT_PRECISION_HIGH the planner
+// draws relief instead (planner/planner.cpp says why).
+#ifndef PX_READS_HEIGHT
+#error "maxmip needs PX_READS_HEIGHT"
+#endif
+#if PX_ES < 3 && defined(PX_HEIGHT_11BIT)
+#error "maxmip on GLSL ES 1.00 reads 8-bit heights (its atlas packs a cell's corners in RGBA8)"
 #endif
 #define PX_HAS_TRACE
 #include "chunks/surface_common.glsl"
 
-// The max pyramid: all levels uploaded as mip levels 0..u_max_levels-1,
-// read with texelFetch only (GL_NEAREST_MIPMAP_NEAREST keeps it complete).
-// 8-bit maxima (R): mediump tells every 8-bit value apart (px_exact_height
+// 8-bit maxima: mediump tells every 8-bit value apart (px_exact_height
 // makes each one exactly byte / 255 again).
 uniform mediump sampler2D u_max_map;
-uniform mediump int u_max_levels;  // levels of u_max_map: log2(max(width, height)) + 1
+uniform mediump int u_max_levels;  // pyramid levels: log2(max(width, height)) + 1
 
 #define PX_NEVER 1e30  // node exit along an axis the ray does not move on
 
@@ -42,9 +48,10 @@ uniform mediump int u_max_levels;  // levels of u_max_map: log2(max(width, heigh
 // to 2.4e-4 off), and on a grazing ray a height that far off moves the hit
 // by texels. Rounding to the nearest 1/255 restores the exact value (the
 // same for the pyramid and the corners, so the bound stays conservative).
-// An 11-bit height map (PX_HEIGHT_11BIT, EAC R11) is snapped to v / 2047
-// the same way, its height read at highp; its pyramid holds each maximum
-// in two exact 8-bit channels (R * 256 + G), divided by the same 2047.0.
+// An 11-bit height map (PX_HEIGHT_11BIT, EAC R11, GLSL ES 3.00 only) is
+// snapped to v / 2047 the same way, its height read at highp; its pyramid
+// holds each maximum in two exact 8-bit channels (R * 256 + G), divided by
+// the same 2047.0.
 #ifdef PX_HEIGHT_11BIT
 PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
     return floor(texel * 2047.0 + 0.5) / 2047.0;
@@ -55,10 +62,19 @@ PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
 }
 #endif
 
-// The max of `node` (integer, from the tile origin) at `level`; the index
-// wraps with a mask (sizes are powers of two, so this is GL_REPEAT).
-// One texel of the traced height map at level 0 (wrapped cell c of the
-// field). A file stored top row first is fetched at the mirrored row, as
+// Whole-number arithmetic in floats that rounding cannot break (exp2 and
+// division may be approximations: a quotient of 0.99999 must not floor to 0).
+// 2^e for whole e:
+#define px_pow2(e) floor(exp2(e) + 0.5)
+// floor(a / b) for whole a and whole b >= 1 (a + 0.5 keeps the quotient
+// at least 0.5 / b away from every whole number):
+#define px_div_floor(a, b) floor(((a) + 0.5) / (b))
+
+#if PX_ES >= 3
+// GLSL ES 3.00: the pyramid's levels are mip levels of u_max_map, the
+// corners texels of the height map itself, read with texelFetch; indices
+// wrap with a mask (sizes are powers of two, so this is GL_REPEAT).
+// A height file stored top row first is fetched at the mirrored row, as
 // px_trace_height reads it at 1 - v (surface_common.glsl).
 #ifdef PX_FLIP_HEIGHT_V
 #define px_height_texel(c) texelFetch(PX_HEIGHT_SAMPLER, ivec2((c).x, mask.y - (c).y), 0).PX_HEIGHT_CHANNEL
@@ -66,19 +82,62 @@ PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
 #define px_height_texel(c) texelFetch(PX_HEIGHT_SAMPLER, (c), 0).PX_HEIGHT_CHANNEL
 #endif
 
-PX_HIGHP float px_node_max(int level, highp ivec2 node, highp ivec2 shift, highp ivec2 mask) {
+// The max of `node` (whole numbers, from the tile origin) at `level` (>= 1).
+PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
+    highp ivec2 wrap = max(ivec2(u_texture_size) >> int(level), 1) - 1;
+    highp ivec2 n = ivec2(node) & wrap;
 #ifdef PX_HEIGHT_11BIT
-    mediump vec2 t = texelFetch(u_max_map, node & (mask >> shift), level).rg;
+    mediump vec2 t = texelFetch(u_max_map, n, int(level)).rg;
     return (floor(t.r * 255.0 + 0.5) * 256.0 + floor(t.g * 255.0 + 0.5)) / 2047.0;
 #else
-    return px_exact_height(texelFetch(u_max_map, node & (mask >> shift), level).r);
+    return px_exact_height(texelFetch(u_max_map, n, int(level)).r);
 #endif
 }
 
+// The heights at the four corners of `cell` (h00, h10, h01, h11).
+PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell) {
+    highp ivec2 mask = ivec2(u_texture_size) - 1;
+    highp ivec2 c0 = ivec2(cell) & mask;
+    highp ivec2 c1 = (ivec2(cell) + 1) & mask;
+    return vec4(px_exact_height(px_height_texel(c0)), px_exact_height(px_height_texel(ivec2(c1.x, c0.y))),
+                px_exact_height(px_height_texel(ivec2(c0.x, c1.y))), px_exact_height(px_height_texel(c1)));
+}
+#else
+// GLSL ES 1.00: one RGBA8 texture without mips (an atlas; NPOT is core with
+// CLAMP_TO_EDGE and NEAREST), read at texel centres, so the implicit lod of
+// texture2D in the walk's non-uniform control flow cannot matter. Its
+// layout (assets/max_mipmap.h, max_atlas_origin): cell (i, j)'s four corner
+// heights in RGBA at texel (i, j) of a width x height block at the origin;
+// level k >= 1 (R: its max) at x = width, y = the sum of the heights of
+// levels 1..k-1.
+// u_max_atlas: xy = 1 / the atlas size, z = width, w = log2(height).
+uniform PX_HIGHP vec4 u_max_atlas;
+
+// The atlas texel at `texel` (whole numbers).
+#define px_atlas_texel(texel) texture2D(u_max_map, ((texel) + 0.5) * u_max_atlas.xy)
+
+PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
+    PX_HIGHP vec2 size = max(floor(u_texture_size * exp2(-level) + 0.5), 1.0);
+    PX_HIGHP vec2 n = node - size * px_div_floor(node, size);  // wraps, as GL_REPEAT
+    // Levels 1..k-1 are u_texture_size.y / 2^j rows each while that is at
+    // least one, then one row each.
+    PX_HIGHP float y = u_texture_size.y - max(floor(u_texture_size.y * exp2(1.0 - level) + 0.5), 1.0) +
+                       max(level - 1.0 - u_max_atlas.w, 0.0);
+    return px_exact_height(px_atlas_texel(n + vec2(u_max_atlas.z, y)).r);
+}
+
+PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell) {
+    PX_HIGHP vec2 c = cell - u_texture_size * px_div_floor(cell, u_texture_size);
+    PX_HIGHP vec4 h = px_atlas_texel(c);
+    return floor(h * 255.0 + 0.5) / 255.0;
+}
+#endif
+
 // Cells only move forward along the ray: a rounded position must never send
 // the walk back into a cell it has left (it could revisit it forever).
-highp int px_forward_index(PX_HIGHP float position, highp int anchor, highp int current, PX_HIGHP float direction) {
-    highp int i = anchor + int(floor(position));
+PX_HIGHP float px_forward_index(PX_HIGHP float position, PX_HIGHP float anchor, PX_HIGHP float current,
+                                PX_HIGHP float direction) {
+    PX_HIGHP float i = anchor + floor(position);
     if (direction > 0.0) return max(i, current);
     if (direction < 0.0) return min(i, current);
     return current;
@@ -86,10 +145,10 @@ highp int px_forward_index(PX_HIGHP float position, highp int anchor, highp int 
 
 // The cell holding the ray's point p (relative to the anchor cell), moving
 // only forward from `cell` and staying inside the node [lo, hi).
-highp ivec2 px_cell_at(PX_HIGHP vec2 p, highp ivec2 anchor, highp ivec2 cell, PX_HIGHP vec2 dir, highp ivec2 lo,
-                       highp ivec2 hi) {
-    highp ivec2 c = ivec2(px_forward_index(p.x, anchor.x, cell.x, dir.x), px_forward_index(p.y, anchor.y, cell.y, dir.y));
-    return clamp(c, lo, hi - 1);
+PX_HIGHP vec2 px_cell_at(PX_HIGHP vec2 p, PX_HIGHP vec2 anchor, PX_HIGHP vec2 cell, PX_HIGHP vec2 dir,
+                         PX_HIGHP vec2 lo, PX_HIGHP vec2 hi) {
+    PX_HIGHP vec2 c = vec2(px_forward_index(p.x, anchor.x, cell.x, dir.x), px_forward_index(p.y, anchor.y, cell.y, dir.y));
+    return clamp(c, lo, hi - 1.0);
 }
 
 // First s in [0, 1] where the ray segment from (p0, z0) to (p1, z1) in one
@@ -145,46 +204,39 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP vec2 uv_top = uv + (1.0 - u_polygon_height) * parallax;
     PX_HIGHP vec2 tile = floor(uv_top);
     PX_HIGHP vec2 local = (uv_top - tile) * u_texture_size - 0.5;
-    PX_HIGHP vec2 anchor_f = floor(local);
-    highp ivec2 anchor = ivec2(anchor_f);
-    PX_HIGHP vec2 o = local - anchor_f;
+    PX_HIGHP vec2 anchor = floor(local);
+    PX_HIGHP vec2 o = local - anchor;
     PX_HIGHP vec2 dir = -parallax * u_texture_size;
-    highp ivec2 mask = ivec2(u_texture_size) - 1;
-    highp ivec2 size_log2 = ivec2(log2(u_texture_size) + 0.5);
-    int top = u_max_levels - 1;
+    PX_HIGHP vec2 size_log2 = floor(log2(u_texture_size) + 0.5);
+    PX_HIGHP float top = float(u_max_levels - 1);
 
-    int level = top;  // Tevs et al.: start at the root, the whole tile
-    highp ivec2 cell = anchor;
+    // Levels and cells are whole numbers held in floats (exact in highp).
+    PX_HIGHP float level = top;  // Tevs et al.: start at the root, the whole tile
+    PX_HIGHP vec2 cell = anchor;
     PX_HIGHP float t = 0.0;
     // Appendix A form: a constant bound (the iteration budget) with an early break.
     for (int i = 0; i < PX_MAX_SAMPLES; i++) {
-        // The node of `level` holding `cell`: 2^shift cells a side (a side
+        // The node of `level` holding `cell`: `side` cells a side (a side
         // stops growing at the texture's size, as the mip chain's does).
-        highp ivec2 shift = min(ivec2(level), size_log2);
-        highp ivec2 node = cell >> shift;
-        highp ivec2 lo = node << shift;
-        highp ivec2 hi = (node + 1) << shift;
+        PX_HIGHP vec2 side = px_pow2(min(vec2(level), size_log2));
+        PX_HIGHP vec2 node = px_div_floor(cell, side);
+        PX_HIGHP vec2 lo = node * side;
+        PX_HIGHP vec2 hi = lo + side;
         // Where the ray leaves the node's square.
-        PX_HIGHP vec2 lo_rel = vec2(lo - anchor);
-        PX_HIGHP vec2 hi_rel = vec2(hi - anchor);
+        PX_HIGHP vec2 lo_rel = lo - anchor;
+        PX_HIGHP vec2 hi_rel = hi - anchor;
         PX_HIGHP float tx = dir.x > 0.0 ? (hi_rel.x - o.x) / dir.x : (dir.x < 0.0 ? (lo_rel.x - o.x) / dir.x : PX_NEVER);
         PX_HIGHP float ty = dir.y > 0.0 ? (hi_rel.y - o.y) / dir.y : (dir.y < 0.0 ? (lo_rel.y - o.y) / dir.y : PX_NEVER);
         PX_HIGHP float t_out = min(tx, ty);
-        if (level == 0) {
+        if (level == 0.0) {
             // One cell: the ray against the bilinear patch, exactly (Drobot
             // 2010 ends with a search; solving cannot miss a thin feature).
             // The relief's bottom (t = 1) ends every ray: heights are >= 0.
             PX_HIGHP float t_stop = min(t_out, 1.0);
             PX_HIGHP vec2 p0 = clamp(o + t * dir - lo_rel, 0.0, 1.0);
             PX_HIGHP vec2 p1 = clamp(o + t_stop * dir - lo_rel, 0.0, 1.0);
-            highp ivec2 c0 = cell & mask;
-            highp ivec2 c1 = (cell + 1) & mask;
-            PX_HIGHP vec4 corners = vec4(px_exact_height(px_height_texel(c0)),
-                                         px_exact_height(px_height_texel(ivec2(c1.x, c0.y))),
-                                         px_exact_height(px_height_texel(ivec2(c0.x, c1.y))),
-                                         px_exact_height(px_height_texel(c1)));
             PX_HIGHP float s;
-            if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, corners, s)) {
+            if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, px_cell_corners(cell), s)) {
                 t = t + s * (t_stop - t);
                 break;
             }
@@ -193,30 +245,30 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
                 break;
             }
         } else {
-            PX_HIGHP float t_plane = 1.0 - px_node_max(level, node, shift, mask);  // ray down to the node's max
+            PX_HIGHP float t_plane = 1.0 - px_node_max(level, node);  // ray down to the node's max
             if (t >= t_plane) {  // at or under the max here: look closer, without moving
-                level--;
+                level -= 1.0;
                 continue;
             }
             if (t_plane < t_out) {  // comes down to the max inside the node: go there, look closer
                 t = t_plane;
                 cell = px_cell_at(o + t * dir, anchor, cell, dir, lo, hi);
-                level--;
+                level -= 1.0;
                 continue;
             }
         }
         // Above the node's max all the way across: into the neighbour node
         // through the exit side (both sides at a corner).
         t = max(t, t_out);
-        highp ivec2 next = px_cell_at(o + t * dir, anchor, cell, dir, lo, hi);
-        if (tx <= ty) next.x = dir.x > 0.0 ? hi.x : lo.x - 1;
-        if (ty <= tx) next.y = dir.y > 0.0 ? hi.y : lo.y - 1;
+        PX_HIGHP vec2 next = px_cell_at(o + t * dir, anchor, cell, dir, lo, hi);
+        if (tx <= ty) next.x = dir.x > 0.0 ? hi.x : lo.x - 1.0;
+        if (ty <= tx) next.y = dir.y > 0.0 ? hi.y : lo.y - 1.0;
         // Tevs et al.: into another parent, go up to it, but only when the
         // ray is above its max here (else it would come straight back down).
         if (level < top) {
-            highp ivec2 up = min(ivec2(level + 1), size_log2);
-            highp ivec2 parent = next >> up;
-            if (any(notEqual(cell >> up, parent)) && t < 1.0 - px_node_max(level + 1, parent, up, mask)) level++;
+            PX_HIGHP vec2 up = px_pow2(min(vec2(level + 1.0), size_log2));
+            PX_HIGHP vec2 parent = px_div_floor(next, up);
+            if (any(notEqual(px_div_floor(cell, up), parent)) && t < 1.0 - px_node_max(level + 1.0, parent)) level += 1.0;
         }
         cell = next;
     }

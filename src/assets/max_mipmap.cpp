@@ -104,4 +104,41 @@ Result<MaxMipmap> build_max_mipmap(const HeightField& field, int bits) {
     return m;
 }
 
+AtlasOrigin max_atlas_origin(int width, int height, int level) {
+    AtlasOrigin o;
+    o.x = width;
+    for (int j = 1; j < level; ++j) o.y += std::max(1, height >> j);
+    return o;
+}
+
+Result<MaxAtlas> build_max_atlas(const HeightField& field) {
+    Result<MaxMipmap> pyramid = build_max_mipmap(field, 8);
+    if (!pyramid) return pyramid.error();
+    const int w = pyramid->width, h = pyramid->height;
+    const int top = pyramid->level_count() - 1;
+    const AtlasOrigin last = max_atlas_origin(w, h, top);
+    MaxAtlas atlas;
+    atlas.levels = pyramid->level_count();
+    atlas.image = level_image(w + std::max(1, w / 2), std::max(h, top >= 1 ? last.y + 1 : 1), 4);
+    const auto byte = [&](int x, int y) {
+        const double v = field.texels[static_cast<size_t>(wrap_index(y, h)) * w + wrap_index(x, w)];
+        return static_cast<std::uint8_t>(!(v > 0.0) ? 0 : std::lround(std::min(v, 1.0) * 255.0));
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::uint8_t* t = atlas.image.texel(x, y);
+            t[0] = byte(x, y);
+            t[1] = byte(x + 1, y);
+            t[2] = byte(x, y + 1);
+            t[3] = byte(x + 1, y + 1);
+        }
+    for (int level = 1; level <= top; ++level) {
+        const Image& src = pyramid->levels[static_cast<size_t>(level)];
+        const AtlasOrigin o = max_atlas_origin(w, h, level);
+        for (int y = 0; y < src.height; ++y)
+            for (int x = 0; x < src.width; ++x) atlas.image.texel(o.x + x, o.y + y)[0] = src.texel(x, y)[0];
+    }
+    return atlas;
+}
+
 }  // namespace px

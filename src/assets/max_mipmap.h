@@ -53,4 +53,26 @@ struct MaxMipmap {
 // `bits`: 8 (heights quantised to byte / 255) or 11 (v / 2047).
 Result<MaxMipmap> build_max_mipmap(const HeightField& field, int bits = 8);
 
+// The same pyramid for GLSL ES 1.00, which has no texelFetch and no lod reads
+// in the fragment stage: one RGBA8 image without mips (read with NEAREST at
+// texel centres; NPOT is core ES 2.0 with CLAMP_TO_EDGE). Layout:
+// - a width x height block at (0, 0): texel (i, j) holds cell (i, j)'s four
+//   corner heights (RGBA = texels (i, j), (i+1, j), (i, j+1), (i+1, j+1),
+//   wrapping), so one read gives the bilinear patch (and its max, level 0);
+// - level k >= 1 (R = its max, byte / 255) at max_atlas_origin(k).
+// 8-bit heights only. Errors as build_max_mipmap's.
+struct MaxAtlas {
+    Image image;     // (width + max(1, width / 2)) x max(height, rows the levels need), 4 channels
+    int levels = 0;  // pyramid levels, as MaxMipmap::level_count()
+};
+Result<MaxAtlas> build_max_atlas(const HeightField& field);
+// Where level k >= 1 of a width x height field's pyramid starts in its atlas:
+// x = width, y = the rows of levels 1..k-1 (max(1, height >> j) each).
+// maxmip.frag's px_node_max computes the same in closed form.
+struct AtlasOrigin {
+    int x = 0;
+    int y = 0;
+};
+AtlasOrigin max_atlas_origin(int width, int height, int level);
+
 }  // namespace px

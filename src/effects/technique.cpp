@@ -40,7 +40,7 @@ constexpr std::array<TechniqueInfo, kTechniqueCount> kTable = {{
      "maximum mip-maps: skips empty space down a max pyramid of the filtered surface, then solves the "
      "bilinear patch exactly",
      "Tevs, Ihrke & Seidel 2008; Drobot 2010",
-     kOptHeight | kOptNormals | kOptSteps | kOptShadow | kOptDepth | kOptLod, 3, kMaxExactSteps, true,
+     kOptHeight | kOptNormals | kOptSteps | kOptShadow | kOptDepth | kOptLod, 2, kMaxExactSteps, true,
      Technique::relief, 64, true},
 }};
 

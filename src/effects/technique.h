@@ -100,8 +100,10 @@ struct TechniqueInfo {
     // Exact only with an exact ray: the view vector is always interpolated
     // unnormalised in highp (PX_EXACT_VIEW), whatever the material asks.
     bool always_exact_view;
-    // What the planner draws on a context older than min_es_major: the most
-    // accurate technique that runs there, at this many samples at least.
+    // What the planner draws where a context cannot run it (older than
+    // min_es_major; for maxmip also no fragment highp, or a field its pyramid
+    // cannot halve: planner.h why_technique_cannot_run): the most accurate
+    // technique that runs there, at this many samples at least.
     Technique fallback;
     int fallback_min_samples;
     // Measured by `parallax bench`. flat is not: it draws no surface detail,

@@ -89,6 +89,28 @@ Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, co
     return t;
 }
 
+Result<Texture> upload_max_atlas(const MaxAtlas& atlas, const Caps& caps, const std::string& what) {
+    const Image& image = atlas.image;
+    if (image.width < 1 || image.height < 1 || image.channels != 4 ||
+        image.pixels.size() != static_cast<size_t>(image.width) * image.height * 4)
+        return make_error(what + ": malformed max atlas");
+    if (image.width > caps.max_texture_size || image.height > caps.max_texture_size)
+        return make_error(what + ": the max atlas is " + std::to_string(image.width) + "x" +
+                          std::to_string(image.height) + " (one and a half times the height map's width), over "
+                          "this context's GL_MAX_TEXTURE_SIZE of " + std::to_string(caps.max_texture_size));
+    Texture t = new_bound_texture(image.width, image.height, caps);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 image.pixels.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    Status s = check_gl("uploading " + what);
+    if (!s) return s.error();
+    return t;
+}
+
 Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
                                     bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode) {
     if (data.levels.empty() || data.width < 1 || data.height < 1) return make_error(what + ": empty texture");

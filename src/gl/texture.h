@@ -60,6 +60,10 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
 // filtering, read with texelFetch. OpenGL ES 3.0 only. 11-bit pyramids go
 // up as GL_RG8 (R = high bits, G = low byte).
 Result<Texture> upload_max_mipmap(const MaxMipmap& pyramid, const Caps& caps, const std::string& what);
+// GLSL ES 1.00's pyramid (assets/max_mipmap.h, build_max_atlas): one RGBA8
+// level, nearest filtering, CLAMP_TO_EDGE (core ES 2.0 samples NPOT that
+// way). Any context; an atlas over GL_MAX_TEXTURE_SIZE is an error naming both.
+Result<Texture> upload_max_atlas(const MaxAtlas& atlas, const Caps& caps, const std::string& what);
 
 // Binds the texture to GL_TEXTURE_2D of the active unit.
 void bind_texture(const Texture& texture);

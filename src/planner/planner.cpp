@@ -18,6 +18,29 @@ namespace {
 bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 }  // namespace
 
+std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width, int traced_height) {
+    const TechniqueInfo& info = technique_info(t);
+    if (info.min_es_major > caps.es_major)
+        return std::string(info.name) + " needs OpenGL ES " + std::to_string(info.min_es_major) +
+               ".0 and this context is " + caps.version;
+    if (!(info.options & kOptSteps)) return {};
+    const std::string size = std::to_string(traced_width) + "x" + std::to_string(traced_height);
+    if (traced_width != 0 && !(power_of_two(traced_width) && power_of_two(traced_height)))
+        return std::string(info.name) + "'s max pyramid halves every level exactly, and the height map is " + size +
+               ", not a power of two in both sides";
+    if (caps.es_major >= 3) return {};
+    if (!caps.fragment_highp)
+        return std::string(info.name) +
+               " is exact only with fragment highp (whole-number cells and the grazing ray's position), and this "
+               "OpenGL ES 2.0 context lacks GL_FRAGMENT_PRECISION_HIGH";
+    const long long atlas_width = static_cast<long long>(traced_width) + std::max(1, traced_width / 2);
+    if (traced_width != 0 && (atlas_width > caps.max_texture_size || traced_height > caps.max_texture_size))
+        return std::string(info.name) + "'s pyramid atlas for a " + size + " height map is " +
+               std::to_string(atlas_width) + " texels wide, over this context's GL_MAX_TEXTURE_SIZE of " +
+               std::to_string(caps.max_texture_size);
+    return {};
+}
+
 Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps, int traced_width,
                                  int traced_height) {
     const TechniqueOptions& o = material.technique;
@@ -28,22 +51,13 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
     k.no_fragment_highp = caps.es_major < 3 && !caps.fragment_highp;
 
     const TechniqueInfo& asked = technique_info(o.technique);
-    if (asked.min_es_major > caps.es_major) {
+    const std::string why_not = why_technique_cannot_run(o.technique, caps, traced_width, traced_height);
+    if (!why_not.empty()) {
         // The most accurate technique this context runs (the table's fallback).
         k.technique = asked.fallback;
         plan.notes.push_back(std::string(asked.name) + " -> " + technique_name(asked.fallback) + " with " +
                              std::to_string(std::max(o.max_samples, asked.fallback_min_samples)) + " samples: " +
-                             asked.name + " needs OpenGL ES " + std::to_string(asked.min_es_major) +
-                             ".0 and this context is " + caps.version);
-    }
-    const bool pyramid_fits = traced_width == 0 || (power_of_two(traced_width) && power_of_two(traced_height));
-    if (k.technique == o.technique && (asked.options & kOptSteps) && !pyramid_fits) {
-        k.technique = asked.fallback;
-        plan.notes.push_back(std::string(asked.name) + " -> " + technique_name(asked.fallback) + " with " +
-                             std::to_string(std::max(o.max_samples, asked.fallback_min_samples)) + " samples: " +
-                             asked.name + "'s max pyramid halves every level exactly, and the height map is " +
-                             std::to_string(traced_width) + "x" + std::to_string(traced_height) +
-                             ", not a power of two in both sides");
+                             why_not);
     }
     if ((asked.options & kOptHeight) && material.height_scale <= 0.0f) {
         plan.notes.clear();

@@ -34,7 +34,6 @@ namespace {
 
 constexpr int kMaxSurfacePoints = 320;  // per object: enough for the percentiles, cheap per frame
 
-bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 std::string fmt(const char* format, double a) {
     char buffer[64];
@@ -1323,9 +1322,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         (void)elevation;
         if (r != source.relief || shadow != ShadowMode::none) continue;
         const TechniqueInfo& info = technique_info(t);
-        if (info.min_es_major > caps.es_major) continue;
-        if ((info.options & kOptSteps) && !(power_of_two(relief.traced_width) && power_of_two(relief.traced_height)))
-            continue;
+        if (!why_technique_cannot_run(t, caps, relief.traced_width, relief.traced_height).empty()) continue;
         if (want_shadow && !(info.options & kOptShadow)) continue;
         if (samples > info.max_samples_limit) continue;
         for (int exact = 1; exact >= 0; --exact) {

@@ -48,8 +48,9 @@ struct GpuMaterial {
     // base-level-only copy of the packed normal map (or of the height map).
     // Empty when the traced reads come from `normal` (packed, ES 3.0).
     Texture height;
-    Texture max_map;    // maxmip: the max pyramid
+    Texture max_map;    // maxmip: the max pyramid (GLSL ES 1.00: its atlas)
     int max_levels = 0;
+    glm::vec4 max_atlas{0.0f};  // GLSL ES 1.00: 1 / atlas size, field width, log2(field height)
     // Texels of the texture the trace reads (u_texture_size): the height map
     // where there is one, which need not be the normal map's size.
     glm::vec2 traced_size{0.0f};
@@ -202,6 +203,7 @@ void set_material_uniforms(const Program& p, const GpuMaterial& material, const 
     p.set(slot::specular, m.specular);
     p.set(slot::shininess, m.shininess);
     p.set(slot::max_levels, material.max_levels);
+    p.set(slot::max_atlas, &material.max_atlas, 1);
 
     bind_texture_unit(shader::Sampler::albedo, material.albedo);
     bind_texture_unit(shader::Sampler::normal, material.normal);
@@ -350,6 +352,31 @@ Result<Texture> upload_slot(const std::optional<TextureData>& file, const Image&
     return t;
 }
 
+// maxmip's pyramid of the traced field: mip levels on GLSL ES 3.00, one
+// atlas on GLSL ES 1.00 (assets/max_mipmap.h).
+Status upload_pyramid(GpuMaterial& g, const HeightField& field, bool height_11bit, const Caps& caps,
+                      const std::string& what, const std::string& source) {
+    const std::string label = what + " max pyramid of the height (" + source + ")";
+    if (caps.es_major >= 3) {
+        Result<MaxMipmap> max_pyramid = build_max_mipmap(field, height_11bit ? 11 : 8);
+        if (!max_pyramid) return with_context(what + " height (" + source + ")", max_pyramid.error());
+        Result<Texture> max_map = upload_max_mipmap(*max_pyramid, caps, label);
+        if (!max_map) return max_map.error();
+        g.max_map = std::move(*max_map);
+        g.max_levels = max_pyramid->level_count();
+        return {};
+    }
+    Result<MaxAtlas> atlas = build_max_atlas(field);
+    if (!atlas) return with_context(what + " height (" + source + ")", atlas.error());
+    Result<Texture> max_map = upload_max_atlas(*atlas, caps, label);
+    if (!max_map) return max_map.error();
+    g.max_map = std::move(*max_map);
+    g.max_levels = atlas->levels;
+    g.max_atlas = glm::vec4(1.0f / static_cast<float>(atlas->image.width), 1.0f / static_cast<float>(atlas->image.height),
+                            static_cast<float>(field.width), std::log2(static_cast<float>(field.height)));
+    return {};
+}
+
 // A material's textures on the GPU, and for a material that names its
 // technique, the variant the context draws of it.
 Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages& images, const Caps& caps,
@@ -366,8 +393,7 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         // Any technique may be chosen as the camera moves: upload what
         // tracing needs wherever there is a relief to trace.
         traced = m.effects->parallax && m.height_scale > 0.0f;
-        pyramid = traced && caps.es_major >= 3 && (field.width & (field.width - 1)) == 0 &&
-                  (field.height & (field.height - 1)) == 0;
+        pyramid = traced && (field.width & (field.width - 1)) == 0 && (field.height & (field.height - 1)) == 0;
     } else {
         Result<VariantPlan> plan = plan_variant(m, caps, images.field.width, images.field.height);
         if (!plan) return with_context(what, plan.error());
@@ -404,13 +430,8 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
     const Texture& traced_texture = g.height.handle ? g.height : g.normal;
     g.traced_size = glm::vec2(static_cast<float>(traced_texture.width), static_cast<float>(traced_texture.height));
     if (pyramid) {
-        Result<MaxMipmap> max_pyramid = build_max_mipmap(field, images.layout.height_11bit ? 11 : 8);
-        if (!max_pyramid) return with_context(what + " height (" + source_label(m.height) + ")", max_pyramid.error());
-        Result<Texture> max_map =
-            upload_max_mipmap(*max_pyramid, caps, what + " max pyramid of the height (" + source_label(m.height) + ")");
-        if (!max_map) return max_map.error();
-        g.max_map = std::move(*max_map);
-        g.max_levels = max_pyramid->level_count();
+        Status built = upload_pyramid(g, field, images.layout.height_11bit, caps, what, source_label(m.height));
+        if (!built) return built.error();
     }
     return g;
 }

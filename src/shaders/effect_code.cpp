@@ -98,6 +98,7 @@ const std::vector<EffectMarker> kMarkers = {
     // maxmip.frag: the max pyramid and its walk.
     {"max pyramid", "u_max_map", max_pyramid},
     {"max pyramid", "u_max_levels", max_pyramid},
+    {"max pyramid", "u_max_atlas", max_pyramid},
     {"max pyramid", "px_node_max", max_pyramid},
     {"max pyramid", "px_solve_patch", max_pyramid},
     // surface.vert, PX_EXACT_VIEW: the view vector left unnormalised in highp.

@@ -169,13 +169,19 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::lod_range: return k.lod;
         case Uniform::max_levels:
         case Uniform::max_map: return has(k, kOptSteps);
+        // GLSL ES 1.00 reads the pyramid from an atlas (maxmip.frag).
+        case Uniform::max_atlas: return has(k, kOptSteps) && k.es_major < 3;
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:
             return (u.shading && has(k, kOptNormals)) || (u.traced && k.packed_height && k.es_major >= 3);
         // The traced height's own texture: a separate height map, or on GLSL
         // ES 1.00 a base-level copy of the packed one.
-        case Uniform::height_map: return u.traced && (!k.packed_height || k.es_major < 3);
+        // GLSL ES 1.00's exact walk reads its atlas instead, so there only a
+        // shadow ray reads it.
+        case Uniform::height_map:
+            if (has(k, kOptSteps) && k.es_major < 3) return u.traced && u.shadow;
+            return u.traced && (!k.packed_height || k.es_major < 3);
     }
     return true;
 }
