@@ -79,11 +79,9 @@ namespace {
 // maxmip is exact: on every bench scene, thin raised text included, up to 85
 // degrees off the normal, its mean hit error is within 0.1 texel of the
 // reference (it solves each bilinear patch in closed form and skips only
-// space the max pyramid proves empty). ES 3.0 only: on ES 2.0 the planner
-// substitutes relief (tested in gpu_render_tests.cpp); ctest's gpu_es2 leaves
-// this test out (tests/CMakeLists.txt) so that its skip does not mark the run.
+// space the max pyramid proves empty). On both contexts: GLSL ES 1.00 walks
+// the same pyramid from one atlas (assets/max_mipmap.h build_max_atlas).
 TEST(Accuracy, MaxmipMeetsTheReferenceOnEveryBenchScene) {
-    if (test_es_major() < 3) GTEST_SKIP() << "maxmip needs OpenGL ES 3.0; this run is ES 2.0";
     for (const std::string& scene_name : profiling::bench_scene_names()) {
         for (double angle : {0.0, 60.0, 85.0}) {
             auto scene = profiling::bench_scene(scene_name, angle);
@@ -120,7 +118,6 @@ namespace {
 // 8 subpixel bits): a pixel here spans 1.5 to 4.6 texels across the ray, so
 // that moves a hit by at most 0.018 texel.
 TEST(Accuracy, MaxmipMeetsTheReferenceAtGrazingAngles) {
-    if (test_es_major() < 3) GTEST_SKIP() << "maxmip needs OpenGL ES 3.0; this run is ES 2.0";
     constexpr int kSize = 127;
     constexpr double kBound = 0.05;
     for (const std::string& scene_name : profiling::bench_scene_names()) {

@@ -61,9 +61,10 @@ SceneDesc PlaneScene::build() const {
     return s;
 }
 
-Rendered render(const SceneDesc& scene, int size) {
+Rendered render(const SceneDesc& scene, int size, bool emulate_no_fragment_highp) {
     Rendered out;
     RendererOptions options;
+    options.emulate_no_fragment_highp = emulate_no_fragment_highp;
     options.get_proc_address = platform::HeadlessContext::proc_loader();
     options.effect_planner = effect_planner;
     options.texture_files = texture_files();

@@ -69,7 +69,8 @@ struct Rendered {
 };
 
 // Renders a scene at size x size pixels; fails the test on any error.
-Rendered render(const SceneDesc& scene, int size = 128);
+// `emulate_no_fragment_highp`: as a GPU without fragment highp (ES 2.0 only).
+Rendered render(const SceneDesc& scene, int size = 128, bool emulate_no_fragment_highp = false);
 
 // Mean absolute difference per channel (0..255) and the largest one.
 struct ImageDiff {

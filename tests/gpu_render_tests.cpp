@@ -98,6 +98,27 @@ TEST(Techniques, EachRendersWithoutGlErrors) {
     }
 }
 
+// maxmip runs on OpenGL ES 2.0 (GLSL ES 1.00, its pyramid in one atlas), but
+// stays exact only with fragment highp: on a context without it the planner
+// draws the table's fallback and says why.
+TEST(Techniques, MaxmipWithoutFragmentHighpFallsBackAndSaysWhy) {
+    if (test_es_major() >= 3) GTEST_SKIP() << "OpenGL ES 3.0 guarantees fragment highp";
+    PlaneScene p = bricks_scene();
+    p.technique = Technique::maxmip;
+    p.view_angle_deg = 50.0f;
+    const SceneDesc scene = p.build();
+    const Rendered with_highp = render(scene);
+    ASSERT_EQ(with_highp.reports.size(), 1u);
+    EXPECT_EQ(with_highp.reports[0].variant.technique, Technique::maxmip);
+    const Rendered without = render(scene, 128, true);
+    ASSERT_EQ(without.reports.size(), 1u);
+    EXPECT_EQ(without.reports[0].variant.technique, technique_info(Technique::maxmip).fallback);
+    EXPECT_TRUE(without.reports[0].variant.no_fragment_highp);
+    ASSERT_FALSE(without.reports[0].notes.empty());
+    EXPECT_NE(without.reports[0].notes[0].find("lacks GL_FRAGMENT_PRECISION_HIGH"), std::string::npos)
+        << without.reports[0].notes[0];
+}
+
 // With a flat height field there is nothing to see through: every parallax
 // technique must give the normal-mapping image, with the relief's top on the
 // polygon (level 1, default bias) and with the polygon mid-relief (level

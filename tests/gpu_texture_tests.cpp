@@ -307,7 +307,7 @@ TEST(Textures, PvrtcRendersThroughTheCpuFallbackAndSaysSo) {
 // from the decoded 11-bit texels the GPU samples (not from the 8-bit
 // original), and the reference traces the same texels.
 TEST(Textures, MaxmipIsExactOnAnElevenBitEacHeightMap) {
-    if (test_es_major() < 3) GTEST_SKIP() << "maxmip needs OpenGL ES 3.0; this run is ES 2.0";
+    if (test_es_major() < 3) GTEST_SKIP() << "11-bit heights need OpenGL ES 3.0 (ES 2.0 decodes EAC R11 to 8 bits)";
     for (const std::string& scene_name : {std::string("sine"), std::string("bricks")}) {
         for (double angle : {0.0, 70.0}) {
             auto scene = profiling::bench_scene(scene_name, angle);
@@ -336,6 +336,68 @@ TEST(Textures, MaxmipIsExactOnAnElevenBitEacHeightMap) {
             ASSERT_TRUE(e.ok());
             EXPECT_LE(e->uv_error_mean, 0.1) << scene_name << " at " << angle;
             EXPECT_GT(e->pixels, 500);
+        }
+    }
+}
+
+// maxmip on non-square height maps, both ways round, is exact on both
+// contexts: on GLSL ES 1.00 a field wider than tall has pyramid levels past
+// log2(height) one row each in its atlas (assets/max_mipmap.h), which the
+// shader's closed form must place where build_max_atlas put them.
+TEST(Textures, MaxmipIsExactOnNonSquareHeightMaps) {
+    const std::string root = test_folder("nonsquare");
+    for (const auto& [w, h] : {std::pair<int, int>{128, 16}, std::pair<int, int>{16, 128}}) {
+        HeightField field;
+        field.width = w;
+        field.height = h;
+        field.texels.resize(static_cast<size_t>(w) * h);
+        // A smooth swell, and thin ridges only in the fourth eighth of the
+        // long side (cells touching them: the second quarter): an upper level
+        // read at the wrong place (the level below it, whose node 0 is the
+        // first quarter) misses them.
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const int along = w > h ? x : y, across = w > h ? y : x;
+                const bool ridge = along * 8 / std::max(w, h) == 3 && (along + across) % 5 == 0;
+                field.ref(x, y) = ridge ? 1.0f : 0.3f + 0.2f * std::sin(x * 0.19f + y * 0.41f);
+            }
+        Result<TextureData> t = encode_height_texture(field, TextureFormat::r8);
+        ASSERT_TRUE(t.ok()) << t.error().message;
+        t->container = ContainerKind::ktx1;
+        auto bytes = write_ktx1(*t);
+        ASSERT_TRUE(bytes.ok());
+        const std::string path = root + "/h" + std::to_string(w) + "x" + std::to_string(h) + ".ktx";
+        {
+            FILE* f = std::fopen(path.c_str(), "wb");
+            ASSERT_TRUE(f);
+            std::fwrite(bytes->data(), 1, bytes->size(), f);
+            std::fclose(f);
+        }
+        for (double angle : {60.0, 85.0}) {
+            auto scene = profiling::bench_scene("sine", angle);
+            ASSERT_TRUE(scene.ok());
+            MaterialDesc& m = scene->materials[0];
+            m.height = TextureSource{};
+            m.height.kind = TextureSource::Kind::file;
+            m.height.path = path;
+            m.pack_height_in_normal_alpha = false;
+            m.technique.technique = Technique::maxmip;
+            const std::string where = std::to_string(w) + "x" + std::to_string(h) + " at " + std::to_string(angle);
+            auto truth = reference::render_reference(*scene, 96, 96);
+            ASSERT_TRUE(truth.ok()) << truth.error().message;
+            ASSERT_EQ(truth->texture_width, w) << where;
+            auto renderer = Renderer::create(reading_files());
+            ASSERT_TRUE(renderer.ok());
+            Status loaded = (*renderer)->load(*scene);
+            ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+            ASSERT_TRUE((*renderer)->set_view(scene->camera, 96, 96).ok());
+            EXPECT_EQ((*renderer)->reports()[0].variant.technique, Technique::maxmip) << where;
+            auto surfaces = capture_surfaces(**renderer, 96, 96);
+            ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
+            auto e = reference::compare_surfaces(*surfaces, truth->surface, truth->texture_width, truth->texture_height);
+            ASSERT_TRUE(e.ok());
+            EXPECT_LE(e->uv_error_mean, 0.1) << where;
+            EXPECT_GT(e->pixels, 500) << where;
         }
     }
 }

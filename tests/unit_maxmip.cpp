@@ -186,3 +186,57 @@ TEST(MaxMipmap, NonPowerOfTwoSizesAreErrorsNamingTheSize) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// GLSL ES 1.00's atlas holds the same pyramid: every node of every level at
+// max_atlas_origin, no two levels overlapping, and each cell's four corner
+// bytes (wrapping) in RGBA of its texel in the base block; square and
+// non-square fields, both ways round.
+TEST(MaxAtlas, HoldsEveryLevelAtItsOriginAndTheCornersOfEachCell) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (const auto& [w, h] : {std::pair<int, int>{16, 16}, {64, 4}, {4, 64}, {1, 8}, {8, 1}, {32, 2}}) {
+        HeightField field;
+        field.width = w;
+        field.height = h;
+        for (int i = 0; i < w * h; ++i) field.texels.push_back(unit(rng));
+        const MaxMipmap pyramid = build(field);
+        Result<MaxAtlas> atlas = build_max_atlas(field);
+        ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+        const std::string where = std::to_string(w) + "x" + std::to_string(h);
+        ASSERT_EQ(atlas->levels, pyramid.level_count()) << where;
+        EXPECT_EQ(atlas->image.width, w + std::max(1, w / 2)) << where;
+        std::vector<int> owner(static_cast<size_t>(atlas->image.width) * atlas->image.height, -1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::uint8_t* t = atlas->image.texel(x, y);
+                const auto byte = [&](int dx, int dy) {
+                    return static_cast<int>(std::lround(field.at((x + dx) % w, (y + dy) % h) * 255.0f));
+                };
+                EXPECT_EQ(t[0], byte(0, 0)) << where;
+                EXPECT_EQ(t[1], byte(1, 0)) << where;
+                EXPECT_EQ(t[2], byte(0, 1)) << where;
+                EXPECT_EQ(t[3], byte(1, 1)) << where;
+                EXPECT_EQ(std::max({t[0], t[1], t[2], t[3]}), pyramid.max_byte(0, x, y)) << where;
+                owner[static_cast<size_t>(y) * atlas->image.width + x] = 0;
+            }
+        for (int level = 1; level < pyramid.level_count(); ++level) {
+            const Image& src = pyramid.levels[static_cast<size_t>(level)];
+            const AtlasOrigin o = max_atlas_origin(w, h, level);
+            for (int y = 0; y < src.height; ++y)
+                for (int x = 0; x < src.width; ++x) {
+                    ASSERT_LT(o.x + x, atlas->image.width) << where << " level " << level;
+                    ASSERT_LT(o.y + y, atlas->image.height) << where << " level " << level;
+                    int& who = owner[static_cast<size_t>(o.y + y) * atlas->image.width + o.x + x];
+                    EXPECT_EQ(who, -1) << where << ": level " << level << " overlaps level " << who;
+                    who = level;
+                    EXPECT_EQ(atlas->image.texel(o.x + x, o.y + y)[0], pyramid.max_byte(level, x, y)) << where;
+                }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace px

@@ -27,6 +27,7 @@ struct PlanArgs {
     std::string scene;
     std::string size = "512x512";
     int es = 3;
+    bool no_fragment_highp = false;  // --no-fragment-highp (ES 2.0 only)
     std::string format = "table";
     bool calibrate = false;
     bool candidates = false;
@@ -112,6 +113,8 @@ int run_plan(const PlanArgs& a) {
         return fail("--size '" + a.size + "': expected WIDTHxHEIGHT with integers in 1..16384, e.g. 512x512");
     if (a.format != "table" && a.format != "json") return fail("--format must be table or json, got '" + a.format + "'");
     if (a.frames < 0 || a.frames > 100) return fail("--frames must be within 0..100, got " + std::to_string(a.frames));
+    if (a.no_fragment_highp && a.es >= 3)
+        return fail("--no-fragment-highp is for --es 2: OpenGL ES 3.0 guarantees fragment highp");
     Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene);
     if (!scene) return fail(scene.error().message);
     const std::string dir = a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache;
@@ -126,6 +129,7 @@ int run_plan(const PlanArgs& a) {
     if (!context) return fail(context.error().message);
     RendererOptions renderer_options = program_renderer_options();
     renderer_options.planner.find_calibration = calibration_finder(dir);
+    renderer_options.emulate_no_fragment_highp = a.no_fragment_highp;
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(*scene);
@@ -154,6 +158,9 @@ void add_plan_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("scene", args->scene, "A scene file (.json) or the name of a built-in scene (default: default)");
     cmd->add_option("--size", args->size, "Image size the plan is for (texels per pixel)")->capture_default_str();
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
+    cmd->add_flag("--no-fragment-highp", args->no_fragment_highp,
+                  "With --es 2: plan and draw as a GPU without fragment highp (no GL_FRAGMENT_PRECISION_HIGH, "
+                  "Mali-400 class) would");
     cmd->add_option("--format", args->format, "table or json")->capture_default_str();
     cmd->add_flag("--calibrate", args->calibrate,
                   "Measure each planned material's own relief (exact reference and GPU timing, at the angles the "

@@ -257,7 +257,7 @@ Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& sc
     for (Technique t : {Technique::normal, Technique::parallax, Technique::offset_limited, Technique::steep,
                         Technique::pom, Technique::relief, Technique::maxmip}) {
         const TechniqueInfo& info = technique_info(t);
-        if (info.min_es_major > caps.es_major) continue;
+        if (!why_technique_cannot_run(t, caps).empty()) continue;
         const bool sampled = info.options & kOptSamples;
         for (int n : sampled ? counts : std::vector<int>{0}) {
             if (sampled && n > info.max_samples_limit) continue;

@@ -36,6 +36,7 @@ struct RenderArgs {
     std::string size = "512x512";
     std::string technique;
     int es = 3;
+    bool no_fragment_highp = false;  // --no-fragment-highp (ES 2.0 only)
     int frames = 5;
     bool list = false;
     bool explain = false;
@@ -233,6 +234,7 @@ RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir
     RendererOptions o = program_renderer_options();
     o.force_texture_decode = a.decode_textures;
     o.preserve_host_state = !a.no_state_restore;
+    o.emulate_no_fragment_highp = a.no_fragment_highp;
     o.planner.find_calibration =
         calibration_finder(a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache);
     if (!cache_dir.empty() && cache_dir != "off") o.program_binaries = file_program_store(cache_dir);
@@ -292,6 +294,8 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     int width = 0, height = 0;
     if (const int status = render_size(a, tolerance, width, height); status != 0) return status;
     if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
+    if (a.no_fragment_highp && a.es >= 3)
+        return fail("--no-fragment-highp is for --es 2: OpenGL ES 3.0 guarantees fragment highp");
     const PipelineCounters counters_before = pipeline_counters();
     Result<SceneDesc> scene = render_scene(a);
     if (!scene) return fail(scene.error().message);
@@ -355,6 +359,9 @@ void add_render_command(CLI::App& app) {
                             ->capture_default_str();
     cmd->add_option("--technique", args->technique, "Override every material's technique (and any effects it declares)");
     cmd->add_option("--es", args->es, "OpenGL ES major version: 2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
+    cmd->add_flag("--no-fragment-highp", args->no_fragment_highp,
+                  "With --es 2: plan and draw as a GPU without fragment highp (no GL_FRAGMENT_PRECISION_HIGH, "
+                  "Mali-400 class) would");
     cmd->add_option("--frames", args->frames, "Timed frames after the warm-up frame")->capture_default_str();
     cmd->add_option("--program-cache", args->program_cache,
                      "Folder of cached program binaries, or 'off' (default: $XDG_CACHE_HOME/parallaxes/programs "

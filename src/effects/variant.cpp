@@ -21,6 +21,9 @@ VariantKey VariantKey::canonical() const {
     // Only the exact walk snaps heights to their texel grid.
     if (!has_option(k.technique, kOptSteps)) k.height_11bit = false;
     if (k.packed_height) k.height_11bit = false;
+    // GLSL ES 1.00's walk reads 8-bit corners from its atlas (an ES 2.0
+    // context decodes EAC R11 to 8 bits anyway).
+    if (k.es_major < 3) k.height_11bit = false;
     if (!(technique_info(k.technique).options & kOptNormals)) k.flip_v &= static_cast<std::uint8_t>(~kFlipNormal);
     if (!has_option(k.technique, kOptHeight) || k.packed_height) k.flip_v &= static_cast<std::uint8_t>(~kFlipHeight);
     k.flip_v &= kFlipAlbedo | kFlipNormal | kFlipHeight;
