@@ -177,9 +177,11 @@ effects_scene "$work/both.json" '{"parallax": {}}'
 sed -i 's/"effects"/"technique": "pom", "effects"/' "$work/both.json"
 effects_scene "$work/fine.json" '{"parallax": {"max_error_texels": 2}, "shadow": "hard"}' '{"position": [0, -2, 2]}'
 # On ES 2.0, where maxmip does not run, no search reaches 0.01 texels at 84 degrees.
-# Impossible on ES 2.0 without fragment highp: maxmip (exact) needs it, and
-# linear searches step over one-texel lines at 82 to 86 degrees.
+# Impossible on ES 2.0 without fragment highp: the uv is fp16 there, 1/16
+# texel at best on a 256-texel map, whatever the technique.
 expect_error "an impossible target" "impossible.json: object 'wall' (material 'm'): materials[0].effects.parallax.max_error_texels: 0.01 texels is below what any technique reaches" \
+    plan "$work/impossible.json" --es 2 --no-fragment-highp --calibration-cache off
+expect_error "an impossible target, why" "without fragment highp the uv is fp16, which places no hit closer than 0.0625 texels on this 256x256 height map" \
     plan "$work/impossible.json" --es 2 --no-fragment-highp --calibration-cache off
 expect_error "an impossible target, render" "materials[0].effects.parallax.max_error_texels" \
     render "$work/impossible.json" --es 2 --no-fragment-highp --size 32x32 --frames 1 --calibration-cache off --program-cache off -o "$work/out.png"

@@ -25,8 +25,9 @@
 // The GPU tests and the stability catalogue hold this function to the exact
 // reference, and its mobile precisions are emulated on this source itself
 // (src/emulation), so there is no second, CPU transcription to drift.
-// Exactness needs highp: without GL_FRAGMENT_PRECISION_HIGH the planner
-// draws relief instead (planner/planner.cpp says why).
+// Exactness needs highp: without GL_FRAGMENT_PRECISION_HIGH (PX_HIGHP is
+// mediump) the walk still ends, but fp16 cells and positions cost it its
+// exactness (docs/stability.md, nohighp; the plan says so).
 #ifndef PX_READS_HEIGHT
 #error "maxmip needs PX_READS_HEIGHT"
 #endif

@@ -101,8 +101,8 @@ struct TechniqueInfo {
     // unnormalised in highp (PX_EXACT_VIEW), whatever the material asks.
     bool always_exact_view;
     // What the planner draws where a context cannot run it (older than
-    // min_es_major; for maxmip also no fragment highp, or a field its pyramid
-    // cannot halve: planner.h why_technique_cannot_run): the most accurate
+    // min_es_major; for maxmip also a field its pyramid cannot halve, or an
+    // atlas too wide: planner.h why_technique_cannot_run): the most accurate
     // technique that runs there, at this many samples at least.
     Technique fallback;
     int fallback_min_samples;

@@ -29,10 +29,6 @@ std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_w
         return std::string(info.name) + "'s max pyramid halves every level exactly, and the height map is " + size +
                ", not a power of two in both sides";
     if (caps.es_major >= 3) return {};
-    if (!caps.fragment_highp)
-        return std::string(info.name) +
-               " is exact only with fragment highp (whole-number cells and the grazing ray's position), and this "
-               "OpenGL ES 2.0 context lacks GL_FRAGMENT_PRECISION_HIGH";
     const long long atlas_width = static_cast<long long>(traced_width) + std::max(1, traced_width / 2);
     if (traced_width != 0 && (atlas_width > caps.max_texture_size || traced_height > caps.max_texture_size))
         return std::string(info.name) + "'s pyramid atlas for a " + size + " height map is " +
@@ -68,6 +64,11 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
     }
     const Technique t = k.technique;
     const TechniqueInfo& info = technique_info(t);
+    if ((info.options & kOptSteps) && k.no_fragment_highp)
+        plan.notes.push_back(std::string(info.name) +
+                             " without fragment highp (this OpenGL ES 2.0 context lacks GL_FRAGMENT_PRECISION_HIGH): "
+                             "its walk runs in mediump and is no longer exact, though still the most accurate "
+                             "technique here (docs/stability.md, nohighp)");
 
     k.packed_height = material.pack_height_in_normal_alpha;
     // canonical() turns it on where the technique always takes the exact view vector.

@@ -50,9 +50,10 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
 // Why this context cannot draw technique t on a traced field of this size
 // (0 x 0: unknown), or "" where it can: an ES version below the technique's;
 // an exact walk's pyramid on a field that is not a power of two each way;
-// on GLSL ES 1.00, an exact walk without fragment highp (its whole-number
-// cells and the grazing ray need it: docs/stability.md) or a pyramid atlas
-// over GL_MAX_TEXTURE_SIZE. The planner draws the technique's fallback there.
+// on GLSL ES 1.00, a pyramid atlas over GL_MAX_TEXTURE_SIZE. The planner
+// draws the technique's fallback there. (Without fragment highp maxmip still
+// runs: in mediump it is not exact, but it measured closer to the reference
+// than its fallback on every hard case: docs/stability.md.)
 std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width = 0, int traced_height = 0);
 
 // What the camera sees of one object, over the visible part of its surface

@@ -1210,7 +1210,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         out.cost = b.total > 0.0 ? sum / b.total : 0.0;
         return out;
     };
-    auto predict_error = [&](const Source& s, const Candidate& c) {
+    auto predict_model_error = [&](const Source& s, const Candidate& c) {
         const Curve* tc = curve(s, c.technique, c.samples, ShadowMode::none, 0);
         const Curve* nc = curve(s, Technique::normal, 0, ShadowMode::none, 0);
         if (!tc || !nc) return std::numeric_limits<double>::infinity();
@@ -1306,6 +1306,16 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
             errors.emplace_back(level, p.weight);
         }
         return weighted_p95(errors);
+    };
+    // Without fragment highp (ES 2.0, Mali-400 class) the uv itself is fp16:
+    // no technique places a hit closer than half its step on [0.5, 1), 2^-12
+    // of a tile (docs/stability.md, nohighp: 0.04 to 0.06 texel of mean
+    // error at 256 texels on every technique, maxmip included).
+    const double uv_floor = caps.es_major < 3 && !caps.fragment_highp
+                                ? std::ldexp(static_cast<double>(std::max(relief.traced_width, relief.traced_height)), -12)
+                                : 0.0;
+    auto predict_error = [&](const Source& s, const Candidate& c) {
+        return std::max(predict_model_error(s, c), uv_floor);
     };
     auto predict = [&](const Source& s, const Candidate& c) {
         Prediction out = predict_cost(s, c);
@@ -1477,7 +1487,12 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         return make_error(who + ": " + field_path + ".parallax.max_error_texels: " + fmt("%g", request.max_error_texels) +
                           " texels is below what any technique reaches on this relief at view angles up to " +
                           fmt("%.1f", view.angle_max_deg) + " degrees on this OpenGL ES " + std::to_string(caps.es_major) +
-                          " context (best: " + best_name + ", predicted " + fmt("%.3g", best_error) + " texels)");
+                          " context (best: " + best_name + ", predicted " + fmt("%.3g", best_error) + " texels)" +
+                          (uv_floor > 0.0 && best_error <= uv_floor
+                               ? "; without fragment highp the uv is fp16, which places no hit closer than " +
+                                     fmt("%.3g", uv_floor) + " texels on this " + std::to_string(relief.traced_width) +
+                                     "x" + std::to_string(relief.traced_height) + " height map"
+                               : std::string()));
     }
     if (calibrated) {
         Prediction generic_chosen;
