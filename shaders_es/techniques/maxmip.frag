@@ -212,7 +212,13 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP float top = float(u_max_levels - 1);
 
     // Levels and cells are whole numbers held in floats (exact in highp).
-    PX_HIGHP float level = top;  // Tevs et al.: start at the root, the whole tile
+    // Tevs et al. start at the root, the whole tile. A ray whose whole
+    // descent (t from 0 to 1) moves `reach` cells along each axis at most
+    // stays within two nodes a side of level ceil(log2(reach + 1)): starting
+    // there skips only the descent to it (one iteration a level), never
+    // space, since every level's max bounds the same surface.
+    PX_HIGHP float reach = max(abs(dir.x), abs(dir.y));
+    PX_HIGHP float level = clamp(ceil(log2(reach + 1.0)), 0.0, top);
     PX_HIGHP vec2 cell = anchor;
     PX_HIGHP float t = 0.0;
     // Appendix A form: a constant bound (the iteration budget) with an early break.
