@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "parallaxes/profiling/measurement/bench.h"
+#include "parallaxes/profiling/measurement/work.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
 #include "parallaxes/scene/material_images.h"
@@ -566,6 +567,72 @@ TEST(Accuracy, DepthWriteMatchesTheCompositedReference) {
     EXPECT_GT(uncorrected.board.wrong_surface_share, 0.25);
     EXPECT_LT(uncorrected_plain.wall.wrong_surface_share, 0.01);
     EXPECT_LT(uncorrected_plain.board.wrong_surface_share, 0.01);
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+// The exact walk counts its own work (profiling/measurement/work.h), on both
+// contexts (ES 2.0 through the 24-bit packed passes). Every iteration reads
+// one texel (a node's max, or on ES 2.0 a cell's four corners at once) and
+// ends in at least one patch solve (4 reads of the height map on ES 3.0), so
+// fetches >= iterations (+ 3 on ES 3.0) at every pixel, hence at the median.
+// Looking down, the walk starts where the ray's descent spans two nodes a
+// side (level 4 here, the perspective's rays being off vertical by up to
+// 8 cells over the relief), not at the root (level 8: 9 iterations at the
+// least from there); at 85 degrees it walks further. A renderer made
+// without the counting is refused, not misread as counts.
+TEST(Work, BucketsArePowersOfTwo) {
+    EXPECT_EQ(profiling::work_bucket(0), 0u);
+    EXPECT_EQ(profiling::work_bucket(1), 0u);
+    EXPECT_EQ(profiling::work_bucket(2), 1u);
+    EXPECT_EQ(profiling::work_bucket(3), 1u);
+    EXPECT_EQ(profiling::work_bucket(4), 2u);
+    EXPECT_EQ(profiling::work_bucket(4095), 11u);
+    EXPECT_EQ(profiling::work_bucket(4096), 12u);
+    EXPECT_EQ(profiling::work_bucket(1e9), 12u);
+}
+
+TEST(Work, TheExactWalkCountsItsIterations) {
+    std::vector<profiling::WorkStats> at;
+    for (double angle : {0.0, 85.0}) {
+        auto scene = profiling::bench_scene("sine", angle);
+        ASSERT_TRUE(scene.ok());
+        scene->materials[0].technique.technique = Technique::maxmip;
+        RendererOptions options;
+        options.get_proc_address = platform::HeadlessContext::proc_loader();
+        options.effect_planner = effect_planner;
+        options.count_work = true;
+        auto renderer = Renderer::create(options);
+        ASSERT_TRUE(renderer.ok());
+        ASSERT_TRUE((*renderer)->load(*scene).ok());
+        auto work = profiling::measure_work(**renderer, 64, 64);
+        ASSERT_TRUE(work.ok()) << work.error().message;
+        EXPECT_GT(work->pixels, 500u) << angle;
+        at.push_back(*work);
+    }
+    const double solve_extra = test_es_major() >= 3 ? 3.0 : 0.0;
+    for (const profiling::WorkStats& w : at) EXPECT_GE(w.fetches_median, w.iterations_median + solve_extra);
+    EXPECT_GE(at[0].iterations_median, 1.0);
+    EXPECT_LT(at[0].iterations_median, 9.0);
+    EXPECT_GT(at[1].iterations_median, at[0].iterations_median);
+    EXPECT_GE(at[1].iterations_max, at[1].iterations_p99);
+
+    auto scene = profiling::bench_scene("sine", 60.0);
+    ASSERT_TRUE(scene.ok());
+    scene->materials[0].technique.technique = Technique::maxmip;
+    RendererOptions plain;
+    plain.get_proc_address = platform::HeadlessContext::proc_loader();
+    plain.effect_planner = effect_planner;
+    auto renderer = Renderer::create(plain);
+    ASSERT_TRUE(renderer.ok());
+    ASSERT_TRUE((*renderer)->load(*scene).ok());
+    auto misread = profiling::measure_work(**renderer, 64, 64);
+    ASSERT_FALSE(misread.ok());
+    EXPECT_NE(misread.error().message.find("count_work"), std::string::npos) << misread.error().message;
 }
 
 }  // namespace

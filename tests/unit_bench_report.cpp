@@ -240,7 +240,7 @@ TEST(BenchReportJson, ParsesBackWithEveryField) {
     for (size_t i = 0; i < rows.size(); ++i) {
         const BenchRow& r = run.rows[i];
         const nlohmann::json& j = rows[i];
-        EXPECT_EQ(j.size(), 18u) << "fields in row " << i;
+        EXPECT_EQ(j.size(), r.iteration_histogram.empty() ? 23u : 24u) << "fields in row " << i;
         EXPECT_EQ(j.at("scene"), r.scene);
         EXPECT_EQ(j.at("technique"), r.technique);
         EXPECT_EQ(j.at("samples"), r.samples);
@@ -613,3 +613,38 @@ TEST(SvgPlot, PointsAxesAndEscaping) {
     EXPECT_EQ(count_of(plot, "stroke-dasharray=\"5 4\""), 2u);
     EXPECT_NE(plot.find("dashed: a factor of 2"), std::string::npos);
 }
+
+namespace px::profiling {
+namespace {
+
+// The exact walk's work, where a row counted it: one line per counted row,
+// percentiles and the histogram as shares of its pixels; no section at all
+// where nothing was counted.
+TEST(BenchReportMarkdown, WorkSectionListsCountedRowsOnly) {
+    TempDir dir;
+    BenchRun run = synthetic_run();
+    const std::string plain = dir.file("plain.md");
+    ASSERT_TRUE(write_report_md(run, plain).ok());
+    EXPECT_FALSE(contains(read_text(plain), "## Work per pixel"));
+    BenchRow& counted = run.rows[0];
+    counted.iterations_median = 3;
+    counted.iterations_p90 = 9;
+    counted.iterations_p99 = 40;
+    counted.iterations_max = 130;
+    counted.fetches_median = 12;
+    counted.iteration_histogram = {1, 2, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const std::string path = dir.file("report.md");
+    ASSERT_TRUE(write_report_md(run, path).ok());
+    const std::string work = section(read_text(path), "## Work per pixel of the exact walk");
+    EXPECT_TRUE(contains(work, "| 3 / 9 / 40 / 130 | 12 | 25% 50% 25% |")) << work;
+    EXPECT_EQ(count(work, "\n| " + counted.scene + " |"), 1u) << work;
+    const std::string json = dir.file("bench.json");
+    ASSERT_TRUE(write_json(run, json).ok());
+    const nlohmann::json doc = nlohmann::json::parse(read_text(json));
+    EXPECT_EQ(doc.at("rows")[0].at("iteration_histogram").size(), 13u);
+    EXPECT_EQ(doc.at("rows")[0].at("iterations_p99").get<double>(), 40.0);
+}
+
+
+}  // namespace
+}  // namespace px::profiling

@@ -29,7 +29,7 @@ inline RendererOptions program_renderer_options(GetProcAddress get_proc_address 
 }
 
 // OpenGL ES 3.0 by default: float debug captures, and every technique
-// (maxmip needs ES 3.0).
+// (ES 2.0 captures through RGBA8 passes).
 inline Result<DrawSurface> make_draw_surface(int width, int height, int es_major = 3) {
     platform::ContextOptions options;
     options.es_major = es_major;

@@ -8,6 +8,7 @@
 
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/profiling/measurement/interleaved.h"
+#include "parallaxes/profiling/measurement/work.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/reference/tracer.h"
 #include "parallaxes/render/renderer.h"
@@ -284,6 +285,24 @@ Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext
     row.frame_ms_max = *std::max_element(times.begin(), times.end());
     row.ns_per_pixel = error->pixels > 0 ? row.frame_ms_median * 1e6 / static_cast<double>(error->pixels) : 0.0;
     row.ratio_to_normal = median_of(ratios);
+    // The exact walk's work per pixel, counted by the shader (a second,
+    // untimed program with PX_COUNT_WORK).
+    const bool walks = setting.technique != kDisplacedMesh &&
+                       (technique_info(*parse_technique(setting.technique)).options & kOptSteps) != 0;
+    if (walks) {
+        RendererOptions counting = options.renderer;
+        counting.count_work = true;
+        Result<std::unique_ptr<Renderer>> counter = load_renderer(scene, counting);
+        if (!counter) return with_context(setting.technique + " (counting work)", counter.error());
+        Result<WorkStats> work = measure_work(**counter, target.width, target.height);
+        if (!work) return with_context(setting.technique, work.error());
+        row.iterations_median = work->iterations_median;
+        row.iterations_p90 = work->iterations_p90;
+        row.iterations_p99 = work->iterations_p99;
+        row.iterations_max = work->iterations_max;
+        row.fetches_median = work->fetches_median;
+        row.iteration_histogram.assign(work->histogram.begin(), work->histogram.end());
+    }
     return row;
 }
 

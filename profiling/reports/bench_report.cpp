@@ -84,7 +84,7 @@ struct Measure {
 };
 
 // The floating-point fields after scene, angle_deg, technique, samples, pixels.
-constexpr std::array<Measure, 13> kMeasures{{
+constexpr std::array<Measure, 18> kMeasures{{
     {"uv_error_mean", &BenchRow::uv_error_mean},
     {"uv_error_p95", &BenchRow::uv_error_p95},
     {"uv_error_max", &BenchRow::uv_error_max},
@@ -98,6 +98,11 @@ constexpr std::array<Measure, 13> kMeasures{{
     {"frame_ms_max", &BenchRow::frame_ms_max},
     {"ns_per_pixel", &BenchRow::ns_per_pixel},
     {"ratio_to_normal", &BenchRow::ratio_to_normal},
+    {"iterations_median", &BenchRow::iterations_median},
+    {"iterations_p90", &BenchRow::iterations_p90},
+    {"iterations_p99", &BenchRow::iterations_p99},
+    {"iterations_max", &BenchRow::iterations_max},
+    {"fetches_median", &BenchRow::fetches_median},
 }};
 
 // ------------------------------------------------------------- techniques
@@ -274,6 +279,7 @@ std::string json_text(const BenchRun& run) {
         r["samples"] = row.samples;
         r["pixels"] = row.pixels;
         for (const Measure& m : kMeasures) r[m.name] = json_number(row.*m.member);
+        if (!row.iteration_histogram.empty()) r["iteration_histogram"] = row.iteration_histogram;
         rows.push_back(std::move(r));
     }
     nlohmann::ordered_json doc = nlohmann::ordered_json::object();
@@ -1131,6 +1137,38 @@ std::string all_settings_section(const std::vector<TechniqueEntry>& techniques, 
     return out;
 }
 
+// The exact walk's iterations per pixel, where the run counted them: what
+// its time is made of (profiling/measurement/work.h).
+std::string work_section(const BenchRun& run) {
+    std::vector<const BenchRow*> counted;
+    for (const BenchRow& row : run.rows)
+        if (!row.iteration_histogram.empty()) counted.push_back(&row);
+    if (counted.empty()) return {};
+    std::string out = "## Work per pixel of the exact walk\n\n";
+    out += "Loop iterations and texture fetches per drawn pixel, counted by the shader itself (`PX_COUNT_WORK`); "
+           "the histogram gives the share of pixels with 0-1, 2-3, 4-7, ... iterations. Pixels shaded together in "
+           "SIMD lanes (on a GPU, and on llvmpipe) run as long as the slowest of them, so the tail costs more "
+           "than its share.\n\n";
+    out += "| scene | angle | technique | iterations p50 / p90 / p99 / max | fetches p50 | histogram (0-1, 2-3, 4-7, ...) | ratio to normal |\n";
+    out += "| --- | ---: | --- | --- | ---: | --- | ---: |\n";
+    for (const BenchRow* r : counted) {
+        std::size_t total = 0;
+        for (std::size_t n : r->iteration_histogram) total += n;
+        std::size_t last = r->iteration_histogram.size();
+        while (last > 0 && r->iteration_histogram[last - 1] == 0) --last;
+        std::string histogram;
+        for (std::size_t i = 0; i < last; ++i) {
+            const double share = total ? 100.0 * static_cast<double>(r->iteration_histogram[i]) / static_cast<double>(total) : 0.0;
+            histogram += (i ? " " : "") + human_fixed(share, 0) + "%";
+        }
+        out += "| " + md_text(r->scene) + " | " + human_fixed(r->angle_deg, 0) + "° | " + md_text(r->technique) + " | " +
+               human_fixed(r->iterations_median, 0) + " / " + human_fixed(r->iterations_p90, 0) + " / " +
+               human_fixed(r->iterations_p99, 0) + " / " + human_fixed(r->iterations_max, 0) + " | " +
+               human_fixed(r->fetches_median, 0) + " | " + histogram + " | " + ratio_text(r->ratio_to_normal) + " |\n";
+    }
+    return out + "\n";
+}
+
 std::string markdown_text(const BenchRun& run) {
     const std::vector<TechniqueEntry> techniques = techniques_in(run);
     std::string out = "# ParallaxES benchmark: accuracy against cost\n\n";
@@ -1151,6 +1189,7 @@ std::string markdown_text(const BenchRun& run) {
     out += unrolling_section(run);
     const std::vector<SceneAngle> groups = scene_angle_groups(run);
     out += cheapest_section(techniques, groups);
+    out += work_section(run);
     out += all_settings_section(techniques, groups);
     return out;
 }

@@ -39,6 +39,15 @@ struct BenchRow {
     double frame_ms_max = 0.0;
     double ns_per_pixel = 0.0;   // median frame time / pixels drawn
     double ratio_to_normal = 0.0;  // median of per-round (this / normal mapping), interleaved
+    // The exact walk's work per drawn pixel, counted by the shader
+    // (profiling/measurement/work.h); 0 for the techniques not counted.
+    double iterations_median = 0.0;
+    double iterations_p90 = 0.0;
+    double iterations_p99 = 0.0;
+    double iterations_max = 0.0;
+    double fetches_median = 0.0;
+    // Pixels per iteration count in powers of two (work.h); empty where not counted.
+    std::vector<std::size_t> iteration_histogram;
 };
 
 struct BenchRun {

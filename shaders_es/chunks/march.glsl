@@ -43,6 +43,7 @@ PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump floa
     m.ray_above = 1.0;
     m.uv_above = uv0 + (1.0 - u_polygon_height) * parallax;
     m.height_above = px_trace_height(m.uv_above);
+    PX_WORK(0.0, 1.0);
     m.uv_below = m.uv_above;
     m.ray_below = m.ray_above;
     m.height_below = m.height_above;
@@ -52,6 +53,7 @@ PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump floa
         mediump float ray = 1.0 - float(i) * step;
         PX_HIGHP vec2 uv = uv0 + (ray - u_polygon_height) * parallax;
         mediump float h = px_trace_height(uv);
+        PX_WORK(1.0, 1.0);
         m.uv_below = uv;
         m.ray_below = ray;
         m.height_below = h;

@@ -31,6 +31,17 @@ uniform mediump vec3 u_light_color[PX_MAX_LIGHTS];
 uniform mediump vec3 u_ambient;
 uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 
+// PX_COUNT_WORK (VariantKey::count_work, debug outputs only; read by
+// profiling/measurement/work.h for `parallax bench`'s work columns): the
+// debug outputs show the search's loop iterations and texture fetches per
+// pixel in place of the hit uv. Each search counts its own with PX_WORK.
+#ifdef PX_COUNT_WORK
+PX_HIGHP vec2 px_work = vec2(0.0);
+#define PX_WORK(iterations, fetches) px_work += vec2(iterations, fetches)
+#else
+#define PX_WORK(iterations, fetches)
+#endif
+
 // Height reads inside tracing loops never use implicit derivatives (their
 // value is undefined in non-uniform control flow), and they read the base
 // level: the traced surface is the texture's own, not a blurred mip of it, so

@@ -142,6 +142,11 @@ void main() {
                                          u_light_angular_radius[0] PX_TRACE_GRADIENT_ARGS);
 #endif
     }
+#ifdef PX_COUNT_WORK
+    // profiling/measurement/work.h: the counts in place of the uv, scaled
+    // into [0, 1) for the packed passes (exact: a power of two).
+    shown.uv = px_work / 65536.0;
+#endif
     PX_FRAG_COLOR = px_debug_output(shown.uv, shown.height, visibility);
 #else
     PX_FRAG_COLOR = vec4(color, 1.0);

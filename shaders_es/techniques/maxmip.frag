@@ -87,6 +87,7 @@ PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
 PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
     highp ivec2 wrap = max(ivec2(u_texture_size) >> int(level), 1) - 1;
     highp ivec2 n = ivec2(node) & wrap;
+    PX_WORK(0.0, 1.0);
 #ifdef PX_HEIGHT_11BIT
     mediump vec2 t = texelFetch(u_max_map, n, int(level)).rg;
     return (floor(t.r * 255.0 + 0.5) * 256.0 + floor(t.g * 255.0 + 0.5)) / 2047.0;
@@ -100,6 +101,7 @@ PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell) {
     highp ivec2 mask = ivec2(u_texture_size) - 1;
     highp ivec2 c0 = ivec2(cell) & mask;
     highp ivec2 c1 = (ivec2(cell) + 1) & mask;
+    PX_WORK(0.0, 4.0);
     return vec4(px_exact_height(px_height_texel(c0)), px_exact_height(px_height_texel(ivec2(c1.x, c0.y))),
                 px_exact_height(px_height_texel(ivec2(c0.x, c1.y))), px_exact_height(px_height_texel(c1)));
 }
@@ -122,6 +124,7 @@ PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
     PX_HIGHP vec2 n = node - size * px_div_floor(node, size);  // wraps, as GL_REPEAT
     // Levels 1..k-1 are u_texture_size.y / 2^j rows each while that is at
     // least one, then one row each.
+    PX_WORK(0.0, 1.0);
     PX_HIGHP float y = u_texture_size.y - max(floor(u_texture_size.y * exp2(1.0 - level) + 0.5), 1.0) +
                        max(level - 1.0 - u_max_atlas.w, 0.0);
     return px_exact_height(px_atlas_texel(n + vec2(u_max_atlas.z, y)).r);
@@ -130,6 +133,7 @@ PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
 PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell) {
     PX_HIGHP vec2 c = cell - u_texture_size * px_div_floor(cell, u_texture_size);
     PX_HIGHP vec4 h = px_atlas_texel(c);
+    PX_WORK(0.0, 1.0);
     return floor(h * 255.0 + 0.5) / 255.0;
 }
 #endif
@@ -223,6 +227,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP float t = 0.0;
     // Appendix A form: a constant bound (the iteration budget) with an early break.
     for (int i = 0; i < PX_MAX_SAMPLES; i++) {
+        PX_WORK(1.0, 0.0);
         // The node of `level` holding `cell`: `side` cells a side (a side
         // stops growing at the texture's size, as the mip chain's does).
         PX_HIGHP vec2 side = px_pow2(min(vec2(level), size_log2));

@@ -13,6 +13,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     for (int i = 0; i < PX_REFINE_STEPS; i++) {
         mediump float middle = 0.5 * (above + below);
         mediump float h = px_trace_height(uv + (middle - u_polygon_height) * parallax);
+        PX_WORK(1.0, 1.0);
         if (h >= middle) {
             below = middle;
         } else {

@@ -54,6 +54,10 @@ struct VariantKey {
     // 0: colour. 1: hit uv, height and visibility to a float target. 2, 3, 4:
     // the same packed into RGBA8 over three passes (shaders_es/chunks/debug_output.glsl).
     std::uint8_t debug_output = 0;
+    // With a debug output, a search's loop iterations and texture fetches
+    // per pixel in place of the hit uv (PX_COUNT_WORK,
+    // profiling/measurement/work.h). Searching techniques only.
+    bool count_work = false;
     // The PowerVR whitepaper's optimisation ladder (offset_limited only,
     // shaders_es/ladder/): 0 is the shipped shader; 1 the whitepaper's
     // baseline, and 2..6 each step it took, in its order (kLadderSteps).

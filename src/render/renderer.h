@@ -55,6 +55,10 @@ struct RendererOptions {
     // compiled (gl/program.h ShaderTransform); empty: none. Uniform names
     // and types must survive it: the typed interface is checked as ever.
     ShaderTransform shader_transform;
+    // Debug draws (draw(target, debug_output)) of searching techniques show
+    // each pixel's loop iterations and texture fetches in place of the hit
+    // uv (VariantKey::count_work; profiling/measurement/work.h reads them).
+    bool count_work = false;
     // The effect planner, for scenes whose materials declare effects:
     // px::effect_planner (parallaxes/planner/planner.h, ParallaxES::planner).
     // Null (the default): materials must name their technique, and a scene
@@ -254,6 +258,7 @@ private:
     RendererStats stats_;
     Caps caps_;
     ShaderTransform shader_transform_;
+    bool count_work_ = false;
     std::function<VariantKey(const VariantKey&)> variant_transform_;
     PlannerOptions planner_options_;
     EffectPlannerFactory effect_planner_ = nullptr;

@@ -25,6 +25,7 @@ bool per_vertex_view(const VariantKey& k) { return !k.exact_view; }
 bool highp_view_varying(const VariantKey& k) { return k.exact_view || (k.ladder_step && k.ladder_step < kLadderSteps); }
 bool mediump_view_varying(const VariantKey& k) { return !highp_view_varying(k); }
 bool debug_output(const VariantKey& k) { return k.debug_output != 0; }
+bool count_work(const VariantKey& k) { return k.count_work; }
 // GLSL ES 1.00 debug outputs: the 11-bit packing stays for the driver to pick
 // (GL_FRAGMENT_PRECISION_HIGH) unless the key rules highp out.
 bool mediump_packing(const VariantKey& k) { return k.debug_output != 0 && k.es_major < 3; }
@@ -122,6 +123,9 @@ const std::vector<EffectMarker> kMarkers = {
     {"debug output", "PX_DEBUG_DRAWN", debug_output},
     // The switch: no #ifdef PX_DEBUG_OUTPUT is left.
     {"debug output", "PX_DEBUG_OUTPUT", debug_output},
+    // surface_common.glsl: the work counter (VariantKey::count_work).
+    {"work counts", "px_work", count_work},
+    {"work counts", "PX_COUNT_WORK", count_work},
     // debug_output.glsl: the 11-bit packing of a fragment stage without highp.
     {"mediump debug packing", "px_pack11", mediump_packing},
     // debug_output.glsl: the 24-bit packing, which needs highp.
