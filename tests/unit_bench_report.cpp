@@ -636,7 +636,7 @@ TEST(BenchReportMarkdown, WorkSectionListsCountedRowsOnly) {
     const std::string path = dir.file("report.md");
     ASSERT_TRUE(write_report_md(run, path).ok());
     const std::string work = section(read_text(path), "## Work per pixel of the exact walk");
-    EXPECT_TRUE(contains(work, "| 3 / 9 / 40 / 130 | 12 | 25% 50% 25% |")) << work;
+    EXPECT_TRUE(contains(work, " | 3 / 9 / 40 / 130 | 12 | 25% 50% 25% |")) << work;
     EXPECT_EQ(count(work, "\n| " + counted.scene + " |"), 1u) << work;
     const std::string json = dir.file("bench.json");
     ASSERT_TRUE(write_json(run, json).ok());

@@ -1149,8 +1149,9 @@ std::string work_section(const BenchRun& run) {
            "the histogram gives the share of pixels with 0-1, 2-3, 4-7, ... iterations. Pixels shaded together in "
            "SIMD lanes (on a GPU, and on llvmpipe) run as long as the slowest of them, so the tail costs more "
            "than its share.\n\n";
-    out += "| scene | angle | technique | iterations p50 / p90 / p99 / max | fetches p50 | histogram (0-1, 2-3, 4-7, ...) | ratio to normal |\n";
-    out += "| --- | ---: | --- | --- | ---: | --- | ---: |\n";
+    out += "| scene | angle | technique | hit error p95 (texels) | iterations p50 / p90 / p99 / max | fetches p50 | "
+           "histogram (0-1, 2-3, 4-7, ...) | ratio to normal |\n";
+    out += "| --- | ---: | --- | ---: | --- | ---: | --- | ---: |\n";
     for (const BenchRow* r : counted) {
         std::size_t total = 0;
         for (std::size_t n : r->iteration_histogram) total += n;
@@ -1162,7 +1163,7 @@ std::string work_section(const BenchRun& run) {
             histogram += (i ? " " : "") + human_fixed(share, 0) + "%";
         }
         out += "| " + md_text(r->scene) + " | " + human_fixed(r->angle_deg, 0) + "° | " + md_text(r->technique) + " | " +
-               human_fixed(r->iterations_median, 0) + " / " + human_fixed(r->iterations_p90, 0) + " / " +
+               human_sig(r->uv_error_p95) + " | " + human_fixed(r->iterations_median, 0) + " / " + human_fixed(r->iterations_p90, 0) + " / " +
                human_fixed(r->iterations_p99, 0) + " / " + human_fixed(r->iterations_max, 0) + " | " +
                human_fixed(r->fetches_median, 0) + " | " + histogram + " | " + ratio_text(r->ratio_to_normal) + " |\n";
     }

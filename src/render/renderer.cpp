@@ -393,7 +393,9 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         // Any technique may be chosen as the camera moves: upload what
         // tracing needs wherever there is a relief to trace.
         traced = m.effects->parallax && m.height_scale > 0.0f;
-        pyramid = traced && (field.width & (field.width - 1)) == 0 && (field.height & (field.height - 1)) == 0;
+        // Where this context can draw maxmip on this field (a power of two
+        // each way; on ES 2.0 an atlas within GL_MAX_TEXTURE_SIZE).
+        pyramid = traced && why_technique_cannot_run(Technique::maxmip, caps, field.width, field.height).empty();
     } else {
         Result<VariantPlan> plan = plan_variant(m, caps, images.field.width, images.field.height);
         if (!plan) return with_context(what, plan.error());
