@@ -394,6 +394,46 @@ TEST(Planner, ExplicitTechniquesKeepTheirOwnPlan) {
     EXPECT_EQ((*p)[0].key.technique, Technique::relief);
 }
 
+// What a context cannot draw, one rule for both planners: maxmip runs on
+// ES 2.0 (its pyramid as one atlas 1.5 times the field's width, which must
+// fit GL_MAX_TEXTURE_SIZE) and without fragment highp (kept, and said); a
+// field that is not a power of two each way, or an atlas too wide, gets the
+// fallback, and the note says which.
+TEST(Planner, MaxmipRunsOnEsTwoWhereItsAtlasFits) {
+    Caps es2 = es2_caps(false, false);
+    es2.max_texture_size = 2048;
+    EXPECT_EQ(why_technique_cannot_run(Technique::maxmip, es2, 1024, 1024), "");
+    EXPECT_EQ(why_technique_cannot_run(Technique::maxmip, es2, 0, 0), "");
+    const std::string too_wide = why_technique_cannot_run(Technique::maxmip, es2, 2048, 512);
+    EXPECT_NE(too_wide.find("3072 texels wide, over this context's GL_MAX_TEXTURE_SIZE of 2048"), std::string::npos)
+        << too_wide;
+    Caps es3 = es3_caps();
+    es3.max_texture_size = 2048;
+    EXPECT_EQ(why_technique_cannot_run(Technique::maxmip, es3, 2048, 512), "") << "ES 3.0 uploads mip levels";
+    EXPECT_NE(why_technique_cannot_run(Technique::maxmip, es3, 96, 64).find("not a power of two"), std::string::npos);
+    EXPECT_EQ(why_technique_cannot_run(Technique::pom, es2, 96, 64), "");
+
+    MaterialDesc m;
+    m.technique.technique = Technique::maxmip;
+    m.height_scale = 0.05f;
+    Result<VariantPlan> wide = plan_variant(m, es2, 2048, 512);
+    ASSERT_TRUE(wide.ok());
+    EXPECT_EQ(wide->key.technique, technique_info(Technique::maxmip).fallback);
+    ASSERT_FALSE(wide->notes.empty());
+    EXPECT_NE(wide->notes[0].find("GL_MAX_TEXTURE_SIZE"), std::string::npos) << wide->notes[0];
+    Result<VariantPlan> fits = plan_variant(m, es2, 512, 512);
+    ASSERT_TRUE(fits.ok());
+    EXPECT_EQ(fits->key.technique, Technique::maxmip);
+    EXPECT_TRUE(fits->notes.empty()) << fits->notes[0];
+    es2.fragment_highp = false;
+    Result<VariantPlan> mediump = plan_variant(m, es2, 512, 512);
+    ASSERT_TRUE(mediump.ok());
+    EXPECT_EQ(mediump->key.technique, Technique::maxmip);
+    EXPECT_TRUE(mediump->key.no_fragment_highp);
+    ASSERT_FALSE(mediump->notes.empty());
+    EXPECT_NE(mediump->notes[0].find("no longer exact"), std::string::npos) << mediump->notes[0];
+}
+
 TEST(Planner, CalibrationReplacesTheGenericTable) {
     EffectRequest e;
     e.max_error_texels = 2.0f;

@@ -122,9 +122,9 @@ uniform PX_HIGHP vec4 u_max_atlas;
 PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
     PX_HIGHP vec2 size = max(floor(u_texture_size * exp2(-level) + 0.5), 1.0);
     PX_HIGHP vec2 n = node - size * px_div_floor(node, size);  // wraps, as GL_REPEAT
+    PX_WORK(0.0, 1.0);
     // Levels 1..k-1 are u_texture_size.y / 2^j rows each while that is at
     // least one, then one row each.
-    PX_WORK(0.0, 1.0);
     PX_HIGHP float y = u_texture_size.y - max(floor(u_texture_size.y * exp2(1.0 - level) + 0.5), 1.0) +
                        max(level - 1.0 - u_max_atlas.w, 0.0);
     return px_exact_height(px_atlas_texel(n + vec2(u_max_atlas.z, y)).r);
