@@ -213,6 +213,8 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP vec2 o = local - anchor;
     PX_HIGHP vec2 dir = -parallax * u_texture_size;
     PX_HIGHP vec2 size_log2 = floor(log2(u_texture_size) + 0.5);
+    // Node exits as products: two divisions per pixel, not per iteration.
+    PX_HIGHP vec2 inv_dir = vec2(dir.x != 0.0 ? 1.0 / dir.x : 0.0, dir.y != 0.0 ? 1.0 / dir.y : 0.0);
     PX_HIGHP float top = float(u_max_levels - 1);
 
     // Levels and cells are whole numbers held in floats (exact in highp).
@@ -237,8 +239,8 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
         // Where the ray leaves the node's square.
         PX_HIGHP vec2 lo_rel = lo - anchor;
         PX_HIGHP vec2 hi_rel = hi - anchor;
-        PX_HIGHP float tx = dir.x > 0.0 ? (hi_rel.x - o.x) / dir.x : (dir.x < 0.0 ? (lo_rel.x - o.x) / dir.x : PX_NEVER);
-        PX_HIGHP float ty = dir.y > 0.0 ? (hi_rel.y - o.y) / dir.y : (dir.y < 0.0 ? (lo_rel.y - o.y) / dir.y : PX_NEVER);
+        PX_HIGHP float tx = dir.x > 0.0 ? (hi_rel.x - o.x) * inv_dir.x : (dir.x < 0.0 ? (lo_rel.x - o.x) * inv_dir.x : PX_NEVER);
+        PX_HIGHP float ty = dir.y > 0.0 ? (hi_rel.y - o.y) * inv_dir.y : (dir.y < 0.0 ? (lo_rel.y - o.y) * inv_dir.y : PX_NEVER);
         PX_HIGHP float t_out = min(tx, ty);
         if (level == 0.0) {
             // One cell: the ray against the bilinear patch, exactly (Drobot
