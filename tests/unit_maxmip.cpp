@@ -197,7 +197,8 @@ namespace {
 TEST(MaxAtlas, HoldsEveryLevelAtItsOriginAndTheCornersOfEachCell) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (const auto& [w, h] : {std::pair<int, int>{16, 16}, {64, 4}, {4, 64}, {1, 8}, {8, 1}, {32, 2}}) {
+    for (const std::pair<int, int>& size : {std::pair<int, int>{16, 16}, {64, 4}, {4, 64}, {1, 8}, {8, 1}, {32, 2}}) {
+        const int w = size.first, h = size.second;  // not a structured binding: the lambda below captures them
         HeightField field;
         field.width = w;
         field.height = h;
