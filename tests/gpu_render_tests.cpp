@@ -66,7 +66,12 @@ PlaneScene bricks_scene() {
 TEST(Context, IsTheRequestedEsVersion) {
     const Caps caps = query_caps();
     EXPECT_EQ(caps.es_major, test_es_major()) << caps.version;
-    EXPECT_EQ(caps.es_minor, 0) << "asked for a true ES " << test_es_major() << ".0 context, got " << caps.version;
+    // Mesa makes exactly the version asked for (MESA_GLES_VERSION_OVERRIDE,
+    // set by the platform). Other drivers may make a later minor version,
+    // which EGL allows as backward compatible (NVIDIA 580 makes ES 3.2 for
+    // 3.0): the shaders stay GLSL ES 3.00, checked strictly by glslang.
+    if (caps.version.find("Mesa") != std::string::npos)
+        EXPECT_EQ(caps.es_minor, 0) << "asked for a true ES " << test_es_major() << ".0 context, got " << caps.version;
     if (test_es_major() == 2) EXPECT_NE(caps.glsl_version.find("1.0"), std::string::npos) << caps.glsl_version;
 }
 

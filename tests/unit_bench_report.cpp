@@ -645,6 +645,23 @@ TEST(BenchReportMarkdown, WorkSectionListsCountedRowsOnly) {
     EXPECT_EQ(doc.at("rows")[0].at("iterations_p99").get<double>(), 40.0);
 }
 
+// A run on a real GPU (the bench on NVIDIA's EGL, 2026-12-04) does not call
+// its times llvmpipe's, nor list llvmpipe threads, nor explain its costs by
+// llvmpipe's loop unrolling.
+TEST(BenchReportMarkdown, HeaderNamesTheRendererTheTimesCameFrom) {
+    TempDir dir;
+    BenchRun run = synthetic_run();
+    run.gl_renderer = "NVIDIA H200/PCIe/SSE2";
+    run.gl_version = "OpenGL ES 3.2 NVIDIA 580.159.04";
+    const std::string path = dir.file("report.md");
+    ASSERT_TRUE(write_report_md(run, path).ok());
+    const std::string md = read_text(path);
+    EXPECT_TRUE(contains(md, "Frame times come from the renderer above")) << md.substr(0, 800);
+    for (const char* part : {"llvmpipe threads", "Frame times come from llvmpipe", "llvmpipe unrolls"})
+        EXPECT_FALSE(contains(md, part)) << part;
+}
+
+
 
 }  // namespace
 }  // namespace px::profiling

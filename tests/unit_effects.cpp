@@ -336,3 +336,26 @@ TEST(VariantNames, ParseAndFromBitsRoundTrip) {
 
 }  // namespace
 }  // namespace px
+
+// Compile logs as real drivers wrote them for the same four-line shader
+// (line 4: `undeclared_name = 1.0;`): the source line each points at is
+// found whatever the vendor's format, and numbers that are not line
+// references (columns, version numbers, error codes) are not taken for one.
+TEST(ShaderLog, LinesFromEachDriversFormat) {
+    // NVIDIA 580.159.04 on an H200 (EGL device, this project's GPU tests, 2026-12-04).
+    EXPECT_EQ(px::shader_log_lines("0(4) : error C1503: undefined variable \"undeclared_name\"\n"), std::vector<long>{4});
+    // Mesa 22.3 llvmpipe (this machine): line, then the column in parentheses.
+    EXPECT_EQ(px::shader_log_lines("0:4(2): error: `undeclared_name' undeclared\n0:4(2): error: value of type float "
+                               "cannot be assigned to variable of type error\n"),
+              std::vector<long>{4});
+    // glslangValidator 11:12.0.0 (Debian 12), the reference compiler ANGLE's messages follow.
+    EXPECT_EQ(px::shader_log_lines("ERROR: 0:4: 'undeclared_name' : undeclared identifier \nERROR: 0:4: '' : "
+                               "compilation terminated \nERROR: 2 compilation errors.  No code generated.\n"),
+              std::vector<long>{4});
+    // Several lines, in order of first mention, and at most `limit`.
+    EXPECT_EQ(px::shader_log_lines("0:12(5): error: a\n0:3(1): error: b\n0:12(9): error: c\n"), (std::vector<long>{12, 3}));
+    EXPECT_EQ(px::shader_log_lines("0(1) : e\n0(2) : e\n0(3) : e\n", 2), (std::vector<long>{1, 2}));
+    // Not line references: "10:" and "1.0:" are not "0:", nor a "0(" without its ")", nor line 0.
+    EXPECT_TRUE(px::shader_log_lines("error C1503 at 10:20, version 1.0: (0.5) 0(12 0:0 0(0)").empty());
+    EXPECT_TRUE(px::shader_log_lines("").empty());
+}

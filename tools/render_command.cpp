@@ -328,6 +328,15 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     std::printf("scene      %s%s\n", scene->name.c_str(), a.technique.empty() ? "" : (" (every material: " + a.technique + ")").c_str());
     std::printf("context    %s | %s | %s\n", caps.version.c_str(), caps.renderer.c_str(),
                 (*context)->display_description().c_str());
+    // What the driver says its fragment floats are (glGetShaderPrecisionFormat):
+    // a desktop GPU may report fp32 for mediump, a mobile one (and llvmpipe
+    // with F16C) fp16's 10 bits; without highp the exact tracer is not exact.
+    const auto bits = [](const PrecisionInfo& p) {
+        return p.precision > 0 ? std::to_string(p.precision) + " bits, range 2^" + std::to_string(p.range_max)
+                               : std::string("none");
+    };
+    std::printf("precision  fragment mediump float %s; highp float %s\n", bits(caps.fragment_mediump_float).c_str(),
+                bits(caps.fragment_highp_float).c_str());
     print_draws(a, **renderer, *run, width, height);
     std::printf("image      %s (%dx%d)\n", output->c_str(), width, height);
     print_timing(a, **renderer, *run, cache_dir);

@@ -33,6 +33,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// Whether the run's times are llvmpipe's (Mesa's CPU rasteriser, the stand-in
+// for a mobile GPU) rather than a real GPU's: the report says which.
+bool on_llvmpipe(const BenchRun& run) { return run.gl_renderer.find("llvmpipe") != std::string::npos; }
+
 // ------------------------------------------------------------------ output
 
 // ----------------------------------------------------------------- numbers
@@ -612,9 +616,11 @@ private:
                         " (" + std::to_string(clamped_) + (clamped_ == 1 ? " point" : " points") +
                         "); the frontier uses the drawn values. Dashed lines: 1, 0.5, 0.25 and 0.1 texel.");
         notes.push_back("Time: frame time relative to normal mapping (median of interleaved per-round ratios), " +
-                        std::to_string(run_.frames) + " frames per setting, " + std::to_string(run_.threads) +
-                        " llvmpipe threads. llvmpipe (Mesa's CPU rasteriser) stands in for a mobile GPU: compare "
-                        "ratios, not absolute times.");
+                        std::to_string(run_.frames) + " frames per setting, " +
+                        (on_llvmpipe(run_) ? std::to_string(run_.threads) +
+                                                 " llvmpipe threads. llvmpipe (Mesa's CPU rasteriser) stands in for a "
+                                                 "mobile GPU: compare ratios, not absolute times."
+                                           : "on " + run_.gl_renderer + ": compare ratios, not absolute times."));
         if (unplotted_ > 0)
             notes.push_back(std::to_string(unplotted_) + (unplotted_ == 1 ? " row" : " rows") +
                             " without a finite angle, positive time ratio or error not plotted.");
@@ -991,8 +997,10 @@ std::string unrolling_section(const BenchRun& run) {
     }
     if (steps.empty()) return "";
     std::string out = "## Where loop unrolling bends the cost curves\n\n";
-    out += "llvmpipe unrolls loops of up to 32 iterations completely: up to 32 samples a search is straight-line "
-           "code, past it a real loop. Median over scenes and angles of the frame-time ratio per doubling of "
+    out += std::string(on_llvmpipe(run) ? "llvmpipe unrolls loops of up to 32 iterations completely: up to 32 samples "
+                                          "a search is straight-line code, past it a real loop. "
+                                        : "A compiler may unroll short loops completely and keep long ones as loops. ") +
+           "Median over scenes and angles of the frame-time ratio per doubling of "
            "the sample count:\n\n| technique | doubling | time ratio |\n| --- | --- | ---: |\n";
     for (auto& [technique, by_n] : steps)
         for (auto& [n, ratios] : by_n) {
@@ -1177,12 +1185,14 @@ std::string markdown_text(const BenchRun& run) {
     out += "- **Command:** " + (run.command.empty() ? std::string("unknown") : md_code(run.command)) + "\n";
     out += "- **Renderer:** " + md_text(run.gl_renderer.empty() ? "unknown" : run.gl_renderer) + "\n";
     out += "- **GL version:** " + md_text(run.gl_version.empty() ? "unknown" : run.gl_version) + "\n";
-    out += "- **llvmpipe threads:** " + std::to_string(run.threads) + "\n";
+    const bool llvmpipe = on_llvmpipe(run);
+    if (llvmpipe) out += "- **llvmpipe threads:** " + std::to_string(run.threads) + "\n";
     out += "- **Image size:** " + std::to_string(run.width) + "×" + std::to_string(run.height) + "\n";
     out += "- **Frames:** " + std::to_string(run.frames) + " timed per setting, after a warm-up\n\n";
-    out +=
-        "Frame times come from llvmpipe, Mesa's rasteriser running on the CPU, standing in for a mobile GPU: "
-        "the ratios to normal mapping matter, not the absolute times. Error is the mean hit-uv error in texels "
+    out += std::string(llvmpipe ? "Frame times come from llvmpipe, Mesa's rasteriser running on the CPU, standing in for a "
+                                  "mobile GPU: "
+                                : "Frame times come from the renderer above (wall clock around glFinish): ") +
+           "the ratios to normal mapping matter, not the absolute times. Error is the mean hit-uv error in texels "
         "against the exact reference; *ratio* is frame time relative to normal mapping (the median of "
         "interleaved per-round ratios); *ms* is the median frame time.\n\n";
 

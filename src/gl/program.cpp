@@ -23,22 +23,16 @@ std::string shader_log(GLuint shader) {
     return log;
 }
 
-// The source lines a log refers to as "0:LINE" (Mesa, ANGLE and most ES drivers).
+// The source lines the log points at, quoted (shader_log_lines: Mesa's and
+// most ES drivers' "0:LINE", NVIDIA's "0(LINE)").
 std::string quote_lines(const std::string& source, const std::string& log) {
     std::vector<std::string> lines;
     std::istringstream in(source);
     for (std::string l; std::getline(in, l);) lines.push_back(l);
     std::string out;
-    size_t pos = 0;
-    int quoted = 0;
-    while ((pos = log.find("0:", pos)) != std::string::npos && quoted < 8) {
-        pos += 2;
-        char* end = nullptr;
-        const long line = std::strtol(log.c_str() + pos, &end, 10);
-        if (end == log.c_str() + pos || line < 1 || line > static_cast<long>(lines.size())) continue;
-        out += "  " + std::to_string(line) + " | " + lines[static_cast<size_t>(line - 1)] + "\n";
-        ++quoted;
-    }
+    for (long line : shader_log_lines(log))
+        if (line <= static_cast<long>(lines.size()))
+            out += "  " + std::to_string(line) + " | " + lines[static_cast<size_t>(line - 1)] + "\n";
     return out;
 }
 

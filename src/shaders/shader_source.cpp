@@ -4,6 +4,7 @@
 #include "parallaxes/shaders/interface.h"
 
 #include <algorithm>
+#include <cctype>
 #include <iterator>
 #include <map>
 #include <set>
@@ -158,6 +159,24 @@ Result<VariantSources> assemble_variant(const VariantKey& key, const ShaderFiles
         if (!declared) return declared.error();
     }
     return VariantSources{std::move(*vs), std::move(*fs)};
+}
+
+std::vector<long> shader_log_lines(const std::string& log, std::size_t limit) {
+    std::vector<long> lines;
+    for (std::size_t pos = log.find('0'); pos != std::string::npos && lines.size() < limit;
+         pos = log.find('0', pos + 1)) {
+        // "0:" or "0(" as a whole number: not the end of "10:" or "(0.5:".
+        if (pos > 0 && (std::isdigit(static_cast<unsigned char>(log[pos - 1])) || log[pos - 1] == '.')) continue;
+        if (pos + 2 >= log.size() || (log[pos + 1] != ':' && log[pos + 1] != '(')) continue;
+        std::size_t end = pos + 2;
+        long line = 0;
+        while (end < log.size() && std::isdigit(static_cast<unsigned char>(log[end])) && line < 100000000)
+            line = line * 10 + (log[end++] - '0');
+        if (end == pos + 2 || line < 1) continue;
+        if (log[pos + 1] == '(' && (end >= log.size() || log[end] != ')')) continue;
+        if (std::find(lines.begin(), lines.end(), line) == lines.end()) lines.push_back(line);
+    }
+    return lines;
 }
 
 }  // namespace px

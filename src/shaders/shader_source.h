@@ -58,4 +58,10 @@ struct VariantSources {
 };
 Result<VariantSources> assemble_variant(const VariantKey& key, const ShaderFiles* files = nullptr);
 
+// The source lines a driver's compile log points at, in order of first
+// mention, at most `limit`: "0:LINE" (Mesa, ANGLE, Mali, Adreno, PowerVR)
+// and "0(LINE)" (NVIDIA: "0(4) : error C1503"). 0 is the source string's
+// index: this project passes one string.
+std::vector<long> shader_log_lines(const std::string& log, std::size_t limit = 8);
+
 }  // namespace px
