@@ -67,9 +67,12 @@ PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
 // division may be approximations: a quotient of 0.99999 must not floor to 0).
 // 2^e for whole e:
 #define px_pow2(e) floor(exp2(e) + 0.5)
-// floor(a / b) for whole a and whole b >= 1 (a + 0.5 keeps the quotient
-// at least 0.5 / b away from every whole number):
-#define px_div_floor(a, b) floor(((a) + 0.5) / (b))
+// floor(a / b) for whole a and b a power of two, from `inv`, about 1 / b:
+// it may be a few ulps off (an approximate division), and the floor is still
+// exact, since (a + 0.5) / b is at least 0.5 / b away from every whole number
+// while |a| is below 2^20 cells (4096 tiles of 256 texels) for the 2.5 ulps
+// GLSL ES allows a division. The walk divides nothing in its loop.
+#define px_mul_floor(a, inv) floor(((a) + 0.5) * (inv))
 
 #if PX_ES >= 3
 // GLSL ES 3.00: the pyramid's levels are mip levels of u_max_map, the
@@ -83,10 +86,10 @@ PX_HIGHP float px_exact_height(PX_HIGHP float texel) {
 #define px_height_texel(c) texelFetch(PX_HEIGHT_SAMPLER, (c), 0).PX_HEIGHT_CHANNEL
 #endif
 
-// The max of `node` (whole numbers, from the tile origin) at `level` (>= 1).
-PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
-    highp ivec2 wrap = max(ivec2(u_texture_size) >> int(level), 1) - 1;
-    highp ivec2 n = ivec2(node) & wrap;
+// The max of `node` (whole numbers, from the tile origin) at `level` (>= 1),
+// whose level is `count` nodes a side (`inv_count`: about 1 / count).
+PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node, PX_HIGHP vec2 count, PX_HIGHP vec2 inv_count) {
+    highp ivec2 n = ivec2(node) & (ivec2(count) - 1);
     PX_WORK(0.0, 1.0);
 #ifdef PX_HEIGHT_11BIT
     mediump vec2 t = texelFetch(u_max_map, n, int(level)).rg;
@@ -96,8 +99,9 @@ PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
 #endif
 }
 
-// The heights at the four corners of `cell` (h00, h10, h01, h11).
-PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell) {
+// The heights at the four corners of `cell` (h00, h10, h01, h11); `inv_size`
+// (about 1 / the texture's size) serves the GLSL ES 1.00 wrap.
+PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell, PX_HIGHP vec2 inv_size) {
     highp ivec2 mask = ivec2(u_texture_size) - 1;
     highp ivec2 c0 = ivec2(cell) & mask;
     highp ivec2 c1 = (ivec2(cell) + 1) & mask;
@@ -119,19 +123,19 @@ uniform PX_HIGHP vec4 u_max_atlas;
 // The atlas texel at `texel` (whole numbers).
 #define px_atlas_texel(texel) texture2D(u_max_map, ((texel) + 0.5) * u_max_atlas.xy)
 
-PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node) {
-    PX_HIGHP vec2 size = max(floor(u_texture_size * exp2(-level) + 0.5), 1.0);
-    PX_HIGHP vec2 n = node - size * px_div_floor(node, size);  // wraps, as GL_REPEAT
+PX_HIGHP float px_node_max(PX_HIGHP float level, PX_HIGHP vec2 node, PX_HIGHP vec2 count, PX_HIGHP vec2 inv_count) {
+    PX_HIGHP vec2 n = node - count * px_mul_floor(node, inv_count);  // wraps, as GL_REPEAT
     PX_WORK(0.0, 1.0);
     // Levels 1..k-1 are u_texture_size.y / 2^j rows each while that is at
-    // least one, then one row each.
-    PX_HIGHP float y = u_texture_size.y - max(floor(u_texture_size.y * exp2(1.0 - level) + 0.5), 1.0) +
-                       max(level - 1.0 - u_max_atlas.w, 0.0);
+    // least one, then one row each: the rows above level k are the texture's
+    // height less level k-1's rows (twice k's while k is at most log2 height).
+    PX_HIGHP float rows_before = level <= u_max_atlas.w ? 2.0 * count.y : 1.0;
+    PX_HIGHP float y = u_texture_size.y - rows_before + max(level - 1.0 - u_max_atlas.w, 0.0);
     return px_exact_height(px_atlas_texel(n + vec2(u_max_atlas.z, y)).r);
 }
 
-PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell) {
-    PX_HIGHP vec2 c = cell - u_texture_size * px_div_floor(cell, u_texture_size);
+PX_HIGHP vec4 px_cell_corners(PX_HIGHP vec2 cell, PX_HIGHP vec2 inv_size) {
+    PX_HIGHP vec2 c = cell - u_texture_size * px_mul_floor(cell, inv_size);
     PX_HIGHP vec4 h = px_atlas_texel(c);
     PX_WORK(0.0, 1.0);
     return floor(h * 255.0 + 0.5) / 255.0;
@@ -212,9 +216,9 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP vec2 anchor = floor(local);
     PX_HIGHP vec2 o = local - anchor;
     PX_HIGHP vec2 dir = -parallax * u_texture_size;
-    PX_HIGHP vec2 size_log2 = floor(log2(u_texture_size) + 0.5);
-    // Node exits as products: two divisions per pixel, not per iteration.
+    // Node exits as products: three divisions per pixel, none per iteration.
     PX_HIGHP vec2 inv_dir = vec2(dir.x != 0.0 ? 1.0 / dir.x : 0.0, dir.y != 0.0 ? 1.0 / dir.y : 0.0);
+    PX_HIGHP vec2 inv_size = 1.0 / u_texture_size;
     PX_HIGHP float top = float(u_max_levels - 1);
 
     // Levels and cells are whole numbers held in floats (exact in highp).
@@ -225,6 +229,12 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     // space, since every level's max bounds the same surface.
     PX_HIGHP float reach = max(abs(dir.x), abs(dir.y));
     PX_HIGHP float level = clamp(ceil(log2(reach + 1.0)), 0.0, top);
+    // 2^level, exact, and about 2^-level, carried as the level changes
+    // (doubling and halving are exact), so the loop needs no exp2 and no
+    // division: a node's side is min(scale, size), its reciprocal
+    // max(inv_scale, inv_size) (px_mul_floor tolerates its rounding).
+    PX_HIGHP float scale = px_pow2(level);
+    PX_HIGHP float inv_scale = 1.0 / scale;
     PX_HIGHP vec2 cell = anchor;
     PX_HIGHP float t = 0.0;
     // Appendix A form: a constant bound (the iteration budget) with an early break.
@@ -232,8 +242,9 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
         PX_WORK(1.0, 0.0);
         // The node of `level` holding `cell`: `side` cells a side (a side
         // stops growing at the texture's size, as the mip chain's does).
-        PX_HIGHP vec2 side = px_pow2(min(vec2(level), size_log2));
-        PX_HIGHP vec2 node = px_div_floor(cell, side);
+        PX_HIGHP vec2 side = min(vec2(scale), u_texture_size);
+        PX_HIGHP vec2 inv_side = max(vec2(inv_scale), inv_size);
+        PX_HIGHP vec2 node = px_mul_floor(cell, inv_side);
         PX_HIGHP vec2 lo = node * side;
         PX_HIGHP vec2 hi = lo + side;
         // Where the ray leaves the node's square.
@@ -250,7 +261,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
             PX_HIGHP vec2 p0 = clamp(o + t * dir - lo_rel, 0.0, 1.0);
             PX_HIGHP vec2 p1 = clamp(o + t_stop * dir - lo_rel, 0.0, 1.0);
             PX_HIGHP float s;
-            if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, px_cell_corners(cell), s)) {
+            if (px_solve_patch(p0, p1, 1.0 - t, 1.0 - t_stop, px_cell_corners(cell, inv_size), s)) {
                 t = t + s * (t_stop - t);
                 break;
             }
@@ -259,15 +270,21 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
                 break;
             }
         } else {
-            PX_HIGHP float t_plane = 1.0 - px_node_max(level, node);  // ray down to the node's max
+            // The level is u_texture_size / side nodes a side (whole numbers).
+            PX_HIGHP vec2 count = floor(u_texture_size * inv_side + 0.5);
+            PX_HIGHP float t_plane = 1.0 - px_node_max(level, node, count, side * inv_size);  // ray down to the node's max
             if (t >= t_plane) {  // at or under the max here: look closer, without moving
                 level -= 1.0;
+                scale *= 0.5;
+                inv_scale *= 2.0;
                 continue;
             }
             if (t_plane < t_out) {  // comes down to the max inside the node: go there, look closer
                 t = t_plane;
                 cell = px_cell_at(o + t * dir, anchor, cell, dir, lo, hi);
                 level -= 1.0;
+                scale *= 0.5;
+                inv_scale *= 2.0;
                 continue;
             }
         }
@@ -280,9 +297,15 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
         // Tevs et al.: into another parent, go up to it, but only when the
         // ray is above its max here (else it would come straight back down).
         if (level < top) {
-            PX_HIGHP vec2 up = px_pow2(min(vec2(level + 1.0), size_log2));
-            PX_HIGHP vec2 parent = px_div_floor(next, up);
-            if (any(notEqual(px_div_floor(cell, up), parent)) && t < 1.0 - px_node_max(level + 1.0, parent)) level += 1.0;
+            PX_HIGHP vec2 up = min(vec2(2.0 * scale), u_texture_size);
+            PX_HIGHP vec2 inv_up = max(vec2(0.5 * inv_scale), inv_size);
+            PX_HIGHP vec2 parent = px_mul_floor(next, inv_up);
+            if (any(notEqual(px_mul_floor(cell, inv_up), parent)) &&
+                t < 1.0 - px_node_max(level + 1.0, parent, floor(u_texture_size * inv_up + 0.5), up * inv_size)) {
+                level += 1.0;
+                scale *= 2.0;
+                inv_scale *= 0.5;
+            }
         }
         cell = next;
     }
