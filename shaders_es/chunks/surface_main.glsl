@@ -23,6 +23,14 @@ void px_write_depth(mediump float hit_height, mediump float cos_view) {
 }
 #endif
 
+#ifdef PX_BOUNDED
+// A bounded relief (a tile or a decal, MaterialDesc::bounded): mesh uv =
+// u_bounds_matrix * (uv - u_bounds_offset), surface.vert's uv transform
+// inverted (its own uniforms are the vertex stage's, highp there).
+uniform PX_HIGHP mat2 u_bounds_matrix;
+uniform PX_HIGHP vec2 u_bounds_offset;
+#endif
+
 #ifdef PX_LOD
 uniform mediump vec2 u_lod_range;  // x: threshold mip level, y: transition band in levels
 
@@ -109,6 +117,12 @@ void main() {
     PxHit hit = surface;
 #endif
 
+#if defined(PX_BOUNDED) && defined(PX_HAS_TRACE)
+    // The ray left the relief's bounds before it met the relief: it sees
+    // what lies behind (the relief's silhouette, not the polygon's edge).
+    PX_HIGHP vec2 mesh_uv = u_bounds_matrix * (hit.uv - u_bounds_offset);
+    if (any(lessThan(mesh_uv, vec2(0.0))) || any(greaterThan(mesh_uv, vec2(1.0)))) discard;
+#endif
     mediump vec3 color = px_shade(hit.uv, hit.height, view_dir PX_TRACE_GRADIENT_ARGS);
 #if defined(PX_HAS_TRACE) && defined(PX_LOD)
     if (lod_blend > 0.0) {

@@ -35,6 +35,8 @@ VariantKey VariantKey::canonical() const {
     if (!has_option(k.technique, kOptDepth)) k.depth_write = false;
     if (!has_option(k.technique, kOptLod)) k.lod = false;
     if (k.es_major >= 3) k.no_fragment_highp = false;  // ES 3.0 guarantees fragment highp
+    // Only a trace can leave the bounds: normal mapping shades the polygon.
+    if (!has_option(k.technique, kOptHeight)) k.bounded = false;
     if (k.debug_output == 0 || !(has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps)))
         k.count_work = false;
     if (k.technique != Technique::offset_limited || k.ladder_step > kLadderSteps) k.ladder_step = 0;
@@ -45,6 +47,7 @@ VariantKey VariantKey::canonical() const {
         k.normal_rg = false;
         k.lod = false;
         k.flip_v = 0;
+        k.bounded = false;
     }
     return k;
 }
@@ -70,6 +73,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.ladder_step & 0x7) << 51;  // 3 bits
     b |= static_cast<std::uint64_t>(k.flip_v & 0x7) << 54;       // 3 bits
     b |= static_cast<std::uint64_t>(k.count_work) << 57;
+    b |= static_cast<std::uint64_t>(k.bounded) << 58;
     return b;
 }
 
@@ -96,6 +100,7 @@ std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
     k.ladder_step = static_cast<std::uint8_t>((b >> 51) & 0x7);
     k.flip_v = static_cast<std::uint8_t>((b >> 54) & 0x7);
     k.count_work = (b >> 57) & 1;
+    k.bounded = (b >> 58) & 1;
     if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
     return k;
 }
@@ -123,6 +128,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.lod) d.push_back({"PX_LOD", ""});
     if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
     if (k.count_work) d.push_back({"PX_COUNT_WORK", ""});
+    if (k.bounded) d.push_back({"PX_BOUNDED", ""});
     if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
     if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
     if (k.flip_v & kFlipAlbedo) d.push_back({"PX_FLIP_ALBEDO_V", ""});
@@ -155,6 +161,7 @@ std::string VariantKey::describe() const {
     if (k.height_11bit) s << " height-11bit";
     if (k.debug_output) s << " debug" << int(k.debug_output);
     if (k.count_work) s << " count-work";
+    if (k.bounded) s << " bounded";
     if (k.no_fragment_highp) s << " no-fragment-highp";
     if (k.ladder_step) s << " ladder" << int(k.ladder_step);
     if (k.flip_v & kFlipAlbedo) s << " flip-albedo";
@@ -201,6 +208,7 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
         else if (word.rfind("debug", 0) == 0 && number(word.substr(5), 4, n) && n >= 1) k.debug_output = static_cast<std::uint8_t>(n);
         else if (word == "no-fragment-highp") k.no_fragment_highp = true;
         else if (word == "count-work") k.count_work = true;
+        else if (word == "bounded") k.bounded = true;
         else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
         else if (word == "flip-normal") k.flip_v |= kFlipNormal;
         else if (word == "flip-height") k.flip_v |= kFlipHeight;

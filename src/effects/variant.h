@@ -58,6 +58,10 @@ struct VariantKey {
     // per pixel in place of the hit uv (PX_COUNT_WORK,
     // profiling/measurement/work.h). Searching techniques only.
     bool count_work = false;
+    // PX_BOUNDED: the material is a bounded relief (MaterialDesc::bounded);
+    // a traced hit outside its mesh uv [0, 1]^2 is discarded. Traced
+    // techniques only; set from the material, as the texture layout is.
+    bool bounded = false;
     // The PowerVR whitepaper's optimisation ladder (offset_limited only,
     // shaders_es/ladder/): 0 is the shipped shader; 1 the whitepaper's
     // baseline, and 2..6 each step it took, in its order (kLadderSteps).

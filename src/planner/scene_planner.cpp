@@ -1000,6 +1000,7 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
         if (!p) return p.error();
         const size_t mi = m.scene.material_index(m.scene.objects[i].material);
         if (mi < m.reliefs.size()) p->key = p->key.with_layout(m.reliefs[mi].layout);
+        if (mi < m.scene.materials.size()) p->key.bounded = m.scene.materials[mi].bounded;
         plans.push_back(std::move(*p));
     }
     return plans;

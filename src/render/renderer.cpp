@@ -189,6 +189,14 @@ void set_material_uniforms(const Program& p, const GpuMaterial& material, const 
     // goes to the shader (exact: Sterbenz), so every technique is invariant.
     p.set(slot::uv_offset, m.uv.offset - glm::floor(m.uv.offset));
     p.set(slot::uv_frame, m.uv.frame<float>());
+    if (key.bounded) {
+        // The uv transform inverted (in double, then rounded once), with the
+        // same fractional offset the vertex stage adds.
+        const glm::dmat2 matrix = m.uv.matrix<double>();
+        const double det = glm::determinant(matrix);
+        p.set(slot::bounds_matrix, det != 0.0 ? glm::mat2(glm::inverse(matrix)) : glm::mat2(0.0f));
+        p.set(slot::bounds_offset, m.uv.offset - glm::floor(m.uv.offset));
+    }
     const float scale = m.height_scale;
     p.set(slot::height_scale, scale);
     p.set(slot::parallax_scale, scale);
@@ -661,6 +669,7 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
         const GpuMaterial& material = gpu->materials[object.material];
         if (material.planned) continue;
         VariantKey key = material.plan.key.with_layout(prepared->materials[object.material]->images.layout);
+        key.bounded = material.desc->bounded;
         if (variant_transform_) key = variant_transform_(key).canonical();
         Result<const Program*> program = gpu->programs.get(key);
         if (!program) return with_context("material '" + echo(material.desc->name) + "'", program.error());
@@ -700,6 +709,7 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         }
         if (!g->planned) {
             VariantKey key = g->plan.key.with_layout(p.materials[mi]->images.layout);
+            key.bounded = p.desc.materials[mi].bounded;
             if (variant_transform_) key = variant_transform_(key).canonical();
             Result<const Program*> program = scene_->programs.get(key);
             if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
@@ -748,6 +758,7 @@ Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const
         plan.material = material.desc->name;
         plan.options = material.desc->technique;
         plan.key = material.plan.key.with_layout(prepared_->materials[object.material]->images.layout);
+        plan.key.bounded = material.desc->bounded;
         plan.notes = material.plan.notes;
         plans.push_back(std::move(plan));
     }

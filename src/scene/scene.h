@@ -96,6 +96,14 @@ struct MaterialDesc {
     // One fetch gives normal and height (height in the normal map's alpha).
     bool pack_height_in_normal_alpha = true;
     UvTransform uv;
+    // A bounded relief (a tile or a decal): the relief ends at the mesh's uv
+    // edges (0 and 1), so a view ray that leaves mesh uv [0, 1]^2 before it
+    // meets the relief sees what lies behind, and the traced techniques
+    // discard there (PX_BOUNDED): the relief's own silhouette instead of the
+    // polygon's straight edge. Only fragments the polygon covers are traced:
+    // rays that would enter the relief through its side from outside the
+    // polygon are not drawn (docs/silhouettes.md measures what that leaves).
+    bool bounded = false;
     TechniqueOptions technique;  // technique and its options
     // Set: the material declares the effects it needs ("effects" in a scene
     // file) and the planner chooses technique and options per object and

@@ -549,6 +549,7 @@ void read_material(Reader& r, const json& j, const std::string& path, MaterialDe
     f.read("pack_height_in_normal_alpha", m.pack_height_in_normal_alpha);
     f.read("specular", m.specular);
     f.read("shininess", m.shininess);
+    f.read("bounded", m.bounded);
 
     Fields uv(r, f.get("uv"), f.sub("uv"));
     uv.read_scale("scale", m.uv.scale);

@@ -26,6 +26,7 @@ bool highp_view_varying(const VariantKey& k) { return k.exact_view || (k.ladder_
 bool mediump_view_varying(const VariantKey& k) { return !highp_view_varying(k); }
 bool debug_output(const VariantKey& k) { return k.debug_output != 0; }
 bool count_work(const VariantKey& k) { return k.count_work; }
+bool bounded(const VariantKey& k) { return k.bounded; }
 // GLSL ES 1.00 debug outputs: the 11-bit packing stays for the driver to pick
 // (GL_FRAGMENT_PRECISION_HIGH) unless the key rules highp out.
 bool mediump_packing(const VariantKey& k) { return k.debug_output != 0 && k.es_major < 3; }
@@ -126,6 +127,9 @@ const std::vector<EffectMarker> kMarkers = {
     // surface_common.glsl: the work counter (VariantKey::count_work).
     {"work counts", "px_work", count_work},
     {"work counts", "PX_COUNT_WORK", count_work},
+    // surface_main.glsl: a bounded relief's discard.
+    {"bounded", "u_bounds_matrix", bounded},
+    {"bounded", "PX_BOUNDED", bounded},
     // debug_output.glsl: the 11-bit packing of a fragment stage without highp.
     {"mediump debug packing", "px_pack11", mediump_packing},
     // debug_output.glsl: the 24-bit packing, which needs highp.

@@ -171,6 +171,9 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::max_map: return has(k, kOptSteps);
         // GLSL ES 1.00 reads the pyramid from an atlas (maxmip.frag).
         case Uniform::max_atlas: return has(k, kOptSteps) && k.es_major < 3;
+        // surface_main.glsl: a bounded relief's discard (PX_BOUNDED).
+        case Uniform::bounds_matrix:
+        case Uniform::bounds_offset: return k.bounded;
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:

@@ -70,6 +70,8 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(shininess, "u_shininess", float1, 1)                     \
     X(max_levels, "u_max_levels", int1, 1)                     \
     X(max_atlas, "u_max_atlas", vec4, 1)                       \
+    X(bounds_matrix, "u_bounds_matrix", mat2, 1)               \
+    X(bounds_offset, "u_bounds_offset", vec2, 1)               \
     X(albedo_map, "u_albedo_map", sampler2d, 1)                \
     X(normal_map, "u_normal_map", sampler2d, 1)                \
     X(height_map, "u_height_map", sampler2d, 1)                \
