@@ -816,6 +816,23 @@ TEST(SceneParse, LightingConstantsAreMaterialFields) {
         << range.error().message;
 }
 
+// "bounded": a tile or a decal, whose silhouette the traced techniques draw.
+TEST(SceneParse, BoundedIsABooleanMaterialField) {
+    Result<SceneDesc> s = parse_scene(
+        R"({"materials": [{"name": "m", "bounded": true}, {"name": "n"}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    EXPECT_TRUE(s->materials[0].bounded);
+    EXPECT_FALSE(s->materials[1].bounded);
+    Result<SceneDesc> text = parse_scene(
+        R"({"materials": [{"name": "m", "bounded": "yes"}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(text.ok());
+    EXPECT_NE(text.error().message.find("materials[0].bounded"), std::string::npos) << text.error().message;
+    Result<SceneDesc> typo = parse_scene(
+        R"({"materials": [{"name": "m", "bonded": true}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(typo.ok());
+    EXPECT_NE(typo.error().message.find("did you mean 'bounded'"), std::string::npos) << typo.error().message;
+}
+
 // A texture source in no known form still gets a did-you-mean from the keys
 // that any of its forms reads.
 TEST(SceneErrors, SourceInNoFormSuggestsAKeyOfAnyForm) {

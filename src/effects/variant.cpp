@@ -305,6 +305,16 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             k.shadow = ShadowMode::soft;
             add(k);
         }
+        // A bounded relief (canonical() keeps it for traced techniques), with
+        // the options that touch the hit it tests: depth, LOD, debug output.
+        for (int debug : {0, es_major >= 3 ? 1 : 2}) {
+            VariantKey k = base;
+            k.bounded = true;
+            k.depth_write = true;
+            k.lod = true;
+            k.debug_output = static_cast<std::uint8_t>(debug);
+            add(k);
+        }
         // Debug outputs, with every option the technique has switched on.
         for (int debug = 1; debug <= 4; ++debug) {
             VariantKey k = base;

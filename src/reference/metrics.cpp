@@ -26,6 +26,30 @@ double p95(std::vector<double>& errors) {
 
 }  // namespace
 
+Result<ContourError> compare_contours(const SurfaceImage& measured, const SurfaceImage& truth) {
+    if (measured.width != truth.width || measured.height != truth.height ||
+        measured.samples.size() != truth.samples.size() ||
+        truth.samples.size() != static_cast<size_t>(truth.width) * static_cast<size_t>(truth.height))
+        return make_error("compare_contours: images of different sizes (" + std::to_string(measured.width) + "x" +
+                          std::to_string(measured.height) + " against " + std::to_string(truth.width) + "x" +
+                          std::to_string(truth.height) + ")");
+    ContourError e;
+    for (int y = 0; y < truth.height; ++y)
+        for (int x = 0; x < truth.width; ++x) {
+            const bool t = truth.at(x, y).covered;
+            const bool m = measured.at(x, y).covered;
+            if (t != m) {
+                ++e.mismatched;
+                if (m) ++e.measured_only;
+            }
+            if (!t) continue;
+            const bool edge = (x > 0 && !truth.at(x - 1, y).covered) || (x + 1 < truth.width && !truth.at(x + 1, y).covered) ||
+                              (y > 0 && !truth.at(x, y - 1).covered) || (y + 1 < truth.height && !truth.at(x, y + 1).covered);
+            if (edge) ++e.contour;
+        }
+    return e;
+}
+
 Result<ErrorMetrics> compare_surfaces(const SurfaceImage& measured, const SurfaceImage& truth, int texture_width,
                                       int texture_height) {
     if (measured.width != truth.width || measured.height != truth.height)

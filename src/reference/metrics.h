@@ -68,6 +68,20 @@ struct ObjectError {
 // per-pixel object and footprint data.
 Result<ObjectError> compare_object(const SurfaceImage& measured, const ReferenceImage& truth, int object);
 
+// Silhouettes: where one image shows a surface and the other does not
+// (SurfaceSample::covered), over the length of the truth's contour, in
+// pixels: covered pixels with an uncovered 4-neighbour inside the image
+// (the image's border is not a contour). The truth is typically the relief
+// drawn as real geometry (a displaced mesh); docs/silhouettes.md.
+struct ContourError {
+    long mismatched = 0;        // covered in exactly one of the two
+    long measured_only = 0;     // of those, covered in `measured` only
+    long contour = 0;           // the truth's contour length
+    double share() const { return contour > 0 ? static_cast<double>(mismatched) / static_cast<double>(contour) : 0.0; }
+};
+// Errors: sizes that differ.
+Result<ContourError> compare_contours(const SurfaceImage& measured, const SurfaceImage& truth);
+
 // PSNR of `measured` against `truth` colour over the pixels `mask` covers
 // (both RGBA8, same size), in dB; identical images give 99.
 double color_psnr(const Image& measured, const Image& truth, const SurfaceImage& mask);

@@ -34,6 +34,10 @@ struct MaterialData {
     // The traced field's highest texel, at most 1: no view ray meets the
     // relief above it, which bounds how near a relief hit can be.
     double top_height = 1.0;
+    // MaterialDesc::bounded: the relief exists over mesh uv [0, 1]^2 only;
+    // mesh uv = uv_inverse * (uv - uv_offset).
+    bool bounded = false;
+    glm::dmat2 uv_inverse{1.0};
     double specular = 0.0;   // MaterialDesc::specular
     double shininess = 1.0;  // MaterialDesc::shininess
 };
@@ -183,6 +187,17 @@ Entry entry_at(const Frame& f, const PlaneData& p, const PixelRay& r, double s, 
     return e;
 }
 
+// Whether a traced hit (texture uv) lies on a bounded relief: a view ray
+// that leaves the relief's mesh uv [0, 1]^2 before meeting it passes by (the
+// GPU discards there, PX_BOUNDED). Exact for rays that enter the relief's top
+// inside the bounds (the default bias puts the polygon there): such a ray
+// never comes back in once it has left a convex region.
+bool on_relief(const MaterialData& m, glm::dvec2 uv) {
+    if (!m.bounded) return true;
+    const glm::dvec2 mesh = m.uv_inverse * (uv - m.uv_offset);
+    return mesh.x >= 0.0 && mesh.x <= 1.0 && mesh.y >= 0.0 && mesh.y <= 1.0;
+}
+
 // A plane the ray meets: what depth compositing chooses among.
 struct Candidate {
     size_t plane = 0;  // index into Frame::planes (= scene object order)
@@ -249,8 +264,9 @@ Composited composite(const Frame& f, const PixelRay& r, std::vector<Candidate>& 
             const MaterialData& m = *p.material;
             hit = trace_view(m.traced, c.entry.uv, c.entry.view_ts, m.height_scale, m.polygon_height);
             s = c.s + (m.polygon_height - hit.height) * c.s_per_height;
-            // Before the near or past the far plane: clipped away.
-            if (!(s >= 0.0 && s <= 1.0)) continue;
+            // Before the near or past the far plane: clipped away; off a
+            // bounded relief: the ray passes by.
+            if (!(s >= 0.0 && s <= 1.0) || !on_relief(m, hit.uv)) continue;
         }
         if (best.plane && !(s < best_s || (s == best_s && c.plane < best_plane))) continue;
         best.plane = &p;
@@ -366,21 +382,36 @@ void render_pixel(const Frame& f, int x, int y, const PixelOut& out, std::vector
         // The nearest polygon, the loop written out rather than through
         // meet_plane: it runs per plane per pixel of every default
         // reference, and so it costs what it did before compositing.
-        double nearest_s = 2.0;
-        glm::dvec2 mesh_uv(0.0);
-        for (const PlaneData& p : f.planes) {
-            const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(ray.origin, 1.0));
-            const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(ray.direction, 0.0));
-            if (!(d.z < 0.0)) continue;  // back face (meet_plane says why)
-            const double s = -o.z / d.z;
-            if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
-            const glm::dvec3 q = o + s * d;
-            if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) continue;
-            shown = &p;
-            nearest_s = s;
-            mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
+        // A bounded relief whose ray leaves it before meeting it lets the
+        // ray through to the next polygon (the GPU discards the fragment).
+        std::vector<const PlaneData*> passed;
+        for (;;) {
+            double nearest_s = 2.0;
+            glm::dvec2 mesh_uv(0.0);
+            for (const PlaneData& p : f.planes) {
+                if (std::find(passed.begin(), passed.end(), &p) != passed.end()) continue;
+                const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(ray.origin, 1.0));
+                const glm::dvec3 d = glm::dvec3(p.inverse_model * glm::dvec4(ray.direction, 0.0));
+                if (!(d.z < 0.0)) continue;  // back face (meet_plane says why)
+                const double s = -o.z / d.z;
+                if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
+                const glm::dvec3 q = o + s * d;
+                if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) continue;
+                shown = &p;
+                nearest_s = s;
+                mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
+            }
+            if (!shown) break;
+            entry = entry_at(f, *shown, ray, nearest_s, mesh_uv);
+            const MaterialData& m = *shown->material;
+            if (!m.bounded || !(m.height_scale > 0.0 && entry.view_ts.z > 0.0)) break;
+            traced = trace_view(m.traced, entry.uv, entry.view_ts, m.height_scale, m.polygon_height);
+            has_trace = true;
+            if (on_relief(m, traced.uv)) break;
+            passed.push_back(shown);
+            shown = nullptr;
+            has_trace = false;
         }
-        if (shown) entry = entry_at(f, *shown, ray, nearest_s, mesh_uv);
     }
     if (!shown) {
         for (int c = 0; c < 3; ++c) out.rgba[c] = to_unorm8(f.background[c]);
@@ -461,6 +492,8 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
             m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
             m.uv_matrix = desc.uv.matrix<double>();
             m.uv_offset = glm::dvec2(desc.uv.offset);
+            m.bounded = desc.bounded;
+            if (glm::determinant(m.uv_matrix) != 0.0) m.uv_inverse = glm::inverse(m.uv_matrix);
             m.uv_frame = desc.uv.frame<double>();
             m.height_scale = desc.height_scale;
             m.polygon_height = desc.polygon_height();
