@@ -831,6 +831,13 @@ TEST(SceneParse, BoundedIsABooleanMaterialField) {
         R"({"materials": [{"name": "m", "bonded": true}], "objects": [{"material": "m"}]})", "t.json");
     ASSERT_FALSE(typo.ok());
     EXPECT_NE(typo.error().message.find("did you mean 'bounded'"), std::string::npos) << typo.error().message;
+    // A sphere's uv edges are seams, not bounds: refused, naming the object.
+    Result<SceneDesc> sphere = parse_scene(
+        R"({"materials": [{"name": "m", "bounded": true}], "objects": [{"material": "m", "mesh": {"type": "sphere"}}]})",
+        "t.json");
+    ASSERT_FALSE(sphere.ok());
+    EXPECT_NE(sphere.error().message.find("objects[0].material"), std::string::npos) << sphere.error().message;
+    EXPECT_NE(sphere.error().message.find("seams"), std::string::npos) << sphere.error().message;
 }
 
 // A texture source in no known form still gets a did-you-mean from the keys

@@ -218,6 +218,13 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
                   "no material named '" + echo(o.material) + "' (" +
                       (names.empty() ? std::string("the scene defines none") : "materials: " + joined(names)) +
                       ")");
+    } else if (scene.find_material(o.material)->bounded) {
+        // A sphere's or a torus's uv wraps around it: its uv edges are seams,
+        // where a bounded relief would be cut open (a plane's and each cube
+        // face's are the tile's own edges).
+        c.require(mesh.kind == MeshKind::plane || mesh.kind == MeshKind::cube, path + ".material",
+                  "material '" + echo(o.material) + "' is bounded (a tile or a decal), and a " +
+                      mesh_kind_name(mesh.kind) + "'s uv edges are seams where its surface wraps around, not bounds");
     }
 }
 
