@@ -7,6 +7,8 @@
 
 #include <cstdio>
 
+#include "parallaxes/planner/planner.h"
+#include "parallaxes/scene/material_images.h"
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
@@ -101,6 +103,38 @@ TEST(Silhouettes, BoundsRemovePhantomReliefButNotTheNearEdgesBand) {
             EXPECT_LE(with.measured_only, with.contour / 20);
         }
     }
+}
+
+// The planner keeps a bounded tile's discard only where its outline can be
+// on screen, and says which: seen whole, the tile is bounded; filling the
+// view from close above, its discard is left out.
+TEST(Silhouettes, ThePlannerDropsTheDiscardWhereNoOutlineIsOnScreen) {
+    SceneDesc scene = tile(60.0, Technique::pom).build();
+    scene.materials[0].bounded = true;
+    scene.materials[0].effects.emplace().max_error_texels = 0.5;
+    Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
+    ASSERT_TRUE(images.ok()) << images.error().message;
+    auto planner = ScenePlanner::create(scene, Caps::full(test_es_major()),
+                                        {material_relief(quantized_8bit(images->field), scene.materials[0])});
+    ASSERT_TRUE(planner.ok()) << planner.error().message;
+    const auto notes_of = [](const ObjectPlan& p) {
+        std::string all;
+        for (const std::string& n : p.notes) all += n + "\n";
+        return all;
+    };
+    auto whole = (*planner)->plan(scene.camera, kSize, kSize);
+    ASSERT_TRUE(whole.ok()) << whole.error().message;
+    EXPECT_TRUE(whole->at(0).key.bounded) << whole->at(0).key.describe();
+    EXPECT_NE(notes_of(whole->at(0)).find("outline can be on screen"), std::string::npos) << notes_of(whole->at(0));
+    CameraDesc close;
+    close.position = glm::vec3(0.0f, 0.0f, 0.5f);
+    close.target = glm::vec3(0.0f);
+    close.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    close.fov_y_deg = 40.0f;
+    auto inside = (*planner)->plan(close, kSize, kSize);
+    ASSERT_TRUE(inside.ok()) << inside.error().message;
+    EXPECT_FALSE(inside->at(0).key.bounded) << inside->at(0).key.describe();
+    EXPECT_NE(notes_of(inside->at(0)).find("silhouette off"), std::string::npos) << notes_of(inside->at(0));
 }
 
 }  // namespace

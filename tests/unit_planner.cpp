@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <string>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "parallaxes/planner/cost_table.h"
 #include "parallaxes/planner/planner.h"
 #include "parallaxes/planner/relief.h"
@@ -967,6 +969,41 @@ TEST(SearchModel, TheMarginCoversATailPastThePercentile) {
     EXPECT_DOUBLE_EQ(predicted_with_margin(Technique::pom, 0.02, 5.4), 5.4 + m.floor);
     EXPECT_DOUBLE_EQ(predicted_with_margin(Technique::pom, 1.0, 1.01), m.scale * 1.0 + m.floor);
     EXPECT_DOUBLE_EQ(predicted_with_margin(Technique::maxmip, 0.0, 0.0), search_margin(Technique::maxmip).floor);
+}
+
+// A bounded tile's outline is on screen unless every pixel's ray stays
+// inside its bounds: seen whole it is; filling the view from close above it
+// is not, unless the relief's depth carries a corner's ray past an edge, or
+// the view reaches past the tile.
+TEST(BoundedOutline, OnScreenUnlessEveryRayStaysInsideTheTile) {
+    const auto view_of = [](glm::vec3 eye, glm::vec3 target, float fov_deg) {
+        CameraDesc c;
+        c.position = eye;
+        c.target = target;
+        c.up = glm::vec3(0.0f, 1.0f, 0.0f);
+        c.fov_y_deg = fov_deg;
+        return PlanView::from_camera(c, 256, 256);
+    };
+    const glm::mat4 identity(1.0f);
+    // A 2-unit tile seen whole from 3.6 units away: on screen.
+    const PlanView whole = view_of({0.0f, -1.8f, 3.1f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    EXPECT_TRUE(bounded_outline_on_screen(identity, 2.0f, 0.3, whole.view, whole.projection));
+    // Straight down from 0.5 units, 40 degrees: the view spans 0.36 units of
+    // the tile's 2 along each axis. A shallow relief keeps every ray inside;
+    // a deep one does not (9 units deep: a corner's ray, its tangent 0.51,
+    // is carried 4.6 units sideways).
+    const PlanView close = view_of({0.0f, 0.0f, 0.5f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    EXPECT_FALSE(bounded_outline_on_screen(identity, 2.0f, 0.05, close.view, close.projection));
+    EXPECT_TRUE(bounded_outline_on_screen(identity, 2.0f, 9.0, close.view, close.projection));
+    // The same view over a tile moved so that its edge is in view.
+    EXPECT_TRUE(bounded_outline_on_screen(glm::translate(identity, glm::vec3(0.9f, 0.0f, 0.0f)), 2.0f, 0.05,
+                                          close.view, close.projection));
+    // Seen from below (its back) or with the tile behind the eye: on screen
+    // (the check says false only when it is sure).
+    const PlanView below = view_of({0.0f, 0.0f, -0.5f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    EXPECT_TRUE(bounded_outline_on_screen(identity, 2.0f, 0.05, below.view, below.projection));
+    const PlanView away = view_of({0.0f, 0.0f, 0.5f}, {0.0f, 0.0f, 1.0f}, 40.0f);
+    EXPECT_TRUE(bounded_outline_on_screen(identity, 2.0f, 0.05, away.view, away.projection));
 }
 
 }  // namespace

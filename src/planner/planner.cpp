@@ -18,6 +18,36 @@ namespace {
 bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 }  // namespace
 
+bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth, const glm::mat4& view,
+                               const glm::mat4& projection) {
+    const glm::dmat4 to_world = glm::inverse(glm::dmat4(projection) * glm::dmat4(view));
+    const glm::dmat4 to_model = glm::inverse(glm::dmat4(model));
+    const double half = 0.5 * static_cast<double>(size);
+    if (!(half > 0.0) || !std::isfinite(depth) || depth < 0.0) return true;
+    // The viewport's corners: the image maps onto the plane projectively, so
+    // if all four land well inside the (convex) bounds, every pixel does;
+    // the sideways reach is largest at one of them.
+    glm::dvec2 hits[4];
+    double reach = 0.0;
+    int k = 0;
+    for (const glm::dvec2 corner : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
+        const glm::dvec4 near_h = to_world * glm::dvec4(corner, -1.0, 1.0);
+        const glm::dvec4 far_h = to_world * glm::dvec4(corner, 1.0, 1.0);
+        if (!(std::fabs(near_h.w) > 0.0) || !(std::fabs(far_h.w) > 0.0)) return true;
+        const glm::dvec3 o = glm::dvec3(to_model * glm::dvec4(glm::dvec3(near_h) / near_h.w, 1.0));
+        const glm::dvec3 d = glm::dvec3(to_model * glm::dvec4(glm::dvec3(far_h) / far_h.w, 1.0)) - o;
+        if (!(d.z < 0.0)) return true;  // the corner sees the back, or along the plane
+        const double s = -o.z / d.z;
+        if (!(s >= 0.0 && s <= 1.0)) return true;  // the plane is behind the near or past the far plane there
+        hits[k++] = glm::dvec2(o + s * d);
+        reach = std::max(reach, depth * glm::length(glm::dvec2(d)) / -d.z);
+    }
+    const double margin = half - reach;
+    for (const glm::dvec2& q : hits)
+        if (!(std::fabs(q.x) < margin && std::fabs(q.y) < margin)) return true;
+    return false;
+}
+
 std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width, int traced_height) {
     const TechniqueInfo& info = technique_info(t);
     if (info.min_es_major > caps.es_major)

@@ -56,6 +56,18 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
 // than its fallback on every hard case: docs/stability.md.)
 std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width = 0, int traced_height = 0);
 
+// Whether a bounded relief on a plane of side `size` (mesh units, model
+// transform `model`) can show its outline in a `width` x `height` image of
+// this view and projection: false only where every pixel's ray meets the
+// plane's front, between the near and far planes, farther inside its
+// bounds than the relief can carry a ray sideways (`depth`: the relief's
+// depth in mesh units, the whole of it whatever the polygon's height, times
+// the tangent of the ray's angle at the viewport's corners, where the angle
+// over a plane seen in perspective is largest). Then no ray on screen
+// leaves the bounds and the discard (PX_BOUNDED) can be left out.
+bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth, const glm::mat4& view,
+                               const glm::mat4& projection);
+
 // What the camera sees of one object, over the visible part of its surface
 // (front-facing, inside the view frustum), from a few hundred points spread
 // over its triangles and weighted by their area on screen.

@@ -1000,7 +1000,23 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
         if (!p) return p.error();
         const size_t mi = m.scene.material_index(m.scene.objects[i].material);
         if (mi < m.reliefs.size()) p->key = p->key.with_layout(m.reliefs[mi].layout);
-        if (mi < m.scene.materials.size()) p->key.bounded = m.scene.materials[mi].bounded;
+        if (mi < m.scene.materials.size() && m.scene.materials[mi].bounded &&
+            (technique_info(p->key.technique).options & kOptHeight)) {
+            // A bounded relief's discard only where its outline can be on
+            // screen (bounded_outline_on_screen): a tile that fills the view
+            // keeps what a discard costs a tile-based GPU.
+            const ObjectDesc& o = m.scene.objects[i];
+            const MaterialDesc& mat = m.scene.materials[mi];
+            const glm::mat4 model = frame.models.empty() ? o.transform.matrix() : frame.models[i];
+            const double depth = static_cast<double>(mat.height_scale) * m.units_per_uv[i] /
+                                 std::max(1e-12, mat.uv.area_scale<double>());
+            p->key.bounded = o.mesh.kind != MeshKind::plane ||
+                             bounded_outline_on_screen(model, o.mesh.size, depth, frame.view, frame.projection);
+            p->notes.push_back(p->key.bounded
+                                   ? "bounded: the tile's outline can be on screen; rays that leave its bounds are discarded"
+                                   : "bounded, silhouette off: every ray on screen stays inside the tile's bounds, so "
+                                     "nothing is discarded");
+        }
         plans.push_back(std::move(*p));
     }
     return plans;
