@@ -37,20 +37,26 @@ PX_HIGHP vec2 px_parallax_vector(PX_VIEW_PRECISION vec3 view_ts) {
 
 PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump float cos_view PX_TRACE_GRADIENTS) {
     mediump float count = min(px_sample_count(cos_view), float(PX_MAX_SAMPLES));
-    mediump float step = 1.0 / count;
+    // The search spans the relief from its top (or, through a bounded
+    // relief's side, from where the ray comes in: px_start_t) to its bottom.
+    mediump float start = 1.0;
+#ifdef PX_BOUNDED
+    start = 1.0 - px_start_t;
+#endif
+    mediump float step = start / count;
     PxMarch m;
     m.step = step;
-    m.ray_above = 1.0;
-    m.uv_above = uv0 + (1.0 - u_polygon_height) * parallax;
+    m.ray_above = start;
+    m.uv_above = uv0 + (start - u_polygon_height) * parallax;
     m.height_above = px_trace_height(m.uv_above);
     PX_WORK(0.0, 1.0);
     m.uv_below = m.uv_above;
     m.ray_below = m.ray_above;
     m.height_below = m.height_above;
-    if (m.height_above >= 1.0) return m;  // hit at the very top
+    if (m.height_above >= m.ray_above) return m;  // hit where the search starts
     // GLSL ES 1.00 Appendix A: a constant bound with an early break.
     for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
-        mediump float ray = 1.0 - float(i) * step;
+        mediump float ray = start - float(i) * step;
         PX_HIGHP vec2 uv = uv0 + (ray - u_polygon_height) * parallax;
         mediump float h = px_trace_height(uv);
         PX_WORK(1.0, 1.0);

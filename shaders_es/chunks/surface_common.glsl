@@ -35,6 +35,15 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 // profiling/measurement/work.h for `parallax bench`'s work columns): the
 // debug outputs show the search's loop iterations and texture fetches per
 // pixel in place of the hit uv. Each search counts its own with PX_WORK.
+#ifdef PX_BOUNDED
+// A bounded relief's fragment outside its tile (the polygon is drawn wider,
+// by the relief's reach): its ray comes into the relief through the tile's
+// side at this t (0 at the relief's top, 1 at its bottom, as the searches
+// count). surface_main.glsl sets it before px_trace; a trace that defines
+// PX_TRACE_STARTS starts there, and the others are not asked to.
+PX_HIGHP float px_start_t = 0.0;
+#endif
+
 #ifdef PX_COUNT_WORK
 PX_HIGHP vec2 px_work = vec2(0.0);
 #define PX_WORK(iterations, fetches) px_work += vec2(iterations, fetches)

@@ -100,6 +100,46 @@ void main() {
 #endif
     mediump vec3 view_dir = normalize(view_unscaled);
 
+#if defined(PX_BOUNDED) && defined(PX_HAS_TRACE)
+    // A bounded relief exists over mesh uv [0, 1]^2 only, and its polygon is
+    // drawn wider by the relief's reach: the t range over which this
+    // fragment's ray (from the relief's top, t = 0, to its bottom, t = 1) is
+    // inside the tile, from the mesh uv where it enters the top and its step.
+    {
+        // The ray the trace follows: the exact one, or the searches' with V.z
+        // clamped at 1/64 (march.glsl px_parallax_vector).
+#ifdef PX_TRACE_EXACT_RAY
+        PX_HIGHP vec2 parallax = view_ts.xy / max(view_ts.z, 1e-6);
+#else
+        PX_HIGHP vec2 parallax = view_ts.xy / max(view_ts.z, 1.0 / 64.0);
+#endif
+        PX_HIGHP vec2 top = u_bounds_matrix * (uv + (1.0 - u_polygon_height) * parallax - u_bounds_offset);
+        PX_HIGHP vec2 step = -(u_bounds_matrix * parallax);
+        PX_HIGHP float t_in = 0.0;
+        PX_HIGHP float t_out = 1.0;
+        for (int a = 0; a < 2; a++) {
+            PX_HIGHP float p = a == 0 ? top.x : top.y;
+            PX_HIGHP float d = a == 0 ? step.x : step.y;
+            if (abs(d) < 1e-12) {
+                if (p < 0.0 || p > 1.0) t_in = 2.0;  // never inside along this axis
+            } else {
+                PX_HIGHP float t0 = -p / d;
+                PX_HIGHP float t1 = (1.0 - p) / d;
+                t_in = max(t_in, min(t0, t1));
+                t_out = min(t_out, max(t0, t1));
+            }
+        }
+        if (t_in > t_out) discard;  // passes by the tile between the relief's top and bottom
+#ifdef PX_TRACE_STARTS
+        px_start_t = t_in;  // the trace starts where the ray comes into the tile
+#else
+        // A single fetch (parallax, offset_limited) has no ray to start part
+        // way down: a fragment outside the tile is not theirs to draw.
+        PX_HIGHP vec2 polygon = u_bounds_matrix * (uv - u_bounds_offset);
+        if (any(lessThan(polygon, vec2(0.0))) || any(greaterThan(polygon, vec2(1.0)))) discard;
+#endif
+    }
+#endif
     PxHit surface;  // the polygon itself: what normal mapping shades
     surface.uv = uv;
     surface.height = u_polygon_height;

@@ -35,6 +35,8 @@
 #error "maxmip on GLSL ES 1.00 reads 8-bit heights (its atlas packs a cell's corners in RGBA8)"
 #endif
 #define PX_HAS_TRACE
+#define PX_TRACE_STARTS  // a bounded relief's side: the walk starts at px_start_t
+#define PX_TRACE_EXACT_RAY  // no grazing clamp (px_trace below)
 #include "chunks/surface_common.glsl"
 
 // 8-bit maxima: mediump tells every 8-bit value apart (px_exact_height
@@ -237,6 +239,12 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP float inv_scale = 1.0 / scale;
     PX_HIGHP vec2 cell = anchor;
     PX_HIGHP float t = 0.0;
+#ifdef PX_BOUNDED
+    // Through a bounded relief's side: the ray above this point is outside
+    // the relief, so the walk starts here (in the cell holding it).
+    t = px_start_t;
+    cell = anchor + floor(o + t * dir);
+#endif
     // Appendix A form: a constant bound (the iteration budget) with an early break.
     for (int i = 0; i < PX_MAX_SAMPLES; i++) {
         PX_WORK(1.0, 0.0);

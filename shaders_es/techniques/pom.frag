@@ -2,6 +2,7 @@
 // height profile between the last two samples is taken as a line and
 // intersected with the view ray.
 #define PX_HAS_TRACE
+#define PX_TRACE_STARTS  // a bounded relief's side: the search starts at px_start_t (march.glsl)
 #include "chunks/surface_common.glsl"
 #include "chunks/march.glsl"
 

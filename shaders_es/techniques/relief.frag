@@ -2,6 +2,7 @@
 // then a binary search between the last sample above the surface and the
 // first below it.
 #define PX_HAS_TRACE
+#define PX_TRACE_STARTS  // a bounded relief's side: the search starts at px_start_t (march.glsl)
 #include "chunks/surface_common.glsl"
 #include "chunks/march.glsl"
 

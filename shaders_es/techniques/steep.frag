@@ -1,6 +1,7 @@
 // steep: steep parallax mapping (McGuire & McGuire 2005). Linear search down
 // the view ray; the first sample on or under the surface is the hit.
 #define PX_HAS_TRACE
+#define PX_TRACE_STARTS  // a bounded relief's side: the search starts at px_start_t (march.glsl)
 #include "chunks/surface_common.glsl"
 #include "chunks/march.glsl"
 

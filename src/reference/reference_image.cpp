@@ -3,6 +3,7 @@
 #include "parallaxes/scene/material_images.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <system_error>
@@ -46,6 +47,8 @@ struct MaterialData {
 struct PlaneData {
     const MaterialData* material = nullptr;
     double half_size = 1.0;
+    // The polygon as drawn: wider by bounded_margin for a bounded relief.
+    double drawn_half_size = 1.0;
     glm::dmat4 model{1.0};
     glm::dmat4 inverse_model{1.0};
     double winding_sign = 1.0;  // sign of det(model3): mirroring flips the bitangent
@@ -166,7 +169,7 @@ bool meet_plane(const PlaneData& p, const PixelRay& r, double& s, glm::dvec2& me
     s = -o.z / d.z;
     if (s < 0.0 || s > 1.0) return false;
     const glm::dvec3 q = o + s * d;
-    if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) return false;
+    if (std::fabs(q.x) > p.drawn_half_size || std::fabs(q.y) > p.drawn_half_size) return false;
     mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
     return true;
 }
@@ -187,15 +190,37 @@ Entry entry_at(const Frame& f, const PlaneData& p, const PixelRay& r, double s, 
     return e;
 }
 
-// Whether a traced hit (texture uv) lies on a bounded relief: a view ray
-// that leaves the relief's mesh uv [0, 1]^2 before meeting it passes by (the
-// GPU discards there, PX_BOUNDED). Exact for rays that enter the relief's top
-// inside the bounds (the default bias puts the polygon there): such a ray
-// never comes back in once it has left a convex region.
-bool on_relief(const MaterialData& m, glm::dvec2 uv) {
-    if (!m.bounded) return true;
-    const glm::dvec2 mesh = m.uv_inverse * (uv - m.uv_offset);
-    return mesh.x >= 0.0 && mesh.x <= 1.0 && mesh.y >= 0.0 && mesh.y <= 1.0;
+// A bounded relief's trace (MaterialDesc::bounded): the view ray over the t
+// range where it is inside the tile (mesh uv [0, 1]^2), so that what lies
+// outside (the next tile of a repeating texture) is not there to be hit,
+// whether the ray came in through the relief's top or through its side (the
+// renderer draws the plane wider by bounded_margin, and maxmip starts its
+// walk there: shaders_es/chunks/surface_main.glsl). Empty where the ray meets
+// no relief inside the tile: it passes by.
+std::optional<ReliefHit> trace_bounded(const MaterialData& m, glm::dvec2 uv, glm::dvec3 view_ts) {
+    const HeightField& field = m.traced;
+    if (!(view_ts.z > 1e-9) || field.width <= 0 || field.height <= 0) return std::nullopt;
+    const Ray r = view_ray(field, uv, view_ts, m.height_scale, m.polygon_height);
+    const glm::dvec2 size(field.width, field.height);
+    const glm::dvec2 top = m.uv_inverse * (glm::dvec2(r.origin) / size - m.uv_offset);
+    const glm::dvec2 step = m.uv_inverse * (glm::dvec2(r.direction) / size);
+    double t_in = 0.0, t_out = 1.0;
+    for (int a = 0; a < 2; ++a) {
+        if (step[a] == 0.0) {
+            if (top[a] < 0.0 || top[a] > 1.0) return std::nullopt;
+            continue;
+        }
+        const double t0 = -top[a] / step[a], t1 = (1.0 - top[a]) / step[a];
+        t_in = std::max(t_in, std::min(t0, t1));
+        t_out = std::min(t_out, std::max(t0, t1));
+    }
+    if (!(t_in <= t_out)) return std::nullopt;
+    const Hit h = first_hit(field, r, t_in, t_out);
+    if (!h.hit) return std::nullopt;
+    ReliefHit out;
+    out.uv = glm::dvec2(h.position) / size;
+    out.height = h.position.z;
+    return out;
 }
 
 // A plane the ray meets: what depth compositing chooses among.
@@ -262,11 +287,16 @@ Composited composite(const Frame& f, const PixelRay& r, std::vector<Candidate>& 
         ReliefHit hit;
         if (c.s_per_height > 0.0) {
             const MaterialData& m = *p.material;
-            hit = trace_view(m.traced, c.entry.uv, c.entry.view_ts, m.height_scale, m.polygon_height);
+            if (m.bounded) {
+                const std::optional<ReliefHit> bounded = trace_bounded(m, c.entry.uv, c.entry.view_ts);
+                if (!bounded) continue;  // passes by the tile
+                hit = *bounded;
+            } else {
+                hit = trace_view(m.traced, c.entry.uv, c.entry.view_ts, m.height_scale, m.polygon_height);
+            }
             s = c.s + (m.polygon_height - hit.height) * c.s_per_height;
-            // Before the near or past the far plane: clipped away; off a
-            // bounded relief: the ray passes by.
-            if (!(s >= 0.0 && s <= 1.0) || !on_relief(m, hit.uv)) continue;
+            // Before the near or past the far plane: clipped away.
+            if (!(s >= 0.0 && s <= 1.0)) continue;
         }
         if (best.plane && !(s < best_s || (s == best_s && c.plane < best_plane))) continue;
         best.plane = &p;
@@ -396,7 +426,7 @@ void render_pixel(const Frame& f, int x, int y, const PixelOut& out, std::vector
                 const double s = -o.z / d.z;
                 if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
                 const glm::dvec3 q = o + s * d;
-                if (std::fabs(q.x) > p.half_size || std::fabs(q.y) > p.half_size) continue;
+                if (std::fabs(q.x) > p.drawn_half_size || std::fabs(q.y) > p.drawn_half_size) continue;
                 shown = &p;
                 nearest_s = s;
                 mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
@@ -404,10 +434,12 @@ void render_pixel(const Frame& f, int x, int y, const PixelOut& out, std::vector
             if (!shown) break;
             entry = entry_at(f, *shown, ray, nearest_s, mesh_uv);
             const MaterialData& m = *shown->material;
-            if (!m.bounded || !(m.height_scale > 0.0 && entry.view_ts.z > 0.0)) break;
-            traced = trace_view(m.traced, entry.uv, entry.view_ts, m.height_scale, m.polygon_height);
-            has_trace = true;
-            if (on_relief(m, traced.uv)) break;
+            if (!m.bounded || !(m.height_scale > 0.0)) break;
+            if (const std::optional<ReliefHit> bounded = trace_bounded(m, entry.uv, entry.view_ts)) {
+                traced = *bounded;
+                has_trace = true;
+                break;
+            }
             passed.push_back(shown);
             shown = nullptr;
             has_trace = false;
@@ -518,6 +550,7 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         p.material = &m;
         p.object = static_cast<int>(f.planes.size());
         p.half_size = 0.5 * static_cast<double>(o.mesh.size);
+        p.drawn_half_size = p.half_size * (1.0 + 2.0 * bounded_margin(scene.materials[mi]));
         p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
         p.inverse_model = glm::inverse(p.model);
         const glm::dmat3 model3(p.model);

@@ -86,6 +86,20 @@ void point_attributes() {
     }
 }
 
+Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what);
+
+// An object's mesh as drawn: the prepared one, or for a bounded relief on a
+// plane the plane widened by bounded_margin, so that rays coming into the
+// tile through its side have fragments to be traced in (docs/silhouettes.md).
+Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared, const Caps& caps) {
+    const std::string what = "object '" + echo(o.name) + "'";
+    const double margin = bounded_margin(m);
+    if (o.mesh.kind != MeshKind::plane || o.mesh.displaced || !(margin > 0.0)) return upload_mesh(prepared, caps, what);
+    return upload_mesh(make_widened_plane(o.mesh.size, o.mesh.segments, static_cast<float>(margin), o.mesh.tangent,
+                                          o.mesh.normal),
+                       caps, what);
+}
+
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what) {
     GpuMesh g;
     g.units_per_uv = mesh.units_per_uv;
@@ -653,7 +667,8 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     gpu->camera = desc.camera;
     for (size_t i = 0; i < desc.objects.size(); ++i) {
         const ObjectDesc& o = desc.objects[i];
-        Result<GpuMesh> g = upload_mesh(prepared->objects[i]->mesh, caps_, "object '" + echo(o.name) + "'");
+        Result<GpuMesh> g = upload_object_mesh(o, desc.materials[prepared->objects[i]->material],
+                                               prepared->objects[i]->mesh, caps_);
         if (!g) return g.error();
         gpu->meshes.push_back(std::move(*g));
         GpuObject object;
@@ -702,8 +717,12 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         // Meshes displaced from the new relief, before anything is replaced.
         std::vector<std::pair<size_t, GpuMesh>> meshes;
         for (size_t i = 0; i < p.objects.size(); ++i) {
-            if (p.objects[i].get() == prepared_->objects[i].get()) continue;
-            Result<GpuMesh> m = upload_mesh(p.objects[i]->mesh, caps_, "object '" + echo(p.desc.objects[i].name) + "'");
+            // Displaced from the new relief, or widened by other bounds.
+            const bool widened_differently = p.objects[i]->material == mi &&
+                                             bounded_margin(p.desc.materials[mi]) != bounded_margin(prepared_->desc.materials[mi]);
+            if (p.objects[i].get() == prepared_->objects[i].get() && !widened_differently) continue;
+            Result<GpuMesh> m = upload_object_mesh(p.desc.objects[i], p.desc.materials[p.objects[i]->material],
+                                                   p.objects[i]->mesh, caps_);
             if (!m) return m.error();
             meshes.emplace_back(scene_->objects[i].mesh, std::move(*m));
         }

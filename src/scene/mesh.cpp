@@ -286,6 +286,15 @@ Mesh make_plane(float size, int segments, const std::optional<glm::vec3>& tangen
     return mesh;
 }
 
+Mesh make_widened_plane(float size, int segments, float margin, const std::optional<glm::vec3>& tangent,
+                        const std::optional<glm::vec3>& normal) {
+    const float grow = 1.0f + 2.0f * margin;
+    Mesh mesh = make_plane(size * grow, segments, tangent, normal);
+    for (Vertex& v : mesh.vertices) v.uv = v.uv * grow - margin;
+    mesh.units_per_uv = size;
+    return mesh;
+}
+
 Mesh make_cube(float size) {
     // Per face: normal, +u and +v directions with cross(u, v) = normal, so
     // every face is counter-clockwise from outside with w = +1. Side faces

@@ -41,6 +41,11 @@ Result<MeshKind> parse_mesh_kind(const std::string& name);
 // unchecked (tangent w stays +1): surface.vert makes a frame of anything.
 Mesh make_plane(float size = 2.0f, int segments = 1, const std::optional<glm::vec3>& tangent = std::nullopt,
                 const std::optional<glm::vec3>& normal = std::nullopt);
+// make_plane widened by `margin` (mesh uv) on each side: uv from -margin to
+// 1 + margin over (1 + 2 margin) * size, the same uv per mesh unit (a
+// bounded relief's plane: bounded_margin in scene.h).
+Mesh make_widened_plane(float size, int segments, float margin, const std::optional<glm::vec3>& tangent = std::nullopt,
+                        const std::optional<glm::vec3>& normal = std::nullopt);
 // Axis-aligned cube, `size` wide, each face uv 0..1.
 Mesh make_cube(float size = 2.0f);
 // UV sphere: u around the equator, v from south to north pole.

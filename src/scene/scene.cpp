@@ -230,6 +230,14 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
 
 }  // namespace
 
+double bounded_margin(const MaterialDesc& m) {
+    if (!m.bounded || !(m.height_scale > 0.0f)) return 0.0;
+    const double area_scale = m.uv.area_scale<double>();
+    if (!(area_scale > 0.0)) return 0.0;
+    constexpr double kTan80 = 5.671281819617709;
+    return std::min(4.0, static_cast<double>(m.height_scale) * kTan80 / area_scale);
+}
+
 glm::mat4 TransformDesc::matrix() const {
     glm::mat4 m = glm::translate(glm::mat4(1.0f), translate);
     m = glm::rotate(m, glm::radians(rotate_deg.z), glm::vec3(0.0f, 0.0f, 1.0f));

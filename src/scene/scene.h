@@ -122,6 +122,13 @@ struct MaterialDesc {
     }
 };
 
+// How much wider a bounded relief's plane is drawn on each side, in mesh uv
+// (docs/silhouettes.md): how far a ray 80 degrees from the normal moves
+// sideways while it descends the relief's depth (height_scale tiles of
+// 1 / area_scale mesh uv each), so that rays coming into the tile through
+// its side are traced up to that angle. At most 4; 0 when not bounded.
+double bounded_margin(const MaterialDesc& m);
+
 struct TransformDesc {
     glm::vec3 translate{0.0f};
     glm::vec3 rotate_deg{0.0f};  // applied x, then y, then z
