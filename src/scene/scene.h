@@ -100,9 +100,9 @@ struct MaterialDesc {
     // edges (0 and 1), so a view ray that leaves mesh uv [0, 1]^2 before it
     // meets the relief sees what lies behind, and the traced techniques
     // discard there (PX_BOUNDED): the relief's own silhouette instead of the
-    // polygon's straight edge. Only fragments the polygon covers are traced:
-    // rays that would enter the relief through its side from outside the
-    // polygon are not drawn (docs/silhouettes.md measures what that leaves).
+    // polygon's straight edge. A bounded plane is drawn wider by
+    // bounded_margin, so that rays coming into the relief through its side
+    // are traced from there (docs/silhouettes.md).
     bool bounded = false;
     TechniqueOptions technique;  // technique and its options
     // Set: the material declares the effects it needs ("effects" in a scene
