@@ -29,6 +29,12 @@ void px_write_depth(mediump float hit_height, mediump float cos_view) {
 // inverted (its own uniforms are the vertex stage's, highp there).
 uniform PX_HIGHP mat2 u_bounds_matrix;
 uniform PX_HIGHP vec2 u_bounds_offset;
+
+// Whether texture uv `uv` lies on the tile (mesh uv [0, 1]^2).
+bool px_on_tile(PX_HIGHP vec2 uv) {
+    PX_HIGHP vec2 m = u_bounds_matrix * (uv - u_bounds_offset);
+    return all(greaterThanEqual(m, vec2(0.0))) && all(lessThanEqual(m, vec2(1.0)));
+}
 #endif
 
 #ifdef PX_LOD
@@ -135,8 +141,7 @@ void main() {
 #else
         // A single fetch (parallax, offset_limited) has no ray to start part
         // way down: a fragment outside the tile is not theirs to draw.
-        PX_HIGHP vec2 polygon = u_bounds_matrix * (uv - u_bounds_offset);
-        if (any(lessThan(polygon, vec2(0.0))) || any(greaterThan(polygon, vec2(1.0)))) discard;
+        if (!px_on_tile(uv)) discard;
 #endif
     }
 #endif
@@ -160,8 +165,7 @@ void main() {
 #if defined(PX_BOUNDED) && defined(PX_HAS_TRACE)
     // The ray left the relief's bounds before it met the relief: it sees
     // what lies behind (the relief's silhouette, not the polygon's edge).
-    PX_HIGHP vec2 mesh_uv = u_bounds_matrix * (hit.uv - u_bounds_offset);
-    if (any(lessThan(mesh_uv, vec2(0.0))) || any(greaterThan(mesh_uv, vec2(1.0)))) discard;
+    if (!px_on_tile(hit.uv)) discard;
 #endif
     mediump vec3 color = px_shade(hit.uv, hit.height, view_dir PX_TRACE_GRADIENT_ARGS);
 #if defined(PX_HAS_TRACE) && defined(PX_LOD)
