@@ -240,7 +240,9 @@ TEST(BenchReportJson, ParsesBackWithEveryField) {
     for (size_t i = 0; i < rows.size(); ++i) {
         const BenchRow& r = run.rows[i];
         const nlohmann::json& j = rows[i];
-        EXPECT_EQ(j.size(), r.iteration_histogram.empty() ? 23u : 24u) << "fields in row " << i;
+        EXPECT_EQ(j.size(), r.iteration_histogram.empty() ? 25u : 26u) << "fields in row " << i;
+        EXPECT_EQ(j.at("input_floor_p95").get<double>(), r.input_floor_p95);
+        EXPECT_TRUE(j.at("own_ray_error_p95").is_null());  // not measured: NaN
         EXPECT_EQ(j.at("scene"), r.scene);
         EXPECT_EQ(j.at("technique"), r.technique);
         EXPECT_EQ(j.at("samples"), r.samples);

@@ -91,6 +91,38 @@ TEST(ReferenceTracer, FlatFieldHitsAtItsLevel) {
     }
 }
 
+// One float ulp of the inputs: looking straight down at a flat field (at
+// 0, the polygon at the top), a uv at 0.3 moves by 2^-25 and the hit with
+// it; the view's turn by 2^-24 moves the hit by height_scale * 2^-24 only.
+// At 89 degrees, a ray running along a one-texel ridge moves its hit along
+// the ridge hundreds of times as far as it is shifted across it.
+TEST(ReferenceTracer, Fp32InputFloorIsTheHitsMoveForOneUlp) {
+    const HeightField flat = field_of(FieldKind::flat, 256);
+    EXPECT_NEAR(fp32_input_floor(flat, {0.3, 0.3}, {0.0, 0.0, 1.0}, 0.05, 1.0), 256.0 * std::ldexp(1.0, -25), 1e-12);
+
+    FieldSpec lines;
+    lines.kind = FieldKind::lines;
+    lines.size = 256;
+    lines.count = 16;
+    const HeightField f = field_of(lines);
+    const double a = 89.0 * kPi / 180.0;
+    // Medians: a ray that skims a ridge's top moves its hit by whole
+    // ridges for one ulp (hit or miss), in either direction.
+    std::vector<double> along, across;
+    for (int i = 0; i < 1024 && along.size() < 33; ++i) {
+        const glm::dvec2 uv(0.25 + i / 16384.0, 0.5);  // across 16 texels: a line and its ground
+        const double h = f.sample_bilinear(uv.x, uv.y);
+        if (!(h > 0.05 && h < 0.95)) continue;  // on a line's side, where the rays along it land
+        along.push_back(fp32_input_floor(f, uv, {0.0, std::sin(a), std::cos(a)}, 0.05, 1.0));
+        across.push_back(fp32_input_floor(f, uv, {std::sin(a), 0.0, std::cos(a)}, 0.05, 1.0));
+    }
+    std::sort(along.begin(), along.end());
+    std::sort(across.begin(), across.end());
+    ASSERT_EQ(along.size(), 33u);
+    std::printf("median fp32 floor at 89 degrees: %.3g texel along the lines, %.3g across\n", along[16], across[16]);
+    EXPECT_GT(along[16], 100.0 * across[16]);
+}
+
 // Texels 0 for x < k, 1 from k on: bilinear filtering turns the step into a
 // ramp S = x - (k - 0.5) between the texel centres k - 0.5 and k + 0.5. The
 // view ray from the -x side, at height H, is at x(H) = (u0 + (H - p) P) w

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <memory>
 
 #include "parallaxes/gl/gl.h"
@@ -178,6 +179,26 @@ Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& ma
     return s;
 }
 
+Result<std::vector<double>> own_ray_errors(const HeightField& field, const SurfaceImage& hits, const SurfaceImage& rays,
+                                           double polygon_height) {
+    if (hits.width != rays.width || hits.height != rays.height || hits.samples.size() != rays.samples.size())
+        return make_error("own_ray_errors: the hits and the rays are images of different sizes");
+    const glm::dvec2 size(field.width, field.height);
+    std::vector<double> errors;
+    for (size_t i = 0; i < hits.samples.size(); ++i) {
+        const SurfaceSample& hit = hits.samples[i];
+        const SurfaceSample& ray = rays.samples[i];
+        if (!hit.covered || !ray.covered) continue;
+        // height and visibility carry the parallax vector (uv shift per unit
+        // of normalised height): view_ray's with a height scale of 1.
+        const reference::ReliefHit exact =
+            reference::trace_view(field, ray.uv, glm::dvec3(ray.height, ray.visibility, 1.0), 1.0, polygon_height);
+        const glm::dvec2 d = (hit.uv - exact.uv) * size;
+        errors.push_back(glm::length(d - glm::floor(d / size + 0.5) * size));  // modulo the tile, as compare_surfaces
+    }
+    return errors;
+}
+
 namespace {
 
 // Every (technique, samples) the options ask for, checked.
@@ -217,8 +238,28 @@ struct AngleContext {
     double angle = 0.0;
     reference::ReferenceImage truth;
     HeightField field;
+    double input_floor_p95 = 0.0;  // reference::fp32_input_floor's p95 over the covered pixels
     std::unique_ptr<Renderer> normal;  // null when untimed
 };
+
+// The setting's own_ray_errors p95: NaN where it cannot be read (no float
+// read-back, a technique that traces nothing).
+Result<double> own_ray_error_p95(const BenchOptions& options, const AngleContext& at, const Setting& setting,
+                                 const SceneDesc& scene, const RenderTarget& target, const SurfaceImage& hits) {
+    constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
+    if (setting.technique == kDisplacedMesh) return kNotMeasured;
+    if (!(technique_info(*parse_technique(setting.technique)).options & kOptHeight)) return kNotMeasured;
+    RendererOptions capturing = options.renderer;
+    capturing.capture_ray = true;
+    Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene, capturing);
+    if (!renderer) return with_context(setting.technique + " (capturing rays)", renderer.error());
+    if (!captures_floats((*renderer)->caps())) return kNotMeasured;
+    Result<SurfaceImage> rays = capture_surfaces(**renderer, target.width, target.height);
+    if (!rays) return with_context(setting.technique + " (capturing rays)", rays.error());
+    Result<std::vector<double>> errors = own_ray_errors(at.field, hits, *rays, at.truth.polygon_height);
+    if (!errors) return errors.error();
+    return reference::nearest_rank_p95(std::move(*errors));
+}
 
 // What one setting measures at one scene and angle, as a row.
 Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext& at, const Setting& setting,
@@ -276,6 +317,10 @@ Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext
     row.uv_error_p95 = error->uv_error_p95;
     row.uv_error_max = error->uv_error_max;
     row.level_error_p95 = level->level_error_p95;
+    row.input_floor_p95 = at.input_floor_p95;
+    Result<double> own = own_ray_error_p95(options, at, setting, scene, target, *surfaces);
+    if (!own) return own.error();
+    row.own_ray_error_p95 = *own;
     row.wrong_surface_share = error->wrong_surface_share;
     row.depth_error_mean = error->depth_error_mean;
     row.depth_error_max = error->depth_error_max;
@@ -339,6 +384,14 @@ Status prepare_angle(const BenchOptions& options, SceneDesc base, const std::str
     Result<MaterialImages> images = build_material_images(at.base.materials[0], at.base.base_dir);
     if (!images) return images.error();
     at.field = images->traced;
+    // What an fp32 tracer cannot be asked to beat: how far the exact hit
+    // moves for one float ulp of its inputs, per covered pixel.
+    std::vector<double> floors;
+    for (size_t i = 0; i < at.truth.surface.samples.size(); ++i)
+        if (at.truth.surface.samples[i].covered)
+            floors.push_back(reference::fp32_input_floor(at.field, at.truth.entry_uv[i], at.truth.view_ts[i],
+                                                         at.truth.height_scale, at.truth.polygon_height));
+    at.input_floor_p95 = reference::nearest_rank_p95(std::move(floors));
     at.normal.reset();
     if (!options.timed) return {};
     SceneDesc normal_scene = at.base;

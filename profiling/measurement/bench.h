@@ -7,9 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "parallaxes/assets/heightfield.h"
 #include "parallaxes/assets/image.h"
 #include "parallaxes/profiling/reports/bench_results.h"
 #include "parallaxes/core/result.h"
+#include "parallaxes/core/surface_image.h"
 #include "parallaxes/render/renderer.h"
 #include "parallaxes/render/target.h"
 #include "parallaxes/scene/scene.h"
@@ -33,6 +35,16 @@ ShadowMode bench_scene_shadow(const std::string& name);
 // technique reset): how `parallax plan --calibrate` measures a relief.
 Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& material, const std::string& base_dir,
                                  double angle_deg, int segments = 64, double light_elevation_deg = 35.0);
+
+// The trace's error on the ray it was handed: each pixel's hit (`hits`,
+// capture_surfaces of the technique) against the exact reference of that
+// pixel's own fp32 uv and parallax vector (`rays`, capture_surfaces of the
+// same scene drawn with RendererOptions::capture_ray), in texels of `field`
+// modulo the tile, over pixels covered in both: without what rasterised
+// inputs add (compare against render_reference for that). Errors: images
+// of different sizes.
+Result<std::vector<double>> own_ray_errors(const HeightField& field, const SurfaceImage& hits, const SurfaceImage& rays,
+                                           double polygon_height);
 
 // A material to bench beside the built-in bench scenes.
 struct BenchMaterial {

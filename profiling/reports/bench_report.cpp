@@ -88,9 +88,11 @@ struct Measure {
 };
 
 // The floating-point fields after scene, angle_deg, technique, samples, pixels.
-constexpr std::array<Measure, 18> kMeasures{{
+constexpr std::array<Measure, 20> kMeasures{{
     {"uv_error_mean", &BenchRow::uv_error_mean},
     {"uv_error_p95", &BenchRow::uv_error_p95},
+    {"input_floor_p95", &BenchRow::input_floor_p95},
+    {"own_ray_error_p95", &BenchRow::own_ray_error_p95},
     {"uv_error_max", &BenchRow::uv_error_max},
     {"wrong_surface_share", &BenchRow::wrong_surface_share},
     {"depth_error_mean", &BenchRow::depth_error_mean},
@@ -1156,10 +1158,14 @@ std::string work_section(const BenchRun& run) {
     out += "Loop iterations and texture fetches per drawn pixel, counted by the shader itself (`PX_COUNT_WORK`); "
            "the histogram gives the share of pixels with 0-1, 2-3, 4-7, ... iterations. Pixels shaded together in "
            "SIMD lanes (on a GPU, and on llvmpipe) run as long as the slowest of them, so the tail costs more "
-           "than its share.\n\n";
-    out += "| scene | angle | technique | hit error p95 (texels) | iterations p50 / p90 / p99 / max | fetches p50 | "
+           "than its share. The *fp32 floor* is how far the exact hit moves, p95 over the same pixels, when the "
+           "ray's uv moves by one float ulp or its view vector turns by 2^-24 (`reference::fp32_input_floor`): "
+           "a tracer fed 32-bit varyings cannot be held below it. *Own ray* is the hit error against the exact "
+           "reference of the ray each pixel's trace was handed (its fp32 uv and parallax vector, read back): the "
+           "trace's error alone (– where not read: ES 2.0 has no float read-back).\n\n";
+    out += "| scene | angle | technique | hit error p95 (texels) | fp32 floor p95 | own ray p95 | iterations p50 / p90 / p99 / max | fetches p50 | "
            "histogram (0-1, 2-3, 4-7, ...) | ratio to normal |\n";
-    out += "| --- | ---: | --- | ---: | --- | ---: | --- | ---: |\n";
+    out += "| --- | ---: | --- | ---: | ---: | ---: | --- | ---: | --- | ---: |\n";
     for (const BenchRow* r : counted) {
         std::size_t total = 0;
         for (std::size_t n : r->iteration_histogram) total += n;
@@ -1171,7 +1177,8 @@ std::string work_section(const BenchRun& run) {
             histogram += (i ? " " : "") + human_fixed(share, 0) + "%";
         }
         out += "| " + md_text(r->scene) + " | " + human_fixed(r->angle_deg, 0) + "° | " + md_text(r->technique) + " | " +
-               human_sig(r->uv_error_p95) + " | " + human_fixed(r->iterations_median, 0) + " / " + human_fixed(r->iterations_p90, 0) + " / " +
+               human_sig(r->uv_error_p95) + " | " + human_sig(r->input_floor_p95) + " | " +
+               (std::isnan(r->own_ray_error_p95) ? std::string("–") : human_sig(r->own_ray_error_p95)) + " | " + human_fixed(r->iterations_median, 0) + " / " + human_fixed(r->iterations_p90, 0) + " / " +
                human_fixed(r->iterations_p99, 0) + " / " + human_fixed(r->iterations_max, 0) + " | " +
                human_fixed(r->fetches_median, 0) + " | " + histogram + " | " + ratio_text(r->ratio_to_normal) + " |\n";
     }

@@ -2,6 +2,7 @@
 // scene, view angle, technique and sample setting.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,16 @@ struct BenchRow {
     double uv_error_p95 = 0.0;
     double uv_error_max = 0.0;
     double level_error_p95 = 0.0;  // the same in texels of the level sampled (divided by texels per pixel where > 1)
+    // p95 over the same pixels of how far the exact hit moves for one fp32
+    // ulp of the ray's inputs (reference::fp32_input_floor): the error an
+    // fp32 tracer reading a rounded uv and view vector cannot be held below.
+    double input_floor_p95 = 0.0;
+    // p95 of the hit error against the exact reference of the ray each
+    // pixel's trace was handed (its own fp32 uv and parallax vector, read
+    // back): the tracer's error alone. NaN where not measured (a technique
+    // that traces nothing, or no float read-back: ES 2.0): empty in the
+    // CSV, null in the JSON.
+    double own_ray_error_p95 = std::numeric_limits<double>::quiet_NaN();
     double wrong_surface_share = 0.0;
     double depth_error_mean = 0.0;
     double depth_error_max = 0.0;

@@ -205,7 +205,21 @@ void main() {
     // into [0, 1) for the packed passes (exact: a power of two).
     shown.uv = px_work / 65536.0;
 #endif
+#ifdef PX_CAPTURE_RAY
+    // The view ray this fragment was handed (its uv, and the parallax vector
+    // as PX_EXACT_VIEW's exact trace computes it: maxmip.frag's px_trace),
+    // in place of the hit, in highp throughout (PxHit.height and
+    // `visibility` are mediump); -1 in the last channel would read as
+    // "nothing drawn" (surface_capture.cpp).
+    PX_HIGHP vec2 captured = view_ts.xy / max(view_ts.z, 1e-30);
+    if (captured.y == -1.0) captured.y = -1.0000001;
+    // Never true (heights and visibilities are >= 0): keeps the trace and
+    // its uniforms alive, as the program interface expects.
+    if (shown.height < -1.0 || visibility < -1.0) captured = vec2(0.0);
+    PX_FRAG_COLOR = px_debug_output(uv, captured.x, captured.y);
+#else
     PX_FRAG_COLOR = px_debug_output(shown.uv, shown.height, visibility);
+#endif
 #else
     PX_FRAG_COLOR = vec4(color, 1.0);
 #endif

@@ -39,6 +39,7 @@ VariantKey VariantKey::canonical() const {
     if (!has_option(k.technique, kOptHeight)) k.bounded = false;
     if (k.debug_output == 0 || !(has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps)))
         k.count_work = false;
+    if (k.debug_output != 1 || k.count_work || !has_option(k.technique, kOptHeight)) k.capture_ray = false;
     if (k.technique != Technique::offset_limited || k.ladder_step > kLadderSteps) k.ladder_step = 0;
     // The ladder's shaders have their own view vector (each step decides
     // where it is normalised) and the whitepaper's layouts only.
@@ -74,6 +75,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.flip_v & 0x7) << 54;       // 3 bits
     b |= static_cast<std::uint64_t>(k.count_work) << 57;
     b |= static_cast<std::uint64_t>(k.bounded) << 58;
+    b |= static_cast<std::uint64_t>(k.capture_ray) << 59;
     return b;
 }
 
@@ -101,6 +103,7 @@ std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
     k.flip_v = static_cast<std::uint8_t>((b >> 54) & 0x7);
     k.count_work = (b >> 57) & 1;
     k.bounded = (b >> 58) & 1;
+    k.capture_ray = (b >> 59) & 1;
     if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
     return k;
 }
@@ -128,6 +131,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.lod) d.push_back({"PX_LOD", ""});
     if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
     if (k.count_work) d.push_back({"PX_COUNT_WORK", ""});
+    if (k.capture_ray) d.push_back({"PX_CAPTURE_RAY", ""});
     if (k.bounded) d.push_back({"PX_BOUNDED", ""});
     if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
     if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
@@ -161,6 +165,7 @@ std::string VariantKey::describe() const {
     if (k.height_11bit) s << " height-11bit";
     if (k.debug_output) s << " debug" << int(k.debug_output);
     if (k.count_work) s << " count-work";
+    if (k.capture_ray) s << " capture-ray";
     if (k.bounded) s << " bounded";
     if (k.no_fragment_highp) s << " no-fragment-highp";
     if (k.ladder_step) s << " ladder" << int(k.ladder_step);
@@ -208,6 +213,7 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
         else if (word.rfind("debug", 0) == 0 && number(word.substr(5), 4, n) && n >= 1) k.debug_output = static_cast<std::uint8_t>(n);
         else if (word == "no-fragment-highp") k.no_fragment_highp = true;
         else if (word == "count-work") k.count_work = true;
+        else if (word == "capture-ray") k.capture_ray = true;
         else if (word == "bounded") k.bounded = true;
         else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
         else if (word == "flip-normal") k.flip_v |= kFlipNormal;
@@ -330,6 +336,11 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             k.no_fragment_highp = false;
             k.count_work = true;
             if (es_major >= 3 || debug >= 2) add(k);
+            // The traced ray in place of the hit (canonical() keeps it for the float target only).
+            k.count_work = false;
+            k.capture_ray = true;
+            if (es_major >= 3 && debug == 1) add(k);
+            k.capture_ray = false;
         }
         // Loop bounds at their extremes.
         if (info.options & (kOptSamples | kOptSteps)) {

@@ -58,6 +58,12 @@ struct VariantKey {
     // per pixel in place of the hit uv (PX_COUNT_WORK,
     // profiling/measurement/work.h). Searching techniques only.
     bool count_work = false;
+    // With the float debug output (1), the ray the trace was handed in
+    // place of its hit: (uv, parallax.x, parallax.y), parallax the uv shift
+    // per unit of normalised height as the trace computes it (PX_CAPTURE_RAY;
+    // profiling/measurement/bench.cpp measures the trace against the exact
+    // reference of that same ray). Height-reading techniques only.
+    bool capture_ray = false;
     // PX_BOUNDED: the material is a bounded relief (MaterialDesc::bounded);
     // a traced hit outside its mesh uv [0, 1]^2 is discarded. Traced
     // techniques only; set from the material, as the texture layout is.

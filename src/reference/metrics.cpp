@@ -26,6 +26,8 @@ double p95(std::vector<double>& errors) {
 
 }  // namespace
 
+double nearest_rank_p95(std::vector<double> values) { return values.empty() ? 0.0 : p95(values); }
+
 Result<ContourError> compare_contours(const SurfaceImage& measured, const SurfaceImage& truth) {
     if (measured.width != truth.width || measured.height != truth.height ||
         measured.samples.size() != truth.samples.size() ||

@@ -26,6 +26,10 @@ struct ErrorMetrics {
     double color_psnr_db = 0.0;     // over covered pixels; +inf shown as 99
 };
 
+// The nearest-rank 95th percentile of `values` (the smallest value at least
+// 95 % of them reach), as every p95 here; 0 when there are none.
+double nearest_rank_p95(std::vector<double> values);
+
 // Compares `measured` with `truth` over pixels covered in both. uv errors
 // are measured modulo the tile (the shorter way round) and scaled by the
 // texture size in texels. Errors: different image sizes.

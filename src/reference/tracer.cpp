@@ -261,6 +261,29 @@ ReliefHit trace_view(const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts
     return out;
 }
 
+double fp32_input_floor(const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts, double height_scale,
+                        double polygon_height) {
+    const ReliefHit at = trace_view(field, uv, view_ts, height_scale, polygon_height);
+    auto ulp = [](double x) {
+        const float f = std::fabs(static_cast<float>(x));
+        return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity()) - f);
+    };
+    const double view_step = std::ldexp(glm::length(view_ts), -24);
+    const glm::dvec2 size(field.width, field.height);
+    double floor = 0.0;
+    for (int axis = 0; axis < 2; ++axis)
+        for (double sign : {-1.0, 1.0}) {
+            glm::dvec2 moved_uv = uv;
+            moved_uv[axis] += sign * ulp(uv[axis]);
+            glm::dvec3 turned = view_ts;
+            turned[axis] += sign * view_step;
+            for (const ReliefHit& h : {trace_view(field, moved_uv, view_ts, height_scale, polygon_height),
+                                       trace_view(field, uv, turned, height_scale, polygon_height)})
+                floor = std::max(floor, glm::length((h.uv - at.uv) * size));
+        }
+    return floor;
+}
+
 double hard_visibility(const HeightField& field, glm::dvec2 uv, double height, glm::dvec3 light_ts,
                        double height_scale) {
     if (!(light_ts.z > 0.0)) return 0.0;  // below the geometric horizon

@@ -57,6 +57,18 @@ struct ReliefHit {
 ReliefHit trace_view(const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts, double height_scale,
                      double polygon_height);
 
+// How far, in texels, the exact hit of this view ray moves when its inputs
+// move by one unit in the last place of 32-bit floats: the uv by one float
+// ulp along u and along v, the view vector by 2^-24 (relative) along its
+// two tangent components, each both ways; the largest of the eight. A
+// tracer running in fp32 reads a uv and a view vector at least that far off
+// (rasterised varyings, a per-vertex view), so its hit error cannot be
+// expected below this floor: at grazing angles, where the ray runs along a
+// ridge, the exact hit moves hundreds of texels per texel of sideways
+// shift (docs/exact_tracing.md).
+double fp32_input_floor(const HeightField& field, glm::dvec2 uv, glm::dvec3 view_ts, double height_scale,
+                        double polygon_height);
+
 // Light visibility at a point on the relief (uv, normalised height) for a
 // light in unit texture-frame direction `light_ts` (toward the light):
 // hard: 1 if the ray toward the light leaves the relief's top unblocked, else

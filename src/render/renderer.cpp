@@ -529,6 +529,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
     if (options.emulate_no_texture_npot && r->caps_.es_major < 3) r->caps_.extensions.erase("GL_OES_texture_npot");
     r->shader_transform_ = options.shader_transform;
     r->count_work_ = options.count_work;
+    r->capture_ray_ = options.capture_ray;
     r->variant_transform_ = options.variant_transform;
     r->force_texture_decode_ = options.force_texture_decode;
     r->planner_options_ = options.planner;
@@ -910,6 +911,7 @@ Status Renderer::draw_checked(const HostFrame& frame) {
         VariantKey key = object.plan.key;
         key.debug_output = debug;
         key.count_work = count_work_ && debug != 0;
+        key.capture_ray = capture_ray_ && debug == 1;
         const glm::mat4 model = frame.models.empty() ? object.desc->transform.matrix() : frame.models[i];
         Status s = draw_object(*scene_, object, model, key, object.plan.options, values);
         if (!s) return s;

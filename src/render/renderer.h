@@ -59,6 +59,12 @@ struct RendererOptions {
     // each pixel's loop iterations and texture fetches in place of the hit
     // uv (VariantKey::count_work; profiling/measurement/work.h reads them).
     bool count_work = false;
+    // Float debug draws (debug output 1, ES 3.0) of height-reading techniques
+    // show the ray each pixel's trace was handed instead of its hit
+    // (VariantKey::capture_ray): SurfaceSample uv = the fragment's uv,
+    // height and visibility = the parallax vector (uv shift per unit of
+    // normalised height). What the bench's "own ray" error is measured from.
+    bool capture_ray = false;
     // The effect planner, for scenes whose materials declare effects:
     // px::effect_planner (parallaxes/planner/planner.h, ParallaxES::planner).
     // Null (the default): materials must name their technique, and a scene
@@ -259,6 +265,7 @@ private:
     Caps caps_;
     ShaderTransform shader_transform_;
     bool count_work_ = false;
+    bool capture_ray_ = false;
     std::function<VariantKey(const VariantKey&)> variant_transform_;
     PlannerOptions planner_options_;
     EffectPlannerFactory effect_planner_ = nullptr;

@@ -29,12 +29,14 @@ double unpack(const std::uint8_t* p, int bytes, double levels) {
 
 }  // namespace
 
+bool captures_floats(const Caps& caps) { return caps.context_es3() && caps.has("GL_EXT_color_buffer_float"); }
+
 Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height) {
     if (width < 1 || height < 1) return make_error("capture_surfaces: empty size");
     const Caps& caps = renderer.caps();
     // The context's own version decides: an ES 3.0 context drawing ES 2.0
     // variants (RendererOptions::emulate_es2) still reads them back as floats.
-    const bool float_color = caps.context_es3() && caps.has("GL_EXT_color_buffer_float");
+    const bool float_color = captures_floats(caps);
     SavedGlState saved(caps);
 
     Result<ColorDepthFramebuffer> target =

@@ -14,6 +14,11 @@
 
 namespace px {
 
+// Whether capture_surfaces reads this context back through a float target
+// (ES 3.0 with GL_EXT_color_buffer_float: debug output 1, full fp32, and
+// RendererOptions::capture_ray), rather than the packed RGBA8 passes.
+bool captures_floats(const Caps& caps);
+
 // Needs a current context and a loaded scene; creates and deletes its own
 // framebuffer and restores the host's binding.
 Result<SurfaceImage> capture_surfaces(Renderer& renderer, int width, int height);

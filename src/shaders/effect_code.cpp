@@ -26,6 +26,7 @@ bool highp_view_varying(const VariantKey& k) { return k.exact_view || (k.ladder_
 bool mediump_view_varying(const VariantKey& k) { return !highp_view_varying(k); }
 bool debug_output(const VariantKey& k) { return k.debug_output != 0; }
 bool count_work(const VariantKey& k) { return k.count_work; }
+bool capture_ray(const VariantKey& k) { return k.capture_ray; }
 bool bounded(const VariantKey& k) { return k.bounded; }
 // GLSL ES 1.00 debug outputs: the 11-bit packing stays for the driver to pick
 // (GL_FRAGMENT_PRECISION_HIGH) unless the key rules highp out.
@@ -127,6 +128,8 @@ const std::vector<EffectMarker> kMarkers = {
     // surface_common.glsl: the work counter (VariantKey::count_work).
     {"work counts", "px_work", count_work},
     {"work counts", "PX_COUNT_WORK", count_work},
+    // surface_main.glsl: the traced ray in place of the hit (VariantKey::capture_ray).
+    {"ray capture", "PX_CAPTURE_RAY", capture_ray},
     // surface_main.glsl: a bounded relief's discard.
     {"bounded", "u_bounds_matrix", bounded},
     {"bounded", "PX_BOUNDED", bounded},
