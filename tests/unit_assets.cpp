@@ -708,5 +708,44 @@ TEST(HeightImage, AllColourChannelsHoldHeight) {
     EXPECT_NEAR(back.at(1, 0), 0.6, 0.5 / 255);
 }
 
+// The colour ramp: height 0 is `low`, 1 is `high`, linear between; the
+// defaults are height_image; grain varies texels of one height around the
+// ramp's colour (mean near it, never the same everywhere), deterministically.
+TEST(HeightRamp, MapsHeightToColourWithGrain) {
+    const HeightField f = make_field(2, 1, {0.0f, 0.5f});
+    HeightRamp ramp;
+    EXPECT_EQ(ramp_image(f, ramp).pixels, height_image(f).pixels);
+    ramp.low[0] = 0.2f;
+    ramp.high[0] = 0.6f;
+    ramp.low[1] = ramp.high[1] = 1.0f;
+    ramp.low[2] = 0.0f;
+    ramp.high[2] = 0.0f;
+    EXPECT_EQ(ramp_image(f, ramp).pixels, (std::vector<std::uint8_t>{51, 255, 0, 255, 102, 255, 0, 255}));
+
+    FieldSpec flat;
+    flat.kind = FieldKind::flat;
+    flat.size = 64;
+    flat.level = 1.0f;
+    const HeightField level = *make_height_field(flat);
+    HeightRamp grainy;
+    grainy.high[0] = grainy.high[1] = grainy.high[2] = 0.5f;
+    grainy.grain = 0.3f;
+    const Image a = ramp_image(level, grainy);
+    EXPECT_EQ(a.pixels, ramp_image(level, grainy).pixels);
+    double sum = 0.0;
+    int lo = 255, hi = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const int r = a.texel(x, y)[0];
+            sum += r;
+            lo = std::min(lo, r);
+            hi = std::max(hi, r);
+            EXPECT_GE(r, 127 - 39);  // 0.5 * (1 - 0.3) in bytes, rounded
+            EXPECT_LE(r, 128 + 39);
+        }
+    EXPECT_NEAR(sum / (64.0 * 64.0), 127.5, 8.0);
+    EXPECT_GT(hi - lo, 20);
+}
+
 }  // namespace
 }  // namespace px

@@ -434,6 +434,23 @@ TEST(SceneErrors, MaterialRanges) {
     EXPECT_TRUE(contains(parse_error(material_doc(R"("uv": {"scale": 0})")), "materials[0].uv.scale"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("albedo": {"color": [1.5, 0, 0]})")),
                          "materials[0].albedo.color: components must be within [0, 1]"));
+    // A procedural albedo's colour ramp, in range, and on an albedo only.
+    {
+        const SceneDesc s = parse_ok(material_doc(
+            R"("albedo": {"procedural": "bricks", "low": [0.5, 0.5, 0.45], "high": [0.6, 0.3, 0.2], "grain": 0.2})"));
+        ASSERT_EQ(s.materials.size(), 1u);
+        EXPECT_EQ(s.materials[0].albedo.low, glm::vec3(0.5f, 0.5f, 0.45f));
+        EXPECT_EQ(s.materials[0].albedo.high, glm::vec3(0.6f, 0.3f, 0.2f));
+        EXPECT_FLOAT_EQ(s.materials[0].albedo.grain, 0.2f);
+    }
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("albedo": {"procedural": "bricks", "high": [1.2, 0, 0]})")),
+                         "materials[0].albedo.high: components must be within [0, 1]"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("albedo": {"procedural": "bricks", "grain": -0.1})")),
+                         "materials[0].albedo.grain: must be within [0, 1]"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"procedural": "bricks", "low": [0.5, 0.5, 0.5]})")),
+                         "materials[0].height: low, high and grain colour a procedural albedo"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("albedo": {"color": [0.5, 0.5, 0.5], "grain": 0.1})")),
+                         "materials[0].albedo"));
     // Non-power-of-two sizes are fine (resampled where a context needs it).
     EXPECT_TRUE(parse_scene(material_doc(R"("height": {"procedural": "bricks", "size": 300})"), kOrigin).ok());
     EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"procedural": "bricks", "size": 0})")),

@@ -454,6 +454,59 @@ Image derive_normal_map(const HeightField& field, float height_scale, bool pack_
     return img;
 }
 
+namespace {
+
+// A fixed integer hash of a texel (lowbias32 on the packed coordinates) in [-1, 1].
+double texel_noise(std::uint32_t x, std::uint32_t y) {
+    std::uint32_t h = x * 0x9E3779B1u ^ (y + 0x7F4A7C15u) * 0x85EBCA77u;
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    h *= 0x846CA68Bu;
+    h ^= h >> 16;
+    return static_cast<double>(h) / 2147483647.5 - 1.0;
+}
+
+// Value noise over `cell`-texel cells, wrapping with the field (smoothstep
+// blend of the corner hashes): blotches that tile as the texture does.
+double cell_noise(int x, int y, int width, int height, int cell) {
+    const int cx = std::max(1, width / cell), cy = std::max(1, height / cell);
+    const double fx = (x + 0.5) * cx / width, fy = (y + 0.5) * cy / height;
+    const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+    auto smooth = [](double t) { return t * t * (3.0 - 2.0 * t); };
+    const double sx = smooth(fx - x0), sy = smooth(fy - y0);
+    auto corner = [&](int i, int j) {
+        return texel_noise(static_cast<std::uint32_t>(((i % cx) + cx) % cx) + 0x10000u,
+                           static_cast<std::uint32_t>(((j % cy) + cy) % cy) + 0x20000u);
+    };
+    const double a = corner(x0, y0) + (corner(x0 + 1, y0) - corner(x0, y0)) * sx;
+    const double b = corner(x0, y0 + 1) + (corner(x0 + 1, y0 + 1) - corner(x0, y0 + 1)) * sx;
+    return a + (b - a) * sy;
+}
+
+}  // namespace
+
+Image ramp_image(const HeightField& field, const HeightRamp& ramp) {
+    Image img;
+    img.width = field.width;
+    img.height = field.height;
+    img.channels = 4;
+    img.pixels.resize(static_cast<size_t>(field.width) * field.height * 4);
+    for (int y = 0; y < field.height; ++y)
+        for (int x = 0; x < field.width; ++x) {
+            const double h = std::clamp(static_cast<double>(field.at(x, y)), 0.0, 1.0);
+            const double n = ramp.grain == 0.0f ? 0.0
+                                                : 0.5 * texel_noise(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)) +
+                                                      0.5 * cell_noise(x, y, field.width, field.height, 8);
+            const double shade = 1.0 + static_cast<double>(ramp.grain) * n;
+            std::uint8_t* p = img.texel(x, y);
+            for (int c = 0; c < 3; ++c)
+                p[c] = to_unorm8(std::clamp((ramp.low[c] + (ramp.high[c] - ramp.low[c]) * h) * shade, 0.0, 1.0));
+            p[3] = 255;
+        }
+    return img;
+}
+
 Image height_image(const HeightField& field) {
     Image img;
     img.width = field.width;

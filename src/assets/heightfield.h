@@ -92,4 +92,18 @@ HeightField quantized_8bit(const HeightField& field);
 // 255 (opaque, so the file views as a grey image).
 Image height_image(const HeightField& field);
 
+// A colour that follows the relief: each texel's height mapped linearly from
+// `low` (height 0: mortar, the ground under lettering) to `high` (height 1),
+// times 1 + grain * n, with n a fixed noise in [-1, 1] (a hash of the texel
+// blended with a smooth noise over 8-texel cells: speckle and blotches), so
+// one procedural spec gives a surface its colour and, in the height slot,
+// its relief. Channels clamp to [0, 1]. low 0, high 1, grain 0 is
+// height_image. Colours in [0, 1], grain in [0, 1] (scene validation).
+struct HeightRamp {
+    float low[3] = {0.0f, 0.0f, 0.0f};
+    float high[3] = {1.0f, 1.0f, 1.0f};
+    float grain = 0.0f;
+};
+Image ramp_image(const HeightField& field, const HeightRamp& ramp);
+
 }  // namespace px

@@ -414,10 +414,16 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
             break;
         }
         case TextureSource::Kind::procedural: {
-            // A procedural albedo: the field as grey levels.
+            // A procedural albedo: the field through its colour ramp (grey by default).
             Result<HeightField> f = make_height_field(m.albedo.field);
             if (!f) return with_context(where + " albedo", f.error());
-            out.albedo = height_image(*f);
+            HeightRamp ramp;
+            for (int c = 0; c < 3; ++c) {
+                ramp.low[c] = m.albedo.low[c];
+                ramp.high[c] = m.albedo.high[c];
+            }
+            ramp.grain = m.albedo.grain;
+            out.albedo = ramp_image(*f, ramp);
             break;
         }
     }

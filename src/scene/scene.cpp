@@ -78,7 +78,7 @@ void check_name(Checker& c, const std::string& name, const std::string& path, st
 }
 
 
-void check_source(Checker& c, const TextureSource& s, const std::string& path) {
+void check_source(Checker& c, const TextureSource& s, const std::string& path, bool albedo_slot) {
     switch (s.kind) {
         case TextureSource::Kind::none: return;
         case TextureSource::Kind::file:
@@ -89,6 +89,16 @@ void check_source(Checker& c, const TextureSource& s, const std::string& path) {
                       "components must be within [0, 1], got " + num(s.color));
             return;
         case TextureSource::Kind::procedural: {
+            if (albedo_slot) {
+                c.require(within(s.low, 0.0f, 1.0f), path + ".low", "components must be within [0, 1], got " + num(s.low));
+                c.require(within(s.high, 0.0f, 1.0f), path + ".high",
+                          "components must be within [0, 1], got " + num(s.high));
+                c.require(s.grain >= 0.0f && s.grain <= 1.0f, path + ".grain",
+                          "must be within [0, 1], got " + num(s.grain));
+            } else {
+                const bool coloured = s.low != glm::vec3(0.0f) || s.high != glm::vec3(1.0f) || s.grain != 0.0f;
+                c.require(!coloured, path, "low, high and grain colour a procedural albedo; a height or normal map has no colour");
+            }
             // Any size: where a context or technique needs a power of two
             // (ES 2.0 without GL_OES_texture_npot, maxmip's pyramid), the
             // load resamples and says so (scene/material_images.h).
@@ -168,9 +178,9 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
     // highlight is a single pixel and pow's result underflows.
     c.require(m.shininess >= 1.0f && m.shininess <= 1024.0f, path + ".shininess",
               "must be within [1, 1024], got " + num(m.shininess));
-    check_source(c, m.albedo, path + ".albedo");
-    check_source(c, m.height, path + ".height");
-    check_source(c, m.normal, path + ".normal");
+    check_source(c, m.albedo, path + ".albedo", true);
+    check_source(c, m.height, path + ".height", false);
+    check_source(c, m.normal, path + ".normal", false);
     const Status options = validate_options(m.technique);
     c.require(options.ok(), path + ".options", options.ok() ? "" : options.error().message);
     if (m.effects) c.require(validate_effect_request(*m.effects, path + ".effects"));

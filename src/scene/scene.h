@@ -45,6 +45,12 @@ struct TextureSource {
     enum class Kind { none, file, procedural, color } kind = Kind::none;
     std::string path;                 // file (resolved against the scene file's folder)
     FieldSpec field;                  // procedural
+    // A procedural albedo's colour (ramp_image, assets/heightfield.h): the
+    // field's height 0 shown as `low`, 1 as `high`, grain its noise. The
+    // defaults show the field as grey. Albedo slots only (validation).
+    glm::vec3 low{0.0f};
+    glm::vec3 high{1.0f};
+    float grain = 0.0f;
     glm::vec3 color{0.8f};            // color
     HeightConvention convention = HeightConvention::height;  // file height maps
     // Which stored row of a texture container is the top of the image: as

@@ -419,6 +419,9 @@ void read_procedural_form(Fields& f, TextureSource& out) {
     f.read("line_width", out.field.line_width);
     f.read("radius", out.field.radius);
     f.read("text", out.field.text);
+    f.read("low", out.low);
+    f.read("high", out.high);
+    f.read("grain", out.grain);
 }
 
 void read_color_form(Fields& f, TextureSource& out) { f.read("color", out.color); }
