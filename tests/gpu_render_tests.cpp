@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "parallaxes/reference/reference_image.h"
+#include "parallaxes/render/offscreen_target.h"
 #include "parallaxes/render/surface_capture.h"
 
 namespace px::test {
@@ -61,6 +62,70 @@ PlaneScene bricks_scene() {
     p.field.size = 128;
     p.field.count = 4;
     return p;
+}
+
+// Multisampled offscreen targets: on ES 3.0 four samples change only the
+// pixels along the polygon's edges (a plane turned 30 degrees, so its edges
+// cross the pixel grid), each to a blend of what the single-sampled image
+// shows on either side; on ES 2.0 the target falls back to one sample and
+// says why.
+TEST(OffscreenTarget, MultisamplingBlendsOnlyTheEdges) {
+    SceneDesc scene = builtin_scene("bricks").value();
+    scene.objects[0].transform.rotate_deg = glm::vec3(0.0f, 0.0f, 30.0f);
+    scene.objects[0].transform.scale = glm::vec3(0.6f);
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok());
+    ASSERT_TRUE((*renderer)->load(scene).ok());
+    std::vector<Image> images;
+    for (int samples : {1, 4}) {
+        auto target = OffscreenTarget::create(96, 96, samples);
+        ASSERT_TRUE(target.ok()) << target.error().message;
+        if (samples == 4 && test_es_major() < 3) {
+            EXPECT_EQ(target->samples(), 1);
+            EXPECT_NE(target->sampling_note().find("no multisampled renderbuffers"), std::string::npos)
+                << target->sampling_note();
+            return;
+        }
+        EXPECT_EQ(target->samples(), samples);
+        EXPECT_TRUE(target->sampling_note().empty()) << target->sampling_note();
+        ASSERT_TRUE((*renderer)->draw(target->target()).ok());
+        auto image = target->read_pixels();
+        ASSERT_TRUE(image.ok()) << image.error().message;
+        images.push_back(std::move(*image));
+    }
+    const Image& one = images[0];
+    const Image& four = images[1];
+    auto background = [&](const Image& im, int x, int y) {
+        const std::uint8_t* p = im.texel(x, y);
+        const glm::vec3 b = scene.background * 255.0f;
+        return std::abs(p[0] - b.r) <= 1 && std::abs(p[1] - b.g) <= 1 && std::abs(p[2] - b.b) <= 1;
+    };
+    long edge_pixels = 0, changed = 0, changed_inside = 0;
+    for (int y = 1; y < 95; ++y)
+        for (int x = 1; x < 95; ++x) {
+            bool mixed = false;
+            for (int d = 0; d < 4; ++d) {
+                const int nx = x + (d == 0) - (d == 1), ny = y + (d == 2) - (d == 3);
+                mixed = mixed || background(one, nx, ny) != background(one, x, y);
+            }
+            edge_pixels += mixed;
+            const bool differs = std::memcmp(one.texel(x, y), four.texel(x, y), 3) != 0;
+            changed += differs;
+            if (differs && !mixed && !background(one, x, y)) {
+                // Inside the polygon samples at one position shade once: the same pixel.
+                bool near_edge = false;
+                for (int dy = -2; dy <= 2; ++dy)
+                    for (int dx = -2; dx <= 2; ++dx)
+                        near_edge = near_edge || (x + dx >= 0 && x + dx < 96 && y + dy >= 0 && y + dy < 96 &&
+                                                  background(one, x + dx, y + dy));
+                changed_inside += !near_edge;
+            }
+        }
+    EXPECT_GT(edge_pixels, 100);
+    // edge_pixels counts both sides of each crossing; the edge runs through
+    // about one of the two, and some it only grazes.
+    EXPECT_GT(changed, edge_pixels / 4);
+    EXPECT_EQ(changed_inside, 0);
 }
 
 TEST(Context, IsTheRequestedEsVersion) {

@@ -51,7 +51,12 @@ struct RenderArgs {
     std::string golden;            // compare the image with this golden (compare_command.h)
     GoldenOptions golden_options;  // its tolerance entry: the scene's name, this --es
     bool size_given = false;       // --size given; else --golden's size
+    int msaa = 0;                  // samples per pixel; 0: the default (4, or 1 with --golden)
 };
+
+// Multisampling by default (anti-aliased polygon edges where the context
+// offers it); goldens are single-sampled, as the golden tests draw them.
+int samples_per_pixel(const RenderArgs& a) { return a.msaa > 0 ? a.msaa : (a.golden.empty() ? 4 : 1); }
 
 // A built-in scene's name, or a scene file's stem: the default output's name
 // and the tolerance entry --golden reads.
@@ -309,7 +314,7 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
     Result<std::unique_ptr<Renderer>> renderer = Renderer::create(render_options(a, cache_dir));
     if (!renderer) return fail(renderer.error().message);
-    Result<OffscreenTarget> target = OffscreenTarget::create(width, height);
+    Result<OffscreenTarget> target = OffscreenTarget::create(width, height, samples_per_pixel(a));
     if (!target) return fail(target.error().message);
     // One preparation of the scene, for this context's texture rules.
     Result<std::shared_ptr<const PreparedScene>> prepared = prepare_scene(*scene, (*renderer)->prepare_options());
@@ -338,7 +343,9 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     std::printf("precision  fragment mediump float %s; highp float %s\n", bits(caps.fragment_mediump_float).c_str(),
                 bits(caps.fragment_highp_float).c_str());
     print_draws(a, **renderer, *run, width, height);
-    std::printf("image      %s (%dx%d)\n", output->c_str(), width, height);
+    std::printf("image      %s (%dx%d, %d sample%s per pixel%s%s)\n", output->c_str(), width, height, target->samples(),
+                target->samples() == 1 ? "" : "s", target->sampling_note().empty() ? "" : ": ",
+                target->sampling_note().c_str());
     print_timing(a, **renderer, *run, cache_dir);
     if (tolerance) compared = compare_with_golden(*image, *output, a.golden, *tolerance, a.golden_options);
     if (a.verify) return verify_plan(**renderer, *scene, width, height);
@@ -396,6 +403,10 @@ void add_render_command(CLI::App& app) {
                     "planning every frame");
     cmd->add_option("--calibration-cache", args->calibration_cache,
                     "Folder of `parallax plan --calibrate` results (default $XDG_CACHE_HOME/parallaxes/calibration; off: none)");
+    cmd->add_option("--msaa", args->msaa,
+                    "Samples per pixel, 1..64 (default 4, or 1 with --golden: goldens are single-sampled); "
+                    "a context that offers fewer gets what it has (OpenGL ES 2.0: 1), and the image line says so")
+        ->check(CLI::Range(1, 64));
     CLI::Option* golden = cmd->add_option(
         "--golden", args->golden,
         "Compare the image with this golden as `parallax compare` does (the tolerance file's entry: the scene's "

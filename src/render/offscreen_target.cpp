@@ -1,5 +1,6 @@
 #include "parallaxes/render/offscreen_target.h"
 
+#include <algorithm>
 #include <string>
 
 #include "parallaxes/gl/caps.h"
@@ -8,7 +9,9 @@
 
 namespace px {
 
-Result<OffscreenTarget> OffscreenTarget::create(int width, int height) {
+Result<OffscreenTarget> OffscreenTarget::create(int width, int height, int samples) {
+    if (samples < 1 || samples > 64)
+        return make_error("multisampling: " + std::to_string(samples) + " samples per pixel is outside 1..64");
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
     if (width < 1 || height < 1 || width > max_size || height > max_size)
@@ -22,6 +25,37 @@ Result<OffscreenTarget> OffscreenTarget::create(int width, int height) {
     t.height_ = height;
     t.buffers_ = std::move(*framebuffer);
     t.caps_ = caps;
+    if (samples == 1) return t;
+    if (!caps.context_es3()) {
+        t.sampling_note_ = std::to_string(samples) +
+                           " samples asked for; an OpenGL ES 2.0 context has no multisampled renderbuffers: 1 sample";
+        return t;
+    }
+    GLint max_samples = 0;
+    glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+    const int granted = std::max(1, std::min(samples, static_cast<int>(max_samples)));
+    if (granted < samples)
+        t.sampling_note_ = std::to_string(samples) + " samples asked for; this context offers at most " +
+                           std::to_string(max_samples) + ": " + std::to_string(granted);
+    if (granted == 1) return t;
+    SavedGlState saved(caps);
+    t.multisampled_color_ = make_renderbuffer();
+    glBindRenderbuffer(GL_RENDERBUFFER, t.multisampled_color_.get());
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, granted, GL_RGBA8, width, height);
+    t.multisampled_depth_ = make_renderbuffer();
+    glBindRenderbuffer(GL_RENDERBUFFER, t.multisampled_depth_.get());
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, granted, GL_DEPTH_COMPONENT24, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    t.multisampled_ = make_framebuffer();
+    glBindFramebuffer(GL_FRAMEBUFFER, t.multisampled_.get());
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.multisampled_color_.get());
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.multisampled_depth_.get());
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        return make_error("offscreen target: the " + std::to_string(granted) +
+                          "-sample framebuffer is incomplete: " + framebuffer_status_name(status));
+    if (Status s = check_gl("creating a multisampled offscreen target"); !s) return s.error();
+    t.samples_ = granted;
     return t;
 }
 
@@ -32,6 +66,15 @@ Result<Image> OffscreenTarget::read_pixels() const {
     image.channels = 4;
     image.pixels.resize(static_cast<size_t>(width_) * height_ * 4);
     SavedGlState saved(caps_);
+    if (multisampled_) {
+        // Resolve: every sample of a pixel averaged into the single-sampled
+        // target (a blit obeys the scissor test: off for it).
+        glDisable(GL_SCISSOR_TEST);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, multisampled_.get());
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, buffers_.framebuffer.get());
+        glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        if (Status s = check_gl("resolving the multisampled offscreen target"); !s) return s.error();
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, buffers_.framebuffer.get());
     set_pack_defaults(caps_);
     glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());

@@ -4,6 +4,8 @@
 // Needs a current context.
 #pragma once
 
+#include <string>
+
 #include "parallaxes/assets/image.h"
 #include "parallaxes/core/result.h"
 #include "parallaxes/core/caps.h"
@@ -16,17 +18,34 @@ class OffscreenTarget {
 public:
     // Errors: sizes out of range for the context, an incomplete framebuffer
     // (named by its status). Leaves the context's framebuffer binding as it was.
-    static Result<OffscreenTarget> create(int width, int height);
+    //
+    // `samples` > 1 asks for multisampling: draws go to multisampled colour
+    // and depth renderbuffers, resolved into the single-sampled target when
+    // read. Where the context offers fewer (OpenGL ES 2.0 has no
+    // multisampled renderbuffers; ES 3.0 has GL_MAX_SAMPLES, at least 4),
+    // it gets what there is, down to 1: samples() and sampling_note() say so.
+    static Result<OffscreenTarget> create(int width, int height, int samples = 1);
 
-    RenderTarget target() const { return RenderTarget{buffers_.framebuffer.get(), width_, height_}; }
+    RenderTarget target() const {
+        return RenderTarget{(multisampled_ ? multisampled_ : buffers_.framebuffer).get(), width_, height_};
+    }
     int width() const { return width_; }
     int height() const { return height_; }
-    // RGBA8, row 0 = bottom row (as GL reads it, and as Image stores it).
-    // Restores the framebuffer binding and GL_PACK_ALIGNMENT it changes.
+    int samples() const { return samples_; }
+    // Why samples() is fewer than asked for; empty when it is not.
+    const std::string& sampling_note() const { return sampling_note_; }
+    // RGBA8, row 0 = bottom row (as GL reads it, and as Image stores it);
+    // resolved first when multisampled. Restores the framebuffer bindings
+    // and GL_PACK_ALIGNMENT it changes.
     Result<Image> read_pixels() const;
 
 private:
     ColorDepthFramebuffer buffers_;
+    FramebufferHandle multisampled_;  // empty when single-sampled
+    RenderbufferHandle multisampled_color_;
+    RenderbufferHandle multisampled_depth_;
+    int samples_ = 1;
+    std::string sampling_note_;
     Caps caps_;
     int width_ = 0;
     int height_ = 0;
