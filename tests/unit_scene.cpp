@@ -569,11 +569,12 @@ TEST(BuiltinScenes, UnknownNameListsTheBuiltins) {
     Result<SceneDesc> s = builtin_scene("nope");
     ASSERT_FALSE(s.ok());
     EXPECT_TRUE(contains(s.error().message, "'nope'"));
-    EXPECT_TRUE(contains(s.error().message, "default, bricks, pit, shapes"));
+    EXPECT_TRUE(contains(s.error().message, "default, lettering, bricks, pit, shapes"));
 }
 
-TEST(BuiltinScenes, DefaultShowsParallaxAtALowAngle) {
-    Result<SceneDesc> s = builtin_scene("default");
+// The first default scene, kept as `lettering` (the texture bench's).
+TEST(BuiltinScenes, LetteringShowsParallaxAtALowAngle) {
+    Result<SceneDesc> s = builtin_scene("lettering");
     ASSERT_TRUE(s.ok());
     const float cam = camera_elevation_deg(s->camera);
     // Low enough that parallax shows, high enough that the lettering reads.
@@ -616,6 +617,35 @@ TEST(BuiltinScenes, DefaultShowsParallaxAtALowAngle) {
     }
     EXPECT_TRUE(bricks);
     EXPECT_TRUE(text);
+}
+
+// The default scene is a material study (issue 25): colour from the same
+// relief as the height, shadows that keep colour (a sky ambient, not near
+// black), specular, a bounded relief whose outline is drawn, soft shadows.
+TEST(BuiltinScenes, DefaultIsAMaterialStudy) {
+    Result<SceneDesc> s = builtin_scene("default");
+    ASSERT_TRUE(s.ok());
+    const float cam = camera_elevation_deg(s->camera);
+    EXPECT_GE(cam, 25.0f);
+    EXPECT_LE(cam, 50.0f);
+    EXPECT_GE(s->ambient.r + s->ambient.g + s->ambient.b, 0.9f);  // a sky, not 0.1
+    EXPECT_GT(s->ambient.b, s->ambient.r);                        // cool against a warm sun
+    ASSERT_EQ(s->lights.size(), 1u);
+    EXPECT_GT(s->lights[0].angular_radius_deg, 1.0f);  // a penumbra
+    bool bounded = false;
+    for (const MaterialDesc& m : s->materials) {
+        SCOPED_TRACE(m.name);
+        EXPECT_EQ(m.technique.shadow, ShadowMode::soft);
+        EXPECT_GT(m.specular, 0.0f);
+        // Albedo from the very field that is the relief, through a ramp.
+        ASSERT_EQ(m.albedo.kind, TextureSource::Kind::procedural);
+        EXPECT_EQ(m.albedo.field.kind, m.height.field.kind);
+        EXPECT_EQ(m.albedo.field.size, m.height.field.size);
+        EXPECT_EQ(m.albedo.field.text, m.height.field.text);
+        EXPECT_NE(m.albedo.low, m.albedo.high);
+        bounded = bounded || m.bounded;
+    }
+    EXPECT_TRUE(bounded);
 }
 
 TEST(BuiltinScenes, BricksAtFortyFiveDegreesWithoutShadows) {
@@ -760,7 +790,7 @@ TEST(SceneLoad, UnknownNameListsTheBuiltinScenes) {
     Result<SceneDesc> s = load_scene("no_such_scene");
     ASSERT_FALSE(s.ok());
     EXPECT_TRUE(contains(s.error().message, "unknown scene 'no_such_scene'"));
-    EXPECT_TRUE(contains(s.error().message, "default, bricks, pit, shapes"));
+    EXPECT_TRUE(contains(s.error().message, "default, lettering, bricks, pit, shapes"));
 }
 
 #ifdef PX_SOURCE_DIR

@@ -49,7 +49,7 @@ struct BenchArgs {
     std::string calibration_cache = "off";  // --showcase: plan with these calibrations
     std::string command;
     bool textures = false;      // the texture-format table instead of the sweep
-    std::string textures_scene; // --textures-scene: its scene (default: the default scene)
+    std::string textures_scene; // --textures-scene: its scene (default: the built-in lettering scene)
     std::string search_model;   // a folder of fit_*.json and judge_*.json scenes
     int es = 3;                 // the sweep's OpenGL ES version
 };
@@ -235,8 +235,8 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
                     "With --showcase: plan with the calibrations in this folder (default off: the generic table)");
     cmd->add_flag("--textures", args->textures,
                   "Texture formats: bytes, frame time and the hit error of each height-map format, per asset variant, "
-                  "on the default scene (or --textures-scene); writes OUT/textures.md");
-    cmd->add_option("--textures-scene", args->textures_scene, "With --textures: the scene (file or built-in name)");
+                  "on the built-in lettering scene (or --textures-scene); writes OUT/textures.md");
+    cmd->add_option("--textures-scene", args->textures_scene, "With --textures: the scene (file or built-in name; default lettering)");
     cmd->add_option("--search-model", args->search_model,
                     "The planner's search model against the GPU: every fit_*.json and judge_*.json scene of this folder "
                     "(examples/scenes/relief_family) benched and simulated; writes OUT/search_model.md, .csv, .svg");

@@ -145,7 +145,7 @@ std::string textures_markdown(const SceneDesc& scene, const std::vector<VariantR
 
 int run_texture_bench(const std::string& scene_name, int width, int height, int frames, const std::string& out,
                       const std::string& command) {
-    Result<SceneDesc> loaded = load_scene(scene_name.empty() ? "default" : scene_name);
+    Result<SceneDesc> loaded = load_scene(scene_name.empty() ? "lettering" : scene_name);
     if (!loaded) return fail(loaded.error().message);
     Result<DrawSurface> surface = make_draw_surface(width, height);
     if (!surface) return fail(surface.error().message);
