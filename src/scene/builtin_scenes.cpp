@@ -150,7 +150,7 @@ TextureSource ramp(const FieldSpec& f, glm::vec3 low, glm::vec3 high, float grai
 SceneDesc default_scene() {
     SceneDesc s;
     s.name = "default";
-    s.camera = orbit({0.0f, 0.45f, 0.0f}, 3.4f, -90.0f, 36.0f);
+    s.camera = orbit({0.0f, 0.2f, 0.0f}, 2.9f, -90.0f, 36.0f);
     s.camera.fov_y_deg = 42.0f;
     s.ambient = glm::vec3(0.36f, 0.39f, 0.45f);  // sky: shadowed brick stays brick-coloured
     s.background = {0.62f, 0.69f, 0.78f};
@@ -161,7 +161,7 @@ SceneDesc default_scene() {
     TechniqueOptions pom = technique(Technique::pom, ShadowMode::soft, 32);
     pom.depth_write = true;
     FieldSpec bricks = field(FieldKind::bricks);
-    MaterialDesc pavement = material("pavement", kBrickRed, bricks, 0.05f, pom, glm::vec2(14.0f));
+    MaterialDesc pavement = material("pavement", kBrickRed, bricks, 0.05f, pom, glm::vec2(28.0f));
     pavement.albedo = ramp(bricks, {0.52f, 0.50f, 0.47f}, {0.60f, 0.33f, 0.25f}, 0.22f);
     pavement.specular = 0.12f;
     pavement.shininess = 20.0f;
@@ -178,7 +178,7 @@ SceneDesc default_scene() {
     panel.uv.offset = {0.0f, 0.4f};
 
     s.materials = {pavement, panel};
-    ObjectDesc ground = object("pavement", plane(6.0f), "pavement", {0.0f, 1.6f, -0.002f});
+    ObjectDesc ground = object("pavement", plane(12.0f), "pavement", {0.0f, 4.0f, -0.002f});
     // The panel's ground (the glyphs' height 0) lies on the pavement's
     // bricks; its polygon is at the glyphs' tops, 0.025 of its 2.2-unit tile.
     ObjectDesc plaque = object("panel", plane(2.2f), "brass lettering", {0.0f, -0.35f, 0.025f * 2.2f});
