@@ -38,7 +38,7 @@ printf '{"objects": [{"mesh": {"type": "plane"}}], "materials": [{"name": "defau
 printf '{"objects": [{"mesh": {"type": "plane"}, "material": "m"}], "materials": [{"name": "m", "albedo": "missing.png"}]}\n' >"$work/texture.json"
 
 expect_error "missing scene file" "$work/nope.json" render "$work/nope.json" -o "$work/out.png"
-expect_error "unknown built-in scene" "default, bricks" render no_such_scene -o "$work/out.png"
+expect_error "unknown built-in scene" "default, lettering, bricks" render no_such_scene -o "$work/out.png"
 expect_error "malformed JSON gives line and column" "malformed.json:3:" render "$work/malformed.json" -o "$work/out.png"
 expect_error "unknown technique in a scene" "unknown technique 'pomm'" render "$work/technique.json" -o "$work/out.png"
 expect_error "unknown field, with a suggestion" "hieght_scale" render "$work/field.json" -o "$work/out.png"

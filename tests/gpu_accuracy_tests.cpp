@@ -641,6 +641,38 @@ TEST(Work, TheExactWalkCountsItsIterations) {
 namespace px::test {
 namespace {
 
+// Every technique that reads height hands its ray back (the bench's own-ray
+// column measures each): the program links (the trace and its uniforms stay
+// live behind the captured ray), and the parallax vector read back is the
+// view's (uv shift per unit height: toward the camera on -y, height_scale
+// * tan(60 degrees) long at the image centre).
+TEST(ExactTracing, EveryTracedTechniqueHandsBackItsRay) {
+    if (test_es_major() < 3) GTEST_SKIP() << "ES 2.0 has no float read-back for the captured rays";
+    auto scene = profiling::bench_scene("sine", 60.0);
+    ASSERT_TRUE(scene.ok());
+    for (const TechniqueInfo& info : technique_table()) {
+        if (!(info.options & kOptHeight)) continue;
+        SCOPED_TRACE(info.name);
+        scene->materials[0].technique.technique = info.id;
+        RendererOptions options;
+        options.get_proc_address = platform::HeadlessContext::proc_loader();
+        options.effect_planner = effect_planner;
+        options.capture_ray = true;
+        auto renderer = Renderer::create(options);
+        ASSERT_TRUE(renderer.ok());
+        Status loaded = (*renderer)->load(*scene);
+        ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+        auto rays = capture_surfaces(**renderer, 32, 32);
+        ASSERT_TRUE(rays.ok()) << rays.error().message;
+        const SurfaceSample& centre = rays->at(16, 16);
+        ASSERT_TRUE(centre.covered);
+        // parallax.x: the camera looks along +y (pixel 16 is half a pixel off
+        // the centre); parallax.y toward the camera, on -v.
+        EXPECT_NEAR(centre.height, 0.0, 0.005);
+        EXPECT_NEAR(centre.visibility, -0.08 * std::tan(glm::radians(60.0)), 0.01);
+    }
+}
+
 // The exact walk against the exact reference of the ray each pixel handed it
 // (its fp32 uv and parallax vector, read back with capture_ray): at 89
 // degrees on the one-texel lines and on sine, within the 2e-3 texel

@@ -72,8 +72,10 @@ CachedRender render_cached(const SceneDesc& scene, MemoryStore& store) {
     return out;
 }
 
+// Two materials drawn with one program (the same variant): the counts
+// below are per program. (The default scene's bounded panel is a second.)
 SceneDesc scene_with(Technique t) {
-    Result<SceneDesc> scene = builtin_scene("default");
+    Result<SceneDesc> scene = builtin_scene("lettering");
     EXPECT_TRUE(scene.ok());
     SceneDesc s = scene.ok() ? *scene : SceneDesc{};
     for (MaterialDesc& m : s.materials) m.technique.technique = t;

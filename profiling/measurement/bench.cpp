@@ -249,6 +249,8 @@ Result<double> own_ray_error_p95(const BenchOptions& options, const AngleContext
     constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
     if (setting.technique == kDisplacedMesh) return kNotMeasured;
     if (!(technique_info(*parse_technique(setting.technique)).options & kOptHeight)) return kNotMeasured;
+    // A rewritten variant (the PowerVR ladder's steps) may have no capture.
+    if (options.renderer.variant_transform) return kNotMeasured;
     RendererOptions capturing = options.renderer;
     capturing.capture_ray = true;
     Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene, capturing);

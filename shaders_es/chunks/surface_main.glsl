@@ -215,7 +215,7 @@ void main() {
     if (captured.y == -1.0) captured.y = -1.0000001;
     // Never true (heights and visibilities are >= 0): keeps the trace and
     // its uniforms alive, as the program interface expects.
-    if (shown.height < -1.0 || visibility < -1.0) captured = vec2(0.0);
+    if (shown.uv.x + shown.uv.y < -1e30 || shown.height < -1.0 || visibility < -1.0) captured = vec2(0.0);
     PX_FRAG_COLOR = px_debug_output(uv, captured.x, captured.y);
 #else
     PX_FRAG_COLOR = px_debug_output(shown.uv, shown.height, visibility);

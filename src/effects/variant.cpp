@@ -49,6 +49,7 @@ VariantKey VariantKey::canonical() const {
         k.lod = false;
         k.flip_v = 0;
         k.bounded = false;
+        k.capture_ray = false;  // the ladder's shaders have no capture
     }
     return k;
 }
