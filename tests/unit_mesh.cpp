@@ -209,6 +209,16 @@ TEST(MeshTorus, FramesWindingAndOutwardNormals) {
     }
 }
 
+TEST(MeshCylinder, FramesWindingAndOutwardNormals) {
+    const Mesh mesh = make_cylinder(0.6f, 2.0f, 24, 3);
+    expect_good_mesh(mesh);
+    expect_outward(mesh, [](const glm::vec3& p) { return glm::vec3(0.0f, 0.0f, p.z); });
+    for (const Vertex& v : mesh.vertices) {
+        EXPECT_NEAR(glm::length(glm::vec2(v.position)), 0.6f, 1e-5f);
+        EXPECT_NEAR(v.position.z, (v.uv.y - 0.5f) * 2.0f, 1e-5f);  // v runs up the axis
+    }
+}
+
 TEST(MeshGenerators, NoSplitsAndStableUnderRegeneration) {
     for (const Mesh& generated : {make_plane(2.0f, 4), make_cube(1.0f), make_uv_sphere(1.0f, 12, 6),
                                   make_torus(1.0f, 0.3f, 12, 8)}) {
@@ -445,6 +455,49 @@ TEST(MeshDisplacedPlane, OverTheVertexLimitIsRefusedBeforeAllocating) {
     // The largest uv scale on the largest field: counted without overflow.
     const DisplacedGrid huge = displaced_plane_grid(4096, 4096, uv_scale(16384.0, 16384.0));
     EXPECT_GT(huge.vertex_count(), kMaxSceneVertices);
+}
+
+// Curved meshes as real geometry: every vertex moved along its normal by
+// (h - polygon) * height_scale * units_per_uv / area_scale, h the field at
+// its transformed uv; the grid at least one vertex per texel of uv', and
+// no coarser than the parallax mesh; a cube and an over-budget grid refused.
+TEST(MeshDisplacedCurved, VerticesMoveAlongTheirNormalsByTheRelief) {
+    const HeightField field = ramp_field(16, 8);
+    const glm::dmat2 m = uv_scale(4.0, 8.0);
+    const glm::dvec2 offset(0.5, 0.25);
+    const float scale = 0.05f, polygon = 1.0f, units_per_uv = 3.0f;
+    for (MeshKind kind : {MeshKind::sphere, MeshKind::cylinder, MeshKind::torus}) {
+        SCOPED_TRACE(mesh_kind_name(kind));
+        const DisplacedGrid grid = displaced_curved_grid(kind, 16, 8, m);
+        EXPECT_EQ(grid.columns, 64);  // 16 texels x 4 tiles
+        EXPECT_EQ(grid.rows, 64);     // 8 texels x 8 tiles
+        const CurvedMeshSize size{0.8f, 0.3f, 2.0f};
+        Result<Mesh> mesh = make_displaced_curved(kind, size, field, m, offset, scale, polygon, units_per_uv);
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        const Mesh base = kind == MeshKind::sphere  ? make_uv_sphere(0.8f, 64, 64)
+                          : kind == MeshKind::torus ? make_torus(0.8f, 0.3f, 64, 64)
+                                                    : make_cylinder(0.8f, 2.0f, 64, 64);
+        ASSERT_EQ(mesh->vertices.size(), base.vertices.size());
+        const double depth = scale * units_per_uv / std::sqrt(4.0 * 8.0);
+        for (std::size_t i = 0; i < base.vertices.size(); ++i) {
+            const Vertex& b = base.vertices[i];
+            const glm::dvec2 tiled = m * glm::dvec2(b.uv) + offset;
+            const double h = field.sample_bilinear(tiled.x, tiled.y);
+            const glm::vec3 expected = b.position + b.normal * static_cast<float>((h - polygon) * depth);
+            ASSERT_NEAR(glm::length(mesh->vertices[i].position - expected), 0.0f, 1e-5f) << i;
+            EXPECT_EQ(mesh->vertices[i].normal, b.normal);  // the frame stays the smooth mesh's
+        }
+    }
+    // Never coarser than the parallax mesh (48 x 24 for a sphere).
+    EXPECT_EQ(displaced_curved_grid(MeshKind::sphere, 4, 4, uv_scale(1.0, 1.0)).columns, 48);
+    EXPECT_EQ(displaced_curved_grid(MeshKind::sphere, 4, 4, uv_scale(1.0, 1.0)).rows, 24);
+    EXPECT_FALSE(make_displaced_curved(MeshKind::cube, {}, field, m, offset, scale, polygon, 1.0f).ok());
+    HeightField sized_only;
+    sized_only.width = sized_only.height = 4096;
+    Result<Mesh> huge = make_displaced_curved(MeshKind::sphere, {}, sized_only, uv_scale(4.0, 4.0), offset, scale,
+                                              polygon, 1.0f);
+    ASSERT_FALSE(huge.ok());
+    EXPECT_NE(huge.error().message.find("over the limit of 4194304"), std::string::npos) << huge.error().message;
 }
 
 }  // namespace

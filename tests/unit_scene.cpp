@@ -404,8 +404,12 @@ TEST(SceneErrors, UnknownNamesListTheKnownOnes) {
     EXPECT_TRUE(contains(technique, "relief"));  // the list of known techniques
     EXPECT_TRUE(contains(parse_error(material_doc(R"("options": {"shadow": "sof"})")),
                          "materials[0].options.shadow: unknown shadow mode 'sof' (known: none, hard, soft)"));
-    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"type": "cylinder"})")),
-                         "objects[0].mesh.type: unknown mesh kind 'cylinder'"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"type": "cylindre"})")),
+                         "objects[0].mesh.type: unknown mesh kind 'cylindre'"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"type": "cone"})")),
+                         "(known: plane, cube, sphere, torus, cylinder)"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"type": "cube", "displaced": true})")),
+                         "objects[0].mesh.displaced: a cube cannot be displaced"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"procedural": "brick"})")),
                          "materials[0].height.procedural: unknown field kind 'brick'"));
     EXPECT_TRUE(contains(parse_error(doc(R"("lights": [{"type": "spot"}])")),

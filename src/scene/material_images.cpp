@@ -162,7 +162,18 @@ Status check_scene_resources_with(const SceneDesc& scene, const TextureFileReade
             }
             case MeshKind::cube: n = 24; break;
             case MeshKind::sphere:
-            case MeshKind::torus: n = 4096; break;  // fixed tessellations (mesh.h), rounded up
+            case MeshKind::torus:
+            case MeshKind::cylinder:
+                n = 4096;  // fixed tessellations (mesh.h), rounded up
+                if (o.mesh.displaced) {  // make_displaced_curved's grid, from sizes alone
+                    const std::size_t k = scene.material_index(o.material);
+                    const ImageInfo field = k < traced.size() ? traced[k] : ImageInfo{4, 4};
+                    const glm::dmat2 uv_matrix =
+                        k < traced.size() ? scene.materials[k].uv.matrix<double>() : glm::dmat2(1.0);
+                    const DisplacedGrid grid = displaced_curved_grid(o.mesh.kind, field.width, field.height, uv_matrix);
+                    n = grid.vertex_count() + 2 * grid.columns;
+                }
+                break;
         }
         vertices += n;
         if (vertices > kMaxSceneVertices)

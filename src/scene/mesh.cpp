@@ -21,11 +21,12 @@ struct MeshKindName {
     const char* name;
 };
 
-constexpr std::array<MeshKindName, 4> kMeshKinds = {{
+constexpr std::array<MeshKindName, 5> kMeshKinds = {{
     {MeshKind::plane, "plane"},
     {MeshKind::cube, "cube"},
     {MeshKind::sphere, "sphere"},
     {MeshKind::torus, "torus"},
+    {MeshKind::cylinder, "cylinder"},
 }};
 
 bool is_finite(const glm::vec3& v) {
@@ -413,6 +414,76 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
 }  // namespace px
 
 namespace px {
+
+Mesh make_cylinder(float radius, float height, int segments, int rows) {
+    const int ns = std::max(segments, 3);
+    const int nr = std::max(rows, 1);
+    Mesh mesh;
+    for (int k = 0; k <= nr; ++k) {
+        const float v = static_cast<float>(k) / static_cast<float>(nr);
+        for (int j = 0; j <= ns; ++j) {  // j = ns duplicates j = 0 with u = 1
+            const float u = static_cast<float>(j) / static_cast<float>(ns);
+            const float lon = 2.0f * kPi<float> * u;
+            const glm::vec3 n(-std::sin(lon), std::cos(lon), 0.0f);
+            Vertex vert;
+            vert.position = radius * n + glm::vec3(0.0f, 0.0f, (v - 0.5f) * height);
+            vert.normal = n;
+            vert.uv = {u, v};
+            mesh.vertices.push_back(vert);
+        }
+    }
+    const auto row = static_cast<std::uint32_t>(ns + 1);
+    for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(nr); ++k)
+        for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(ns); ++j) {
+            const std::uint32_t a = k * row + j;
+            push_quad(mesh, a, a + 1, a + row + 1, a + row);
+        }
+    (void)generate_tangents(mesh);
+    return mesh;
+}
+
+DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix) {
+    DisplacedGrid grid = displaced_plane_grid(field_width, field_height, uv_matrix);
+    // At least the parallax mesh's own tessellation, so that the displaced
+    // surface is never coarser than the polygon it is compared with.
+    grid.columns = std::max<std::int64_t>(grid.columns, kind == MeshKind::torus ? 64 : 48);
+    grid.rows = std::max<std::int64_t>(grid.rows, kind == MeshKind::cylinder ? 1 : kind == MeshKind::torus ? 32 : 24);
+    return grid;
+}
+
+Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, const HeightField& field,
+                                   const glm::dmat2& uv_matrix, const glm::dvec2& uv_offset, float height_scale,
+                                   float polygon_height, float units_per_uv) {
+    counters::count(counters::Step::mesh_build);
+    const char* name = mesh_kind_name(kind);
+    if (kind != MeshKind::sphere && kind != MeshKind::torus && kind != MeshKind::cylinder)
+        return make_error(std::string("displaced ") + name + ": only a sphere, torus or cylinder is curved here");
+    if (field.width < 1 || field.height < 1) return make_error(std::string("displaced ") + name + ": the height field is empty");
+    const DisplacedGrid grid = displaced_curved_grid(kind, field.width, field.height, uv_matrix);
+    const std::int64_t columns = grid.columns, rows = grid.rows;
+    const std::int64_t vertex_count = grid.vertex_count() + 2 * columns;  // a sphere's poles: a row each
+    if (vertex_count > kMaxSceneVertices)
+        return make_error(std::string("displaced ") + name + ": a " + std::to_string(field.width) + "x" +
+                          std::to_string(field.height) + " height field under this uv transform needs a " +
+                          std::to_string(columns) + "x" + std::to_string(rows) +
+                          " grid (one vertex per texel of the transformed uv), " + std::to_string(vertex_count) +
+                          " vertices, over the limit of " + std::to_string(kMaxSceneVertices));
+    const double area_scale = std::sqrt(std::fabs(glm::determinant(uv_matrix)));
+    if (!(area_scale > 0.0) || !std::isfinite(area_scale))
+        return make_error(std::string("displaced ") + name + ": the uv transform is singular");
+    const int c = static_cast<int>(columns), r = static_cast<int>(rows);
+    Mesh mesh = kind == MeshKind::sphere  ? make_uv_sphere(size.radius, c, r)
+                : kind == MeshKind::torus ? make_torus(size.radius, size.tube_radius, c, r)
+                                          : make_cylinder(size.radius, size.height, c, r);
+    const double depth = static_cast<double>(height_scale) * static_cast<double>(units_per_uv) / area_scale;
+    for (Vertex& v : mesh.vertices) {
+        const glm::dvec2 tiled = uv_matrix * glm::dvec2(v.uv) + uv_offset;
+        const double h = field.sample_bilinear(tiled.x, tiled.y);
+        v.position += v.normal * static_cast<float>((h - polygon_height) * depth);
+    }
+    mesh.units_per_uv = units_per_uv;
+    return mesh;
+}
 
 DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix) {
     // Texels crossed along a mesh edge: the edge's image in texel space. The

@@ -31,7 +31,7 @@ struct Mesh {
     float units_per_uv = 1.0f;
 };
 
-enum class MeshKind { plane, cube, sphere, torus };
+enum class MeshKind { plane, cube, sphere, torus, cylinder };
 const char* mesh_kind_name(MeshKind kind);
 Result<MeshKind> parse_mesh_kind(const std::string& name);
 
@@ -65,6 +65,38 @@ struct DisplacedGrid {
     std::int64_t vertex_count() const { return (columns + 1) * (rows + 1); }
 };
 DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix);
+
+// Open tube around the z axis, centred on the origin, `height` tall: u
+// around it (the u = 0 / 1 seam at +y, so u = 0.5 faces a camera on -y, as
+// the sphere's), v from the bottom (z = -height / 2) to the top; `rows`
+// rings of quads along it.
+Mesh make_cylinder(float radius = 0.6f, float height = 2.0f, int segments = 48, int rows = 1);
+
+// A sphere, torus or cylinder (`kind`, with the MeshDesc sizes given) as
+// real geometry: built at about one vertex per texel of the material's uv'
+// = uv_matrix * uv + uv_offset along u and v (displaced_plane_grid's
+// counts), every vertex moved along its normal by (h - polygon_height) *
+// height_scale * units_per_tile, h sampled bilinearly with repeat at its
+// uv', units_per_tile = `units_per_uv` / sqrt(|det uv_matrix|) (the
+// parallax-drawn mesh's, as the renderer's units_per_tile uniform). The
+// frame stays the base mesh's: the normal map shades it. Where uv seams
+// meet (the sphere's poles) vertices of one point may move apart by the
+// field's differences there. Errors: a plane or cube kind (planes:
+// make_displaced_plane), an empty field, a grid over kMaxSceneVertices
+// (checked before allocating).
+struct CurvedMeshSize {
+    float radius = 1.0f;       // sphere, cylinder; torus ring
+    float tube_radius = 0.35f; // torus
+    float height = 2.0f;       // cylinder
+};
+// The grid make_displaced_curved builds (quads around and along), from
+// sizes alone, and an upper bound on its vertices.
+DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix);
+Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, const HeightField& field,
+                                   const glm::dmat2& uv_matrix, const glm::dvec2& uv_offset, float height_scale,
+                                   float polygon_height, float units_per_uv);
+
+
 
 // A plane like make_plane(size) whose vertices (the grid above, at mesh uv
 // i/columns, j/rows) move along the normal to where the relief is: heights

@@ -23,9 +23,18 @@ Result<std::shared_ptr<const PreparedObject>> prepare_object(const ObjectDesc& o
                                                              const MaterialDesc& m, const PreparedMaterial& material) {
     auto prepared = std::make_shared<PreparedObject>();
     prepared->material = material_index;
-    if (o.mesh.displaced) {
-        if (o.mesh.kind != MeshKind::plane)
-            return make_error("object '" + echo(o.name) + "': only planes can be displaced (mesh.displaced)");
+    if (o.mesh.displaced && o.mesh.kind != MeshKind::plane) {
+        if (o.mesh.kind == MeshKind::cube)
+            return make_error("object '" + echo(o.name) + "': a cube cannot be displaced (mesh.displaced)");
+        // Depth in object units as the parallax-drawn mesh has it.
+        const float units_per_uv = build_object_mesh(o.mesh).units_per_uv;
+        Result<Mesh> displaced = make_displaced_curved(
+            o.mesh.kind, CurvedMeshSize{o.mesh.radius, o.mesh.tube_radius, o.mesh.size}, material.images.traced,
+            m.uv.matrix<double>(), glm::dvec2(m.uv.offset), m.height_scale, static_cast<float>(m.polygon_height()),
+            units_per_uv);
+        if (!displaced) return with_context("object '" + echo(o.name) + "'", displaced.error());
+        prepared->mesh = std::move(*displaced);
+    } else if (o.mesh.displaced) {
         // The relief under the shading's uv' (the material's uv transform), a
         // tile size / area_scale mesh units as the units_per_tile uniform says.
         Result<Mesh> displaced =

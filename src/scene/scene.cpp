@@ -193,8 +193,8 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
     c.require(mesh.segments >= 1 && mesh.segments <= 1024, path + ".mesh.segments",
               "must be within 1..1024, got " + std::to_string(mesh.segments));
     c.require(in_range(mesh.radius, kMinExtent, kMaxExtent), path + ".mesh.radius", extent + num(mesh.radius));
-    c.require(!mesh.displaced || mesh.kind == MeshKind::plane, path + ".mesh.displaced",
-              "only a plane can be displaced");
+    c.require(!mesh.displaced || mesh.kind != MeshKind::cube, path + ".mesh.displaced",
+              "a cube cannot be displaced (its faces would open at the edges); a plane, sphere, torus or cylinder can");
     c.require(in_range(mesh.tube_radius, kMinExtent, kMaxExtent), path + ".mesh.tube_radius",
               extent + num(mesh.tube_radius));
     // Any direction, zero and parallel ones included (surface.vert falls
@@ -307,6 +307,7 @@ Mesh build_object_mesh(const MeshDesc& d) {
         case MeshKind::cube: return make_cube(d.size);
         case MeshKind::sphere: return make_uv_sphere(d.radius);
         case MeshKind::torus: return make_torus(d.radius, d.tube_radius);
+        case MeshKind::cylinder: return make_cylinder(d.radius, d.size);
     }
     return make_plane();
 }

@@ -144,13 +144,15 @@ struct TransformDesc {
 
 struct MeshDesc {
     MeshKind kind = MeshKind::plane;
-    float size = 2.0f;          // plane, cube
+    float size = 2.0f;          // plane, cube; a cylinder's height
     int segments = 1;           // plane
-    float radius = 1.0f;        // sphere radius, torus ring radius
+    float radius = 1.0f;        // sphere and cylinder radius, torus ring radius
     float tube_radius = 0.35f;  // torus
-    // plane only: real geometry instead of parallax, the relief of the
-    // object's material displaced into a grid of one vertex per texel (the
-    // accuracy benchmark's baseline). Drawn with the material's shading.
+    // Real geometry instead of parallax: the relief of the object's material
+    // displaced along the normals at one vertex per texel (a plane: the
+    // accuracy benchmark's baseline; a sphere, torus or cylinder: the
+    // silhouettes' reference, make_displaced_curved). Drawn with the
+    // material's shading. Not a cube.
     bool displaced = false;
     // plane only: the vertices' tangent and normal as authored, instead of
     // +u and +z (tangent w stays +1). Any value is accepted, zero and
