@@ -508,19 +508,8 @@ Image ramp_image(const HeightField& field, const HeightRamp& ramp) {
 }
 
 Image height_image(const HeightField& field) {
-    Image img;
-    img.width = field.width;
-    img.height = field.height;
-    img.channels = 4;
-    img.pixels.resize(static_cast<size_t>(field.width) * field.height * 4);
-    for (int y = 0; y < field.height; ++y)
-        for (int x = 0; x < field.width; ++x) {
-            const std::uint8_t h = to_unorm8(field.at(x, y));
-            std::uint8_t* p = img.texel(x, y);
-            p[0] = p[1] = p[2] = h;
-            p[3] = 255;  // opaque, so the image views as grey; the height is in R (and G, B)
-        }
-    return img;
+    // R, G and B hold the height, alpha is 255 (opaque, so the file views as grey).
+    return ramp_image(field, HeightRamp{});
 }
 
 HeightField quantized_8bit(const HeightField& field) {

@@ -40,6 +40,16 @@ void push_quad(Mesh& mesh, std::uint32_t a, std::uint32_t b, std::uint32_t c, st
     mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
 }
 
+// The quads of a (columns + 1) x (rows + 1) vertex grid stored row by row.
+void push_grid_quads(Mesh& mesh, std::uint32_t columns, std::uint32_t rows) {
+    const std::uint32_t row = columns + 1;
+    for (std::uint32_t k = 0; k < rows; ++k)
+        for (std::uint32_t j = 0; j < columns; ++j) {
+            const std::uint32_t a = k * row + j;
+            push_quad(mesh, a, a + 1, a + row + 1, a + row);
+        }
+}
+
 // Any unit vector orthogonal to unit `n`: project the axis least aligned with it.
 glm::vec3 any_orthogonal(const glm::vec3& n) {
     const glm::vec3 a = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z)
@@ -401,12 +411,7 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
             mesh.vertices.push_back(vert);
         }
     }
-    const auto row = static_cast<std::uint32_t>(nr + 1);
-    for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(nt); ++j)
-        for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(nr); ++i) {
-            const std::uint32_t a = j * row + i;
-            push_quad(mesh, a, a + 1, a + row + 1, a + row);
-        }
+    push_grid_quads(mesh, static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nt));
     (void)generate_tangents(mesh);
     return mesh;
 }
@@ -432,12 +437,7 @@ Mesh make_cylinder(float radius, float height, int segments, int rows) {
             mesh.vertices.push_back(vert);
         }
     }
-    const auto row = static_cast<std::uint32_t>(ns + 1);
-    for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(nr); ++k)
-        for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(ns); ++j) {
-            const std::uint32_t a = k * row + j;
-            push_quad(mesh, a, a + 1, a + row + 1, a + row);
-        }
+    push_grid_quads(mesh, static_cast<std::uint32_t>(ns), static_cast<std::uint32_t>(nr));
     (void)generate_tangents(mesh);
     return mesh;
 }
