@@ -88,6 +88,15 @@ void point_attributes() {
 
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what);
 
+// The variant a material that names its technique draws: its plan's key
+// with the layout its textures were built in, bounded as the material says
+// (the planner decides bounded itself, per frame: scene_planner.cpp).
+VariantKey named_material_key(const VariantKey& planned, const TextureLayout& layout, const MaterialDesc& m) {
+    VariantKey key = planned.with_layout(layout);
+    key.bounded = m.bounded;
+    return key;
+}
+
 // An object's mesh as drawn: the prepared one, or for a bounded relief on a
 // plane the plane widened by bounded_margin, so that rays coming into the
 // tile through its side have fragments to be traced in (docs/silhouettes.md).
@@ -684,8 +693,8 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     for (const GpuObject& object : gpu->objects) {
         const GpuMaterial& material = gpu->materials[object.material];
         if (material.planned) continue;
-        VariantKey key = material.plan.key.with_layout(prepared->materials[object.material]->images.layout);
-        key.bounded = material.desc->bounded;
+        VariantKey key = named_material_key(material.plan.key, prepared->materials[object.material]->images.layout,
+                                            *material.desc);
         if (variant_transform_) key = variant_transform_(key).canonical();
         Result<const Program*> program = gpu->programs.get(key);
         if (!program) return with_context("material '" + echo(material.desc->name) + "'", program.error());
@@ -728,8 +737,7 @@ Status Renderer::replace_material(const MaterialDesc& material) {
             meshes.emplace_back(scene_->objects[i].mesh, std::move(*m));
         }
         if (!g->planned) {
-            VariantKey key = g->plan.key.with_layout(p.materials[mi]->images.layout);
-            key.bounded = p.desc.materials[mi].bounded;
+            VariantKey key = named_material_key(g->plan.key, p.materials[mi]->images.layout, p.desc.materials[mi]);
             if (variant_transform_) key = variant_transform_(key).canonical();
             Result<const Program*> program = scene_->programs.get(key);
             if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
@@ -777,8 +785,8 @@ Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const
         plan.object = object.desc->name;
         plan.material = material.desc->name;
         plan.options = material.desc->technique;
-        plan.key = material.plan.key.with_layout(prepared_->materials[object.material]->images.layout);
-        plan.key.bounded = material.desc->bounded;
+        plan.key = named_material_key(material.plan.key, prepared_->materials[object.material]->images.layout,
+                                      *material.desc);
         plan.notes = material.plan.notes;
         plans.push_back(std::move(plan));
     }
