@@ -35,6 +35,19 @@ uniform mediump mat2 u_uv_frame;
 uniform highp float u_parallax_scale;
 // xyz: world direction toward the light (w = 0) or world position (w = 1).
 uniform highp vec4 u_light_vector[PX_MAX_LIGHTS];
+#ifdef PX_UV_STRETCH
+// Mesh uv crossed per unit step along tangent and bitangent, over the
+// mesh's mean (Vertex::uv_stretch).
+PX_ATTRIBUTE highp vec2 a_uv_stretch;
+#endif
+#ifdef PX_CURVED
+// The mesh's bend below its tangent plane (Vertex::curvature, mesh units):
+// c.x x^2 + c.y x y + c.z y^2 at offset (x, y) along tangent and bitangent.
+PX_ATTRIBUTE highp vec3 a_curvature;
+// Into relief depths per squared tile: units_per_tile / (height_scale *
+// the model's scale) (renderer.cpp set_object_uniforms).
+uniform highp float u_curvature_scale;
+#endif
 
 void main() {
     highp vec4 world_position = u_model * vec4(a_position, 1.0);
@@ -81,11 +94,40 @@ void main() {
 #else
     mediump vec3 view_ts = normalize(vec3(dot(to_eye, t), dot(to_eye, b), dot(to_eye, n)));
 #endif
+#ifdef PX_UV_STRETCH
+    // The searches step in uv: a step along the tangent crosses a_uv_stretch
+    // times the mean mesh uv per unit here (a uv sphere's u crowds at the
+    // poles), so the view's uv step is stretched by it. The fragment stage
+    // unstretches it for shading (the view direction itself).
+    view_ts.xy *= a_uv_stretch;
+    v_uv_stretch = a_uv_stretch;
+#endif
     view_ts.xy = u_uv_frame * view_ts.xy;
 #ifdef PX_READS_HEIGHT
     view_ts.xy *= u_parallax_scale;  // folded here: one multiply per vertex, not per fragment
 #endif
     v_view_ts = view_ts;
+#ifdef PX_CURVED
+    // The quadric carried into the texture frame: x_tex = F x_mesh (F =
+    // u_uv_frame, det +-1), so with A = F^-1 its matrix G becomes A^T G A,
+    // and q = view_ts.xy . (A^T G A) view_ts.xy is the quadric of the mesh-
+    // frame direction the trace's uv step stands for (the same model of
+    // offsets the searches use). A mirroring model needs nothing: the
+    // bitangent above mirrors with it.
+    // (With the uv stretch, F is u_uv_frame times the stretch.)
+    highp vec2 f0 = u_uv_frame[0] * a_uv_stretch.x;
+    highp vec2 f1 = u_uv_frame[1] * a_uv_stretch.y;
+    highp float det = f0.x * f1.y - f1.x * f0.y;
+    highp vec2 a0 = vec2(f1.y, -f0.y) / det;  // the columns of F^-1
+    highp vec2 a1 = vec2(-f1.x, f0.x) / det;
+    highp float mxx = a_curvature.x;
+    highp float mxy = 0.5 * a_curvature.y;
+    highp float myy = a_curvature.z;
+    highp float gxx = mxx * a0.x * a0.x + 2.0 * mxy * a0.x * a0.y + myy * a0.y * a0.y;
+    highp float gyy = mxx * a1.x * a1.x + 2.0 * mxy * a1.x * a1.y + myy * a1.y * a1.y;
+    highp float gxy = mxx * a0.x * a1.x + mxy * (a0.x * a1.y + a0.y * a1.x) + myy * a0.y * a1.y;
+    v_curvature = vec3(gxx, 2.0 * gxy, gyy) * u_curvature_scale;
+#endif
 
     for (int i = 0; i < PX_MAX_LIGHTS; i++) {
         highp vec3 to_light = u_light_vector[i].w > 0.5 ? u_light_vector[i].xyz - world_position.xyz

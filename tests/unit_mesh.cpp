@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "parallaxes/core/limits.h"
+#include "parallaxes/core/numeric.h"
 #include "parallaxes/scene/mesh.h"
 
 namespace px {
@@ -498,6 +499,75 @@ TEST(MeshDisplacedCurved, VerticesMoveAlongTheirNormalsByTheRelief) {
                                               polygon, 1.0f);
     ASSERT_FALSE(huge.ok());
     EXPECT_NE(huge.error().message.find("over the limit of 4194304"), std::string::npos) << huge.error().message;
+}
+
+// The curved-relief quadric (Vertex::curvature) fitted from each mesh,
+// against the surfaces' own principal curvatures (their frames run along
+// the principal directions, so the cross term is 0).
+TEST(MeshCurvature, FitMatchesThePrincipalCurvatures) {
+    const float r = 0.8f;
+    const Mesh sphere = make_uv_sphere(r);
+    for (const Vertex& v : sphere.vertices) {  // poles included: they see their whole fan
+        EXPECT_NEAR(v.curvature.x, 0.5f / r, 0.01f / r) << v.position.x << " " << v.position.y << " " << v.position.z;
+        EXPECT_NEAR(v.curvature.y, 0.0f, 0.01f / r);
+        EXPECT_NEAR(v.curvature.z, 0.5f / r, 0.01f / r);
+    }
+    const Mesh tube = make_cylinder(r, 2.0f);
+    for (const Vertex& v : tube.vertices) {  // bent around (u), straight along (v)
+        EXPECT_NEAR(v.curvature.x, 0.5f / r, 0.01f / r);
+        EXPECT_NEAR(v.curvature.y, 0.0f, 0.01f / r);
+        EXPECT_NEAR(v.curvature.z, 0.0f, 0.01f / r);
+    }
+    const float ring = 1.0f, radius = 0.35f;
+    const Mesh torus = make_torus(ring, radius);
+    for (const Vertex& v : torus.vertices) {
+        // Around the tube 1 / r; around the ring cos(tube) / (R + r cos(tube)),
+        // negative (saddle) on the inner half: the quadric in the vertex's own
+        // frame (the one the shader uses), which generate_tangents may turn
+        // off the ring's direction by a few degrees.
+        const glm::dvec3 n = glm::normalize(glm::dvec3(v.normal));
+        const glm::dvec3 radial = glm::normalize(glm::dvec3(v.position.x, v.position.y, 0.0));
+        const double cos_tube = glm::dot(n, radial);
+        const double k_ring = cos_tube / (ring + radius * cos_tube), k_tube = 1.0 / radius;
+        const glm::dvec3 e_ring = glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), radial));
+        const glm::dvec3 e_tube = glm::cross(n, e_ring);
+        glm::dvec3 t = glm::dvec3(v.tangent);
+        t = glm::normalize(t - n * glm::dot(n, t));
+        const glm::dvec3 b = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(n, t);
+        const glm::dvec3 expected(0.5 * (k_ring * glm::dot(t, e_ring) * glm::dot(t, e_ring) + k_tube * glm::dot(t, e_tube) * glm::dot(t, e_tube)),
+                                  k_ring * glm::dot(t, e_ring) * glm::dot(b, e_ring) + k_tube * glm::dot(t, e_tube) * glm::dot(b, e_tube),
+                                  0.5 * (k_ring * glm::dot(b, e_ring) * glm::dot(b, e_ring) + k_tube * glm::dot(b, e_tube) * glm::dot(b, e_tube)));
+        EXPECT_NEAR(v.curvature.x, expected.x, 0.02 / radius) << v.uv.x << " " << v.uv.y;
+        EXPECT_NEAR(v.curvature.y, expected.y, 0.02 / radius) << v.uv.x << " " << v.uv.y;
+        EXPECT_NEAR(v.curvature.z, expected.z, 0.02 / radius) << v.uv.x << " " << v.uv.y;
+    }
+    for (const Vertex& v : make_plane(2.0f, 4).vertices) EXPECT_EQ(v.curvature, glm::vec3(0.0f));
+    for (const Vertex& v : make_cube(2.0f).vertices) EXPECT_EQ(v.curvature, glm::vec3(0.0f));
+    // Scaling the mesh scales the curvature inversely.
+    const Mesh big = make_uv_sphere(4.0f * r);
+    EXPECT_NEAR(big.vertices[100].curvature.x, sphere.vertices[100].curvature.x / 4.0f, 1e-4f);
+}
+
+// The uv stretch (Vertex::uv_stretch): mesh uv per unit step along the
+// tangent and bitangent over the mesh's mean. A uv sphere's u runs 2 pi r
+// around the equator and its v pi r pole to pole; u crowds toward the poles.
+TEST(MeshUvStretch, FollowsTheLocalUvDensity) {
+    const float r = 0.8f;
+    const Mesh sphere = make_uv_sphere(r);
+    for (const Vertex& v : sphere.vertices) {
+        const double lat = std::asin(std::clamp(static_cast<double>(v.position.z) / r, -1.0, 1.0));
+        if (std::fabs(lat) > 0.8) continue;  // toward the poles the chords lag the latitude (tan(lat) times its step)
+        EXPECT_NEAR(v.uv_stretch.x, sphere.units_per_uv / (2.0 * kPi<double> * r * std::cos(lat)),
+                    0.03 * v.uv_stretch.x) << lat;
+        EXPECT_NEAR(v.uv_stretch.y, sphere.units_per_uv / (kPi<double> * r), 0.02 * v.uv_stretch.y) << lat;
+    }
+    for (const Vertex& v : make_plane(2.0f, 4).vertices) EXPECT_EQ(v.uv_stretch, glm::vec2(1.0f));
+    for (const Vertex& v : make_cube(2.0f).vertices) EXPECT_EQ(v.uv_stretch, glm::vec2(1.0f));
+    const Mesh tube = make_cylinder(r, 2.0f);
+    for (const Vertex& v : tube.vertices) {
+        EXPECT_NEAR(v.uv_stretch.x, tube.units_per_uv / (2.0 * kPi<double> * r), 0.02 * v.uv_stretch.x);
+        EXPECT_NEAR(v.uv_stretch.y, tube.units_per_uv / 2.0, 0.02 * v.uv_stretch.y);
+    }
 }
 
 }  // namespace

@@ -1006,5 +1006,37 @@ TEST(BoundedOutline, OnScreenUnlessEveryRayStaysInsideTheTile) {
     EXPECT_TRUE(bounded_outline_on_screen(identity, 2.0f, 0.05, away.view, away.projection));
 }
 
+// A curved mesh's contour is on screen unless the mesh is out of view or,
+// for a sphere, every viewport corner's ray meets it (shrunk by the relief).
+TEST(CurvedOutline, OnScreenUnlessOutOfViewOrFillingIt) {
+    const auto view_of = [](glm::vec3 eye, glm::vec3 target, float fov_deg) {
+        CameraDesc c;
+        c.position = eye;
+        c.target = target;
+        c.up = glm::vec3(0.0f, 0.0f, 1.0f);
+        c.fov_y_deg = fov_deg;
+        return PlanView::from_camera(c, 256, 256);
+    };
+    const glm::mat4 identity(1.0f);
+    const PlanView whole = view_of({0.0f, -3.4f, 0.0f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    EXPECT_TRUE(curved_outline_on_screen(identity, MeshKind::sphere, 1.0f, 0.3f, 2.0f, 0.05, whole.view, whole.projection));
+    // 0.1 above a unit sphere, 40 degrees: every corner meets it.
+    const PlanView close = view_of({0.0f, -1.1f, 0.0f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    EXPECT_FALSE(curved_outline_on_screen(identity, MeshKind::sphere, 1.0f, 0.3f, 2.0f, 0.05, close.view, close.projection));
+    // A relief deep enough that the corners pass the shrunk sphere (they
+    // pass 1.1 sin(27.2 degrees) = 0.50 from its centre).
+    EXPECT_TRUE(curved_outline_on_screen(identity, MeshKind::sphere, 1.0f, 0.3f, 2.0f, 0.6, close.view, close.projection));
+    // A torus or cylinder in view: only the view volume is tested.
+    EXPECT_TRUE(curved_outline_on_screen(identity, MeshKind::torus, 1.0f, 0.3f, 2.0f, 0.05, close.view, close.projection));
+    // Behind the camera, or far to the side: off screen.
+    const glm::mat4 behind = glm::translate(identity, glm::vec3(0.0f, -8.0f, 0.0f));
+    EXPECT_FALSE(curved_outline_on_screen(behind, MeshKind::sphere, 1.0f, 0.3f, 2.0f, 0.05, whole.view, whole.projection));
+    const glm::mat4 aside = glm::translate(identity, glm::vec3(20.0f, 0.0f, 0.0f));
+    EXPECT_FALSE(curved_outline_on_screen(aside, MeshKind::cylinder, 1.0f, 0.3f, 2.0f, 0.05, whole.view, whole.projection));
+    // Its edge in view: on screen.
+    const glm::mat4 edge = glm::translate(identity, glm::vec3(1.6f, 0.0f, 0.0f));
+    EXPECT_TRUE(curved_outline_on_screen(edge, MeshKind::sphere, 1.0f, 0.3f, 2.0f, 0.05, whole.view, whole.projection));
+}
+
 }  // namespace
 }  // namespace px

@@ -891,6 +891,26 @@ TEST(SceneParse, BoundedIsABooleanMaterialField) {
     EXPECT_NE(sphere.error().message.find("seams"), std::string::npos) << sphere.error().message;
 }
 
+// "silhouette": a curved mesh's own outline, drawn by the linear searches.
+TEST(SceneParse, SilhouetteIsABooleanMaterialFieldForTheSearches) {
+    Result<SceneDesc> s = parse_scene(
+        R"({"materials": [{"name": "m", "silhouette": true, "technique": "pom"}], "objects": [{"material": "m", "mesh": {"type": "torus"}}]})",
+        "t.json");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    EXPECT_TRUE(s->materials[0].silhouette);
+    Result<SceneDesc> text = parse_scene(
+        R"({"materials": [{"name": "m", "silhouette": 1}], "objects": [{"material": "m"}]})", "t.json");
+    ASSERT_FALSE(text.ok());
+    EXPECT_NE(text.error().message.find("materials[0].silhouette"), std::string::npos) << text.error().message;
+    // The exact walk has no curved march: refused, naming the field.
+    Result<SceneDesc> walk = parse_scene(
+        R"({"materials": [{"name": "m", "silhouette": true, "technique": "maxmip"}], "objects": [{"material": "m", "mesh": {"type": "sphere"}}]})",
+        "t.json");
+    ASSERT_FALSE(walk.ok());
+    EXPECT_NE(walk.error().message.find("materials[0].silhouette"), std::string::npos) << walk.error().message;
+    EXPECT_NE(walk.error().message.find("maxmip"), std::string::npos) << walk.error().message;
+}
+
 // A texture source in no known form still gets a did-you-mean from the keys
 // that any of its forms reads.
 TEST(SceneErrors, SourceInNoFormSuggestsAKeyOfAnyForm) {

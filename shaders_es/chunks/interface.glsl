@@ -18,3 +18,15 @@ PX_VARYING PX_HIGHP vec2 v_uv;             // material uv; PX_HIGHP for large ti
 PX_VARYING PX_VIEW_PRECISION vec3 v_view_ts;
 PX_VARYING PX_HIGHP vec3 v_view_position;  // view space, for perspective-correct depth
 PX_VARYING mediump vec3 v_light_ts[PX_MAX_LIGHTS];  // toward each light, texture space, unnormalised
+#if defined(PX_READS_HEIGHT) && !defined(PX_LADDER_STEP)
+// The trace's view vector is stretched along the mesh's uv (surface.vert,
+// Vertex::uv_stretch); surface_main.glsl undoes it for shading.
+#define PX_UV_STRETCH
+PX_VARYING mediump vec2 v_uv_stretch;
+#endif
+#ifdef PX_CURVED
+// The curved relief's quadric in the texture frame (surface.vert): how far
+// below the polygon's plane, in relief depths, the surface lies at a uv
+// offset d: v_curvature . (d.x^2, d.x d.y, d.y^2). Linear across a triangle.
+PX_VARYING PX_HIGHP vec3 v_curvature;
+#endif

@@ -15,6 +15,10 @@ struct PxMarch {
     mediump float ray_below;
     mediump float height_below;
     mediump float step;      // height step of the search
+#ifdef PX_CURVED
+    PX_HIGHP float mu_above;  // px_curved_search: the samples' ray parameters
+    PX_HIGHP float mu_below;
+#endif
 };
 
 // Tatarchuk 2005: the sample count rises linearly from u_sample_range.x with
@@ -70,3 +74,83 @@ PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump floa
     }
     return m;
 }
+
+#ifdef PX_CURVED
+// Curved relief (after Oliveira and Policarpo's curved relief mapping): the
+// mesh bends away from its tangent plane by the quadric v_curvature, so
+// along the view ray, uv(mu) = uv0 - mu * V.xy (V = view_ts: normalised, xy
+// scaled by the relief depth), the ray's height within the relief is
+//   H(mu) = u_polygon_height - mu * V.z + mu^2 * q,
+//   q = v_curvature . (V.x^2, V.x V.y, V.y^2).
+// Under a convex surface (q > 0) the relief's top falls away from the ray:
+// H falls, then rises again, and a ray that comes back out through the top
+// has passed the surface without meeting it. That fragment shows what lies
+// behind (px_ray_left: surface_main.glsl discards it): the relief's own
+// silhouette. mu is a distance along the ray in relief depths (px_write_depth).
+bool px_ray_left = false;
+PX_HIGHP float px_hit_mu = 0.0;  // the hit's mu (set by each trace)
+PX_HIGHP float px_curve_q = 0.0;
+PX_HIGHP float px_curve_cos = 1.0;
+
+PX_HIGHP float px_curved_height(PX_HIGHP float mu) {
+    return u_polygon_height - mu * px_curve_cos + mu * mu * px_curve_q;
+}
+
+PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
+    PX_HIGHP vec2 d = view_ts.xy;
+    PX_HIGHP float c = view_ts.z;
+    PX_HIGHP float q = dot(v_curvature, vec3(d.x * d.x, d.x * d.y, d.y * d.y));
+    px_curve_q = q;
+    px_curve_cos = c;
+    PX_HIGHP float ph = u_polygon_height;
+    PX_HIGHP float e = 1.0 - ph;  // the relief above the polygon
+    // The search starts where the ray comes in through the relief's top
+    // (H = 1 at mu <= 0: the smaller root of q mu^2 - c mu - e = 0), and
+    // ends at its bottom (H = 0: the smaller root of q mu^2 - c mu + ph = 0)
+    // where the ray gets that deep, else where it goes out through the top
+    // again (the larger root of the first): each in its stable form.
+    PX_HIGHP float root_top = sqrt(max(c * c + 4.0 * q * e, 0.0));
+    PX_HIGHP float mu_start = -2.0 * e / max(c + root_top, 1e-30);
+    PX_HIGHP float disc = c * c - 4.0 * q * ph;
+    PX_HIGHP float down = c + sqrt(max(disc, 0.0));
+    bool leaves = !(disc >= 0.0 && down > 0.0);
+    PX_HIGHP float mu_end = leaves ? (c > 0.0 ? (c + root_top) / (2.0 * q) : 2.0 * e / max(root_top - c, 1e-30))
+                                   : 2.0 * ph / down;
+    // No farther than the flat searches reach (V.z clamped at 1/64).
+    mu_start = max(mu_start, -64.0);
+    mu_end = min(mu_end, 64.0);
+    mediump float count = min(px_sample_count(c), float(PX_MAX_SAMPLES));
+    PX_HIGHP float step = (mu_end - mu_start) / count;
+    PxMarch m;
+    m.step = step;
+    m.mu_above = mu_start;
+    m.ray_above = px_curved_height(mu_start);
+    m.uv_above = uv0 - mu_start * d;
+    m.height_above = px_trace_height(m.uv_above);
+    PX_WORK(0.0, 1.0);
+    m.mu_below = m.mu_above;
+    m.uv_below = m.uv_above;
+    m.ray_below = m.ray_above;
+    m.height_below = m.height_above;
+    if (m.height_above >= m.ray_above) return m;  // hit where the search starts
+    for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
+        PX_HIGHP float mu = mu_start + float(i) * step;
+        PX_HIGHP float ray = px_curved_height(mu);
+        PX_HIGHP vec2 uv = uv0 - mu * d;
+        mediump float h = px_trace_height(uv);
+        PX_WORK(1.0, 1.0);
+        m.mu_below = mu;
+        m.uv_below = uv;
+        m.ray_below = ray;
+        m.height_below = h;
+        if (h >= ray || float(i) >= count) break;
+        m.mu_above = mu;
+        m.uv_above = uv;
+        m.ray_above = ray;
+        m.height_above = h;
+    }
+    // Through the relief and out of its top without meeting it.
+    px_ray_left = leaves && m.height_below < m.ray_below;
+    return m;
+}
+#endif

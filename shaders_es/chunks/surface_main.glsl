@@ -15,11 +15,16 @@ uniform PX_HIGHP float u_units_per_tile;  // view-space units per texture tile (
 
 // Perspective-correct depth (Tatarchuk 2005; McGuire 2005): push the
 // fragment along the view ray to the hit, then project it again.
-void px_write_depth(mediump float hit_height, mediump float cos_view) {
-    PX_HIGHP float depth_below_polygon = (u_polygon_height - hit_height) * u_height_scale * u_units_per_tile;
-    PX_HIGHP vec3 hit_position = v_view_position + normalize(v_view_position) * (depth_below_polygon / max(cos_view, 1.0 / 64.0));
+// `distance`: how far along the view ray the hit lies, in view-space units.
+void px_write_depth_at(PX_HIGHP float distance) {
+    PX_HIGHP vec3 hit_position = v_view_position + normalize(v_view_position) * distance;
     PX_HIGHP vec4 clip = u_depth_projection * vec4(hit_position, 1.0);
     PX_FRAG_DEPTH = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+}
+
+void px_write_depth(mediump float hit_height, mediump float cos_view) {
+    PX_HIGHP float depth_below_polygon = (u_polygon_height - hit_height) * u_height_scale * u_units_per_tile;
+    px_write_depth_at(depth_below_polygon / max(cos_view, 1.0 / 64.0));
 }
 #endif
 
@@ -96,6 +101,17 @@ void main() {
     PX_VIEW_PRECISION vec3 view_ts = v_view_ts;
 #ifdef PX_READS_HEIGHT
     PX_VIEW_PRECISION vec3 view_unscaled = vec3(view_ts.xy * u_inv_height_scale, view_ts.z);
+#ifdef PX_UV_STRETCH
+    {
+        // The view direction itself, for shading and the normalisation:
+        // F S^-1 F^-1 undoes the vertex stage's stretch S (F = u_uv_frame,
+        // det +-1).
+        mediump mat2 f = u_uv_frame;
+        PX_HIGHP vec2 mesh_xy = vec2(f[1].y * view_ts.x - f[1].x * view_ts.y, f[0].x * view_ts.y - f[0].y * view_ts.x) /
+                                (f[0].x * f[1].y - f[1].x * f[0].y);
+        view_unscaled.xy = (f * (mesh_xy / v_uv_stretch)) * u_inv_height_scale;
+    }
+#endif
 #else
     PX_VIEW_PRECISION vec3 view_unscaled = view_ts;
 #endif
@@ -162,6 +178,10 @@ void main() {
     PxHit hit = surface;
 #endif
 
+#if defined(PX_CURVED) && defined(PX_HAS_TRACE)
+    // The ray passed the curved relief without meeting it (march.glsl).
+    if (px_ray_left) discard;
+#endif
 #if defined(PX_BOUNDED) && defined(PX_HAS_TRACE)
     // The ray left the relief's bounds before it met the relief: it sees
     // what lies behind (the relief's silhouette, not the polygon's edge).
@@ -174,7 +194,14 @@ void main() {
     }
 #endif
 #ifdef PX_DEPTH_WRITE
-#if defined(PX_HAS_TRACE) && defined(PX_LOD)
+#if defined(PX_CURVED) && defined(PX_HAS_TRACE)
+    // The curved trace's hit, by its distance along the ray (relief depths).
+#ifdef PX_LOD
+    px_write_depth_at(mix(px_hit_mu, 0.0, lod_blend) * u_height_scale * u_units_per_tile);
+#else
+    px_write_depth_at(px_hit_mu * u_height_scale * u_units_per_tile);
+#endif
+#elif defined(PX_HAS_TRACE) && defined(PX_LOD)
     px_write_depth(mix(hit.height, surface.height, lod_blend), view_ts.z);
 #else
     px_write_depth(hit.height, view_ts.z);

@@ -7,16 +7,26 @@
 #include "chunks/march.glsl"
 
 PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
+#ifdef PX_CURVED
+    PxMarch m = px_curved_search(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+#else
     PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
     PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
+#endif
     // Ray minus surface: positive above the surface, <= 0 on or under it.
     mediump float gap_above = m.ray_above - m.height_above;
     mediump float gap_below = m.ray_below - m.height_below;
     mediump float denominator = gap_above - gap_below;
     mediump float t = denominator > 0.0 ? clamp(gap_above / denominator, 0.0, 1.0) : 1.0;
     PxHit hit;
+#ifdef PX_CURVED
+    px_hit_mu = mix(m.mu_above, m.mu_below, t);
+    hit.height = px_curved_height(px_hit_mu);
+    hit.uv = uv - px_hit_mu * view_ts.xy;
+#else
     hit.height = mix(m.ray_above, m.ray_below, t);
     hit.uv = uv + (hit.height - u_polygon_height) * parallax;
+#endif
     return hit;
 }
 #include "chunks/surface_main.glsl"

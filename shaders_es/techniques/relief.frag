@@ -7,6 +7,26 @@
 #include "chunks/march.glsl"
 
 PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
+#ifdef PX_CURVED
+    PxMarch m = px_curved_search(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+    PX_HIGHP float mu_above = m.mu_above;  // known above the surface
+    PX_HIGHP float mu_below = m.mu_below;  // known on or under it
+    for (int i = 0; i < PX_REFINE_STEPS; i++) {
+        PX_HIGHP float middle = 0.5 * (mu_above + mu_below);
+        mediump float h = px_trace_height(uv - middle * view_ts.xy);
+        PX_WORK(1.0, 1.0);
+        if (h >= px_curved_height(middle)) {
+            mu_below = middle;
+        } else {
+            mu_above = middle;
+        }
+    }
+    PxHit hit;
+    px_hit_mu = mu_below;
+    hit.height = px_curved_height(mu_below);
+    hit.uv = uv - mu_below * view_ts.xy;
+    return hit;
+#else
     PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
     PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
     mediump float above = m.ray_above;  // ray height known to be above the surface
@@ -25,5 +45,6 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     hit.height = below;
     hit.uv = uv + (below - u_polygon_height) * parallax;
     return hit;
+#endif
 }
 #include "chunks/surface_main.glsl"

@@ -6,6 +6,14 @@
 #include "chunks/march.glsl"
 
 PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
+#ifdef PX_CURVED
+    PxMarch m = px_curved_search(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+    PxHit hit;
+    px_hit_mu = m.mu_below;
+    hit.height = m.ray_below;
+    hit.uv = uv - px_hit_mu * view_ts.xy;
+    return hit;
+#else
     PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);
     PxMarch m = px_linear_search(uv, parallax, view_ts.z PX_TRACE_GRADIENT_ARGS);
     PxHit hit;
@@ -17,5 +25,6 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     // fp16 (0.5-tile steps at uv 1000: the relief gone).
     hit.uv = uv + (hit.height - u_polygon_height) * parallax;
     return hit;
+#endif
 }
 #include "chunks/surface_main.glsl"

@@ -37,6 +37,8 @@ VariantKey VariantKey::canonical() const {
     if (k.es_major >= 3) k.no_fragment_highp = false;  // ES 3.0 guarantees fragment highp
     // Only a trace can leave the bounds: normal mapping shades the polygon.
     if (!has_option(k.technique, kOptHeight)) k.bounded = false;
+    // The curved march is the linear search's (march.glsl px_curved_search).
+    if (!has_option(k.technique, kOptSamples)) k.curved = false;
     if (k.debug_output == 0 || !(has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps)))
         k.count_work = false;
     if (k.debug_output != 1 || k.count_work || !has_option(k.technique, kOptHeight)) k.capture_ray = false;
@@ -49,6 +51,7 @@ VariantKey VariantKey::canonical() const {
         k.lod = false;
         k.flip_v = 0;
         k.bounded = false;
+        k.curved = false;
         k.capture_ray = false;  // the ladder's shaders have no capture
     }
     return k;
@@ -77,6 +80,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.count_work) << 57;
     b |= static_cast<std::uint64_t>(k.bounded) << 58;
     b |= static_cast<std::uint64_t>(k.capture_ray) << 59;
+    b |= static_cast<std::uint64_t>(k.curved) << 60;
     return b;
 }
 
@@ -105,6 +109,7 @@ std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
     k.count_work = (b >> 57) & 1;
     k.bounded = (b >> 58) & 1;
     k.capture_ray = (b >> 59) & 1;
+    k.curved = (b >> 60) & 1;
     if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
     return k;
 }
@@ -134,6 +139,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.count_work) d.push_back({"PX_COUNT_WORK", ""});
     if (k.capture_ray) d.push_back({"PX_CAPTURE_RAY", ""});
     if (k.bounded) d.push_back({"PX_BOUNDED", ""});
+    if (k.curved) d.push_back({"PX_CURVED", ""});
     if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
     if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
     if (k.flip_v & kFlipAlbedo) d.push_back({"PX_FLIP_ALBEDO_V", ""});
@@ -168,6 +174,7 @@ std::string VariantKey::describe() const {
     if (k.count_work) s << " count-work";
     if (k.capture_ray) s << " capture-ray";
     if (k.bounded) s << " bounded";
+    if (k.curved) s << " curved";
     if (k.no_fragment_highp) s << " no-fragment-highp";
     if (k.ladder_step) s << " ladder" << int(k.ladder_step);
     if (k.flip_v & kFlipAlbedo) s << " flip-albedo";
@@ -216,6 +223,7 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
         else if (word == "count-work") k.count_work = true;
         else if (word == "capture-ray") k.capture_ray = true;
         else if (word == "bounded") k.bounded = true;
+        else if (word == "curved") k.curved = true;
         else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
         else if (word == "flip-normal") k.flip_v |= kFlipNormal;
         else if (word == "flip-height") k.flip_v |= kFlipHeight;
@@ -320,6 +328,11 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             k.depth_write = true;
             k.lod = true;
             k.debug_output = static_cast<std::uint8_t>(debug);
+            add(k);
+            // Curved-relief silhouettes (canonical() keeps them for the linear searches).
+            k.bounded = false;
+            k.curved = true;
+            k.shadow = ShadowMode::soft;
             add(k);
         }
         // Debug outputs, with every option the technique has switched on.

@@ -68,6 +68,13 @@ struct VariantKey {
     // a traced hit outside its mesh uv [0, 1]^2 is discarded. Traced
     // techniques only; set from the material, as the texture layout is.
     bool bounded = false;
+    // PX_CURVED: curved-relief silhouettes (MaterialDesc::silhouette on a
+    // curved mesh): the march follows the surface's per-vertex quadric
+    // (Vertex::curvature) and discards where the ray leaves the relief
+    // without meeting it. The linear searches (steep, pom, relief) only;
+    // set per object (the mesh decides), the planner drops it where no
+    // contour is on screen.
+    bool curved = false;
     // The PowerVR whitepaper's optimisation ladder (offset_limited only,
     // shaders_es/ladder/): 0 is the shipped shader; 1 the whitepaper's
     // baseline, and 2..6 each step it took, in its order (kLadderSteps).

@@ -48,6 +48,52 @@ bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth,
     return false;
 }
 
+bool curved_outline_on_screen(const glm::mat4& model, MeshKind kind, float radius, float tube_radius, float height,
+                              double depth, const glm::mat4& view, const glm::mat4& projection) {
+    if (!std::isfinite(depth) || depth < 0.0) return true;
+    const double r = radius, t = tube_radius, h = height;
+    const double bound = (kind == MeshKind::torus      ? r + t
+                          : kind == MeshKind::cylinder ? std::sqrt(r * r + 0.25 * h * h)
+                                                       : r) + depth;
+    // The bounding sphere against the view volume's six planes (Gribb and
+    // Hartmann: rows of projection * view), in world space.
+    const glm::dmat4 clip = glm::dmat4(projection) * glm::dmat4(view);
+    const glm::dmat3 model3(model);
+    const double scale = std::max({glm::length(model3[0]), glm::length(model3[1]), glm::length(model3[2])});
+    const glm::dvec4 centre(glm::dvec3(glm::dmat4(model)[3]), 1.0);
+    const double world_bound = bound * scale;
+    if (!std::isfinite(world_bound) || !std::isfinite(centre.x + centre.y + centre.z)) return true;
+    for (int axis = 0; axis < 3; ++axis)
+        for (double side : {1.0, -1.0}) {
+            glm::dvec4 plane;
+            for (int c = 0; c < 4; ++c) plane[c] = clip[c][3] + side * clip[c][axis];
+            const double n = glm::length(glm::dvec3(plane));
+            if (!(n > 0.0)) continue;
+            if (glm::dot(plane, centre) / n < -world_bound) return false;  // wholly outside this plane
+        }
+    if (kind != MeshKind::sphere) return true;
+    // The corners' rays against the shrunk sphere, in model space.
+    const double inner = r - depth;
+    if (!(inner > 0.0)) return true;
+    const glm::dmat4 to_world = glm::inverse(clip);
+    const glm::dmat4 to_model = glm::inverse(glm::dmat4(model));
+    for (const glm::dvec2 corner : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
+        const glm::dvec4 near_h = to_world * glm::dvec4(corner, -1.0, 1.0);
+        const glm::dvec4 far_h = to_world * glm::dvec4(corner, 1.0, 1.0);
+        if (!(std::fabs(near_h.w) > 0.0) || !(std::fabs(far_h.w) > 0.0)) return true;
+        const glm::dvec3 o = glm::dvec3(to_model * glm::dvec4(glm::dvec3(near_h) / near_h.w, 1.0));
+        const glm::dvec3 d = glm::dvec3(to_model * glm::dvec4(glm::dvec3(far_h) / far_h.w, 1.0)) - o;
+        // |o + s d| = inner at s in [0, 1], with o outside the sphere.
+        const double a = glm::dot(d, d), b = glm::dot(o, d), c = glm::dot(o, o) - inner * inner;
+        if (!(a > 0.0) || !(c > 0.0)) return true;  // degenerate, or the near plane inside the sphere
+        const double disc = b * b - a * c;
+        if (!(disc >= 0.0)) return true;  // this corner's ray passes the sphere
+        const double s = (-b - std::sqrt(disc)) / a;
+        if (!(s >= 0.0 && s <= 1.0)) return true;
+    }
+    return false;
+}
+
 std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width, int traced_height) {
     const TechniqueInfo& info = technique_info(t);
     if (info.min_es_major > caps.es_major)

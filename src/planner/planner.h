@@ -68,6 +68,17 @@ std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_w
 bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth, const glm::mat4& view,
                                const glm::mat4& projection);
 
+// Whether a curved mesh's contour (a sphere, torus or cylinder of these
+// sizes, model transform `model`) can be on screen in this view and
+// projection: false where the mesh's bounding sphere (grown by `depth`, the
+// relief's depth in mesh units) lies wholly outside the view volume, or,
+// for a sphere, where every viewport corner's ray meets the sphere shrunk by
+// `depth` in front of the camera (the projected sphere is convex, so the
+// whole image is then relief and no ray passes it). Then the curved
+// silhouette (PX_CURVED) can be left out.
+bool curved_outline_on_screen(const glm::mat4& model, MeshKind kind, float radius, float tube_radius, float height,
+                              double depth, const glm::mat4& view, const glm::mat4& projection);
+
 // What the camera sees of one object, over the visible part of its surface
 // (front-facing, inside the view frustum), from a few hundred points spread
 // over its triangles and weighted by their area on screen.

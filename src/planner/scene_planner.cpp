@@ -481,7 +481,8 @@ struct ScenePlanner::Impl {
     Result<ObjectPlan> plan_object(size_t object_index, const std::vector<ObjectView>& views,
                                    const std::vector<std::vector<PointView>>& points,
                                    const std::vector<glm::vec4>& screen_boxes,
-                                   const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const;
+                                   const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes,
+                                   bool silhouette_on_screen) const;
     ObjectView view_object(size_t object_index, const PlanView& frame,
                            std::vector<PointView>& points, glm::vec4& screen_box,
                            std::pair<glm::vec3, glm::vec3>& world_box) const;
@@ -996,9 +997,35 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
     std::vector<ObjectPlan> plans;
     plans.reserve(n);
     for (size_t i = 0; i < n; ++i) {
-        Result<ObjectPlan> p = m.plan_object(i, views, points, screen_boxes, world_boxes);
-        if (!p) return p.error();
+        // A curved silhouette (MaterialDesc::silhouette on a sphere, torus
+        // or cylinder) only where the object's contour can be on screen.
         const size_t mi = m.scene.material_index(m.scene.objects[i].material);
+        const ObjectDesc& object = m.scene.objects[i];
+        const bool asks_silhouette = mi < m.scene.materials.size() && m.scene.materials[mi].silhouette &&
+                                     mesh_kind_is_curved(object.mesh.kind) && !object.mesh.displaced &&
+                                     m.scene.materials[mi].height_scale > 0.0f;
+        bool silhouette = false;
+        if (asks_silhouette) {
+            const MaterialDesc& mat = m.scene.materials[mi];
+            const glm::mat4 model = frame.models.empty() ? object.transform.matrix() : frame.models[i];
+            const double depth = static_cast<double>(mat.height_scale) * m.units_per_uv[i] /
+                                 std::max(1e-12, mat.uv.area_scale<double>());
+            silhouette = curved_outline_on_screen(model, object.mesh.kind, object.mesh.radius, object.mesh.tube_radius,
+                                                  object.mesh.size, depth, frame.view, frame.projection);
+        }
+        Result<ObjectPlan> p = m.plan_object(i, views, points, screen_boxes, world_boxes, silhouette);
+        if (!p) return p.error();
+        if (asks_silhouette) {
+            const bool marches = (technique_info(p->key.technique).options & kOptSamples) != 0;
+            p->key.curved = silhouette && marches;
+            p->notes.push_back(
+                !silhouette ? "silhouette off: the object's contour is off screen (the relief fills the view, or the "
+                              "object is outside it), so nothing is discarded"
+                : marches   ? "silhouette: the contour can be on screen; the search follows the surface's bend and "
+                              "rays that pass the relief are discarded"
+                            : std::string("silhouette not drawn: ") + technique_name(p->key.technique) +
+                                  " has no search to follow the bend");
+        }
         if (mi < m.reliefs.size()) p->key = p->key.with_layout(m.reliefs[mi].layout);
         if (mi < m.scene.materials.size() && m.scene.materials[mi].bounded &&
             (technique_info(p->key.technique).options & kOptHeight)) {
@@ -1036,7 +1063,8 @@ struct Prediction {
 Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<ObjectView>& views,
                                                    const std::vector<std::vector<PointView>>& all_points,
                                                    const std::vector<glm::vec4>& screen_boxes,
-                                                   const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes) const {
+                                                   const std::vector<std::pair<glm::vec3, glm::vec3>>& world_boxes,
+                                                   bool silhouette_on_screen) const {
     const ObjectDesc& object = scene.objects[oi];
     const size_t mi = scene.material_index(object.material);
     if (mi >= scene.materials.size())
@@ -1351,6 +1379,8 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         const TechniqueInfo& info = technique_info(t);
         if (!why_technique_cannot_run(t, caps, relief.traced_width, relief.traced_height).empty()) continue;
         if (want_shadow && !(info.options & kOptShadow)) continue;
+        // A curved silhouette on screen: a search that can follow the bend.
+        if (silhouette_on_screen && !(info.options & kOptSamples)) continue;
         if (samples > info.max_samples_limit) continue;
         for (int exact = 1; exact >= 0; --exact) {
             if (!exact && (info.always_exact_view || !(info.options & kOptHeight))) continue;

@@ -72,6 +72,8 @@ std::size_t vertex_offset(shader::Attribute a) {
         case shader::Attribute::normal: return offsetof(Vertex, normal);
         case shader::Attribute::tangent: return offsetof(Vertex, tangent);
         case shader::Attribute::uv: return offsetof(Vertex, uv);
+        case shader::Attribute::curvature: return offsetof(Vertex, curvature);
+        case shader::Attribute::uv_stretch: return offsetof(Vertex, uv_stretch);
     }
     return 0;
 }
@@ -88,12 +90,21 @@ void point_attributes() {
 
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what);
 
-// The variant a material that names its technique draws: its plan's key
-// with the layout its textures were built in, bounded as the material says
-// (the planner decides bounded itself, per frame: scene_planner.cpp).
-VariantKey named_material_key(const VariantKey& planned, const TextureLayout& layout, const MaterialDesc& m) {
+// Whether an object draws its material's curved silhouette (PX_CURVED): a
+// parallax-drawn sphere, torus or cylinder whose material asks for it.
+bool curved_silhouette(const MaterialDesc& m, const ObjectDesc& o) {
+    return m.silhouette && mesh_kind_is_curved(o.mesh.kind) && !o.mesh.displaced;
+}
+
+// The variant an object whose material names its technique draws: the
+// material's plan's key with the layout its textures were built in, bounded
+// and curved as material and mesh say (the planner decides both itself, per
+// frame: scene_planner.cpp).
+VariantKey named_material_key(const VariantKey& planned, const TextureLayout& layout, const MaterialDesc& m,
+                              const ObjectDesc& o) {
     VariantKey key = planned.with_layout(layout);
     key.bounded = m.bounded;
+    key.curved = curved_silhouette(m, o);
     return key;
 }
 
@@ -194,7 +205,13 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
     // View-space units per texture tile: mesh units per uv, times the
     // model's mean scale, over tiles per mesh uv.
     const float model_scale = std::cbrt(std::fabs(glm::determinant(model3)));
-    p.set(slot::units_per_tile, mesh.units_per_uv * model_scale / m.uv.area_scale<float>());
+    const float units_per_tile = mesh.units_per_uv * model_scale / m.uv.area_scale<float>();
+    p.set(slot::units_per_tile, units_per_tile);
+    // The quadric (mesh units) into relief depths per squared tile: world
+    // bend = mesh bend / model scale, offsets of units_per_tile per tile,
+    // depths of height_scale * units_per_tile.
+    const float curvature_scale = units_per_tile / (m.height_scale * model_scale);
+    p.set(slot::curvature_scale, std::isfinite(curvature_scale) ? curvature_scale : 0.0f);
     return mirrored;
 }
 
@@ -694,7 +711,7 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
         const GpuMaterial& material = gpu->materials[object.material];
         if (material.planned) continue;
         VariantKey key = named_material_key(material.plan.key, prepared->materials[object.material]->images.layout,
-                                            *material.desc);
+                                            *material.desc, *object.desc);
         if (variant_transform_) key = variant_transform_(key).canonical();
         Result<const Program*> program = gpu->programs.get(key);
         if (!program) return with_context("material '" + echo(material.desc->name) + "'", program.error());
@@ -737,10 +754,14 @@ Status Renderer::replace_material(const MaterialDesc& material) {
             meshes.emplace_back(scene_->objects[i].mesh, std::move(*m));
         }
         if (!g->planned) {
-            VariantKey key = named_material_key(g->plan.key, p.materials[mi]->images.layout, p.desc.materials[mi]);
-            if (variant_transform_) key = variant_transform_(key).canonical();
-            Result<const Program*> program = scene_->programs.get(key);
-            if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
+            for (size_t i = 0; i < p.objects.size(); ++i) {
+                if (p.objects[i]->material != mi) continue;
+                VariantKey key = named_material_key(g->plan.key, p.materials[mi]->images.layout, p.desc.materials[mi],
+                                                    p.desc.objects[i]);
+                if (variant_transform_) key = variant_transform_(key).canonical();
+                Result<const Program*> program = scene_->programs.get(key);
+                if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
+            }
         }
         // The other materials' reliefs as measured at load.
         std::unique_ptr<FramePlanner> planner;
@@ -786,7 +807,7 @@ Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const
         plan.material = material.desc->name;
         plan.options = material.desc->technique;
         plan.key = named_material_key(material.plan.key, prepared_->materials[object.material]->images.layout,
-                                      *material.desc);
+                                      *material.desc, *object.desc);
         plan.notes = material.plan.notes;
         plans.push_back(std::move(plan));
     }

@@ -7,6 +7,10 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <initializer_list>
+#include <numeric>
+#include <optional>
+#include <vector>
 #include <string>
 
 #include "parallaxes/core/numeric.h"
@@ -72,6 +76,8 @@ struct TriangleFrame {
     glm::vec3 face_normal{0.0f};  // unit
     glm::vec3 t{0.0f};            // unit dP/du
     glm::vec3 b{0.0f};            // unit dP/dv
+    float t_len = 0.0f;           // |dP/du|
+    float b_len = 0.0f;           // |dP/dv|
     std::array<float, 3> angle{};
     float world_area = 0.0f;
     float uv_area = 0.0f;
@@ -105,6 +111,8 @@ TriangleFrame triangle_frame(const Vertex& v0, const Vertex& v1, const Vertex& v
     f.usable = true;
     f.t = t / t_len;
     f.b = b / b_len;
+    f.t_len = t_len;
+    f.b_len = b_len;
     f.uv_area = 0.5f * std::abs(det);
     return f;
 }
@@ -139,6 +147,10 @@ const char* mesh_kind_name(MeshKind kind) {
     for (const MeshKindName& k : kMeshKinds)
         if (k.kind == kind) return k.name;
     return "unknown";
+}
+
+bool mesh_kind_is_curved(MeshKind kind) {
+    return kind == MeshKind::sphere || kind == MeshKind::torus || kind == MeshKind::cylinder;
 }
 
 Result<MeshKind> parse_mesh_kind(const std::string& name) {
@@ -222,12 +234,14 @@ Status generate_tangents(Mesh& mesh) {
     std::vector<glm::vec3> t_sum(vert_count, glm::vec3(0.0f));
     std::vector<glm::vec3> b_sum(vert_count, glm::vec3(0.0f));
     std::vector<int> sign(vert_count, 0);
+    std::vector<glm::dvec3> lengths(vert_count, glm::dvec3(0.0));  // angle-weighted |dP/du|, |dP/dv|, weight
     for (std::size_t f = 0; f < tri_count; ++f) {
         if (!tris[f].usable) continue;
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = mesh.indices[3 * f + c];
             t_sum[v] += tris[f].t * tris[f].angle[c];
             b_sum[v] += tris[f].b * tris[f].angle[c];
+            lengths[v] += glm::dvec3(tris[f].t_len, tris[f].b_len, 1.0) * static_cast<double>(tris[f].angle[c]);
             sign[v] = corner_sign(f, v);  // unanimous after the split
         }
     }
@@ -263,6 +277,19 @@ Status generate_tangents(Mesh& mesh) {
         uv += std::sqrt(static_cast<double>(f.uv_area));
     }
     mesh.units_per_uv = uv > 0.0 ? static_cast<float>(world / uv) : 1.0f;
+    // The uv stretch (Vertex::uv_stretch): the mean over the local lengths,
+    // snapped to 1 within float rounding (a plane's is 1 exactly).
+    for (std::size_t v = 0; v < vert_count; ++v) {
+        const glm::dvec3 l = lengths[v];
+        if (!(l.z > 0.0) || !(l.x > 0.0) || !(l.y > 0.0)) continue;
+        auto stretch = [&](double len) {
+            const double s = static_cast<double>(mesh.units_per_uv) * l.z / len;
+            if (!std::isfinite(s)) return 1.0f;
+            if (std::fabs(s - 1.0) < 1e-5) return 1.0f;
+            return static_cast<float>(std::clamp(s, 1.0 / 64.0, 64.0));
+        };
+        mesh.vertices[v].uv_stretch = glm::vec2(stretch(l.x), stretch(l.y));
+    }
     return {};
 }
 
@@ -340,7 +367,155 @@ Mesh make_cube(float size) {
     return mesh;
 }
 
-Mesh make_uv_sphere(float radius, int slices, int stacks) {
+namespace {
+
+// A small linear least-squares problem by its normal equations, solved by
+// Gaussian elimination with partial pivoting after scaling each unknown to a
+// unit diagonal; nullopt where the columns are (nearly) dependent.
+class LeastSquares {
+public:
+    explicit LeastSquares(std::size_t unknowns) : k_(unknowns), m_(unknowns * unknowns, 0.0), r_(unknowns, 0.0) {}
+    void add(std::initializer_list<double> row, double value) {
+        const double* a = row.begin();
+        for (std::size_t i = 0; i < k_; ++i) {
+            for (std::size_t j = 0; j < k_; ++j) m_[i * k_ + j] += a[i] * a[j];
+            r_[i] += a[i] * value;
+        }
+    }
+    std::optional<std::vector<double>> solve() const {
+        std::vector<double> scale(k_), m = m_, r = r_;
+        for (std::size_t i = 0; i < k_; ++i) {
+            if (!(m_[i * k_ + i] > 0.0) || !std::isfinite(m_[i * k_ + i])) return std::nullopt;
+            scale[i] = 1.0 / std::sqrt(m_[i * k_ + i]);
+        }
+        for (std::size_t i = 0; i < k_; ++i) {
+            r[i] *= scale[i];
+            for (std::size_t j = 0; j < k_; ++j) m[i * k_ + j] *= scale[i] * scale[j];
+        }
+        for (std::size_t col = 0; col < k_; ++col) {
+            std::size_t pivot = col;
+            for (std::size_t i = col + 1; i < k_; ++i)
+                if (std::fabs(m[i * k_ + col]) > std::fabs(m[pivot * k_ + col])) pivot = i;
+            if (!(std::fabs(m[pivot * k_ + col]) > 1e-9)) return std::nullopt;
+            if (pivot != col) {
+                for (std::size_t j = 0; j < k_; ++j) std::swap(m[col * k_ + j], m[pivot * k_ + j]);
+                std::swap(r[col], r[pivot]);
+            }
+            for (std::size_t i = col + 1; i < k_; ++i) {
+                const double f = m[i * k_ + col] / m[col * k_ + col];
+                for (std::size_t j = col; j < k_; ++j) m[i * k_ + j] -= f * m[col * k_ + j];
+                r[i] -= f * r[col];
+            }
+        }
+        std::vector<double> x(k_);
+        for (std::size_t i = k_; i-- > 0;) {
+            double sum = r[i];
+            for (std::size_t j = i + 1; j < k_; ++j) sum -= m[i * k_ + j] * x[j];
+            x[i] = sum / m[i * k_ + i];
+        }
+        for (std::size_t i = 0; i < k_; ++i) {
+            x[i] *= scale[i];
+            if (!std::isfinite(x[i])) return std::nullopt;
+        }
+        return x;
+    }
+
+private:
+    std::size_t k_;
+    std::vector<double> m_, r_;
+};
+
+}  // namespace
+
+void fit_curvature(Mesh& mesh) {
+    const std::size_t n = mesh.vertices.size();
+    std::vector<std::vector<std::uint32_t>> neighbours(n);
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const std::uint32_t v[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
+        if (v[0] >= n || v[1] >= n || v[2] >= n) continue;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                if (a != b) neighbours[v[a]].push_back(v[b]);
+    }
+    // Vertices at one position (seams, poles) share their neighbours. One
+    // position: equal after rounding to a millionth of the mesh's extent
+    // (a seam's two copies differ by sin(2 pi) in float).
+    float extent = 0.0f;
+    for (const Vertex& v : mesh.vertices)
+        extent = std::max({extent, std::fabs(v.position.x), std::fabs(v.position.y), std::fabs(v.position.z)});
+    const double cell = extent > 0.0f && std::isfinite(extent) ? 1e-6 * extent : 1.0;
+    std::vector<std::array<double, 3>> key(n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) key[i][static_cast<std::size_t>(a)] = std::round(mesh.vertices[i].position[a] / cell);
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+    std::vector<std::uint32_t> group;
+    for (std::size_t start = 0; start < n;) {
+        std::size_t end = start + 1;
+        while (end < n && key[order[end]] == key[order[start]]) ++end;
+        group.clear();
+        for (std::size_t k = start; k < end; ++k)
+            group.insert(group.end(), neighbours[order[k]].begin(), neighbours[order[k]].end());
+        std::sort(group.begin(), group.end());
+        group.erase(std::unique(group.begin(), group.end()), group.end());
+        for (std::size_t k = start; k < end; ++k) {
+            Vertex& v = mesh.vertices[order[k]];
+            const glm::dvec3 p(v.position);
+            const glm::dvec3 normal = glm::normalize(glm::dvec3(v.normal));
+            glm::dvec3 tangent(v.tangent);
+            tangent = tangent - normal * glm::dot(normal, tangent);
+            const double tl = glm::length(tangent);
+            if (!(tl > 1e-12) || !std::isfinite(tl) || !std::isfinite(normal.x + normal.y + normal.z)) continue;
+            tangent /= tl;
+            const glm::dvec3 bitangent = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent);
+            // Goldfeather and Interrante's adjacent-normal cubic fit: the
+            // surface near the vertex as z = A x^2 + B x y + C y^2 + D x^3 +
+            // E x^2 y + F x y^2 + G y^3 below its tangent plane, through each
+            // neighbour's drop and normal (the normal (zx, zy, 1) gives the
+            // gradient). The cubic terms take up how the bend changes across
+            // the neighbourhood, which a one-sided ring (a grid's single
+            // diagonal) would otherwise fold into B (0.13 on the torus's tube).
+            LeastSquares cubic(7), quadric(3);
+            double rho4 = 0.0, rho2_drop = 0.0;
+            for (std::uint32_t j : group) {
+                const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
+                const double x = glm::dot(e, tangent), y = glm::dot(e, bitangent);
+                if (!(x * x + y * y > 0.0)) continue;  // at this vertex's position
+                const double drop = -glm::dot(e, normal);
+                const glm::dvec3 nj = glm::dvec3(mesh.vertices[j].normal);
+                const double up = glm::dot(nj, normal);
+                const double rho2 = x * x + y * y;
+                rho4 += rho2 * rho2;
+                rho2_drop += rho2 * drop;
+                cubic.add({x * x, x * y, y * y, x * x * x, x * x * y, x * y * y, y * y * y}, drop);
+                quadric.add({x * x, x * y, y * y}, drop);
+                if (!(up > 1e-3) || !std::isfinite(up)) continue;  // a normal turned past the tangent plane
+                const double zx = glm::dot(nj, tangent) / up, zy = glm::dot(nj, bitangent) / up;
+                cubic.add({2.0 * x, y, 0.0, 3.0 * x * x, 2.0 * x * y, y * y, 0.0}, zx);
+                cubic.add({0.0, x, 2.0 * y, 0.0, x * x, 2.0 * x * y, 3.0 * y * y}, zy);
+                quadric.add({2.0 * x, y, 0.0}, zx);
+                quadric.add({0.0, x, 2.0 * y}, zy);
+            }
+            if (!(rho4 > 0.0)) continue;
+            glm::dvec3 c;
+            if (std::optional<std::vector<double>> k = cubic.solve()) {
+                c = glm::dvec3((*k)[0], (*k)[1], (*k)[2]);
+            } else if (std::optional<std::vector<double>> q = quadric.solve()) {
+                c = glm::dvec3((*q)[0], (*q)[1], (*q)[2]);
+            } else {  // too few directions: the same bend each way
+                const double k0 = rho2_drop / rho4;
+                c = glm::dvec3(k0, 0.0, k0);
+            }
+            if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) v.curvature = glm::vec3(c);
+        }
+        start = end;
+    }
+}
+
+namespace {
+
+Mesh uv_sphere_unfitted(float radius, int slices, int stacks) {
     // Poles on the z axis (the scene's up); u = 0 / 1 seam at +y, so u = 0.5
     // faces a camera on -y and +u runs towards +x there.
     const int ns = std::max(slices, 3);
@@ -390,7 +565,7 @@ Mesh make_uv_sphere(float radius, int slices, int stacks) {
     return mesh;
 }
 
-Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tube_segments) {
+Mesh torus_unfitted(float ring_radius, float tube_radius, int ring_segments, int tube_segments) {
     const int nr = std::max(ring_segments, 3);
     const int nt = std::max(tube_segments, 3);
     Mesh mesh;
@@ -416,11 +591,7 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
     return mesh;
 }
 
-}  // namespace px
-
-namespace px {
-
-Mesh make_cylinder(float radius, float height, int segments, int rows) {
+Mesh cylinder_unfitted(float radius, float height, int segments, int rows) {
     const int ns = std::max(segments, 3);
     const int nr = std::max(rows, 1);
     Mesh mesh;
@@ -439,6 +610,26 @@ Mesh make_cylinder(float radius, float height, int segments, int rows) {
     }
     push_grid_quads(mesh, static_cast<std::uint32_t>(ns), static_cast<std::uint32_t>(nr));
     (void)generate_tangents(mesh);
+    return mesh;
+}
+
+}  // namespace
+
+Mesh make_uv_sphere(float radius, int slices, int stacks) {
+    Mesh mesh = uv_sphere_unfitted(radius, slices, stacks);
+    fit_curvature(mesh);
+    return mesh;
+}
+
+Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tube_segments) {
+    Mesh mesh = torus_unfitted(ring_radius, tube_radius, ring_segments, tube_segments);
+    fit_curvature(mesh);
+    return mesh;
+}
+
+Mesh make_cylinder(float radius, float height, int segments, int rows) {
+    Mesh mesh = cylinder_unfitted(radius, height, segments, rows);
+    fit_curvature(mesh);
     return mesh;
 }
 
@@ -472,9 +663,11 @@ Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, co
     if (!(area_scale > 0.0) || !std::isfinite(area_scale))
         return make_error(std::string("displaced ") + name + ": the uv transform is singular");
     const int c = static_cast<int>(columns), r = static_cast<int>(rows);
-    Mesh mesh = kind == MeshKind::sphere  ? make_uv_sphere(size.radius, c, r)
-                : kind == MeshKind::torus ? make_torus(size.radius, size.tube_radius, c, r)
-                                          : make_cylinder(size.radius, size.height, c, r);
+    // Drawn as geometry: no curvature to fit (a pass over every vertex's
+    // neighbours, up to kMaxSceneVertices of them).
+    Mesh mesh = kind == MeshKind::sphere  ? uv_sphere_unfitted(size.radius, c, r)
+                : kind == MeshKind::torus ? torus_unfitted(size.radius, size.tube_radius, c, r)
+                                          : cylinder_unfitted(size.radius, size.height, c, r);
     const double depth = static_cast<double>(height_scale) * static_cast<double>(units_per_uv) / area_scale;
     for (Vertex& v : mesh.vertices) {
         const glm::dvec2 tiled = uv_matrix * glm::dvec2(v.uv) + uv_offset;

@@ -21,6 +21,22 @@ struct Vertex {
     // so that bitangent (along +v) = w * cross(normal, tangent.xyz).
     glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
     glm::vec2 uv{0.0f};
+    // The surface's bend away from its tangent plane, to second order (the
+    // curved-relief silhouettes' quadric, PX_CURVED): at a tangent-plane
+    // offset x along the tangent and y along the bitangent (w * cross(normal,
+    // tangent)), mesh units, the surface lies c.x x^2 + c.y x y + c.z y^2
+    // below the plane (positive where it bends away from the normal: 1 / (2
+    // r) each way on a sphere of radius r). Zero on planes and cubes;
+    // fit_curvature fits it from the mesh.
+    glm::vec3 curvature{0.0f};
+    // How many times more mesh uv a step along the tangent (x) and the
+    // bitangent (y) crosses here than the mesh's mean (Mesh::units_per_uv
+    // over |dP/du| and |dP/dv|): a uv sphere's u runs around twice the
+    // length its v does, and its u crowds toward the poles. The searches'
+    // uv step is stretched by it (surface.vert), so that the relief keeps
+    // its shape in space wherever the mesh's uv does not. 1 on planes and
+    // cubes; generate_tangents sets it, within [1/64, 64].
+    glm::vec2 uv_stretch{1.0f};
 };
 
 struct Mesh {
@@ -33,6 +49,9 @@ struct Mesh {
 
 enum class MeshKind { plane, cube, sphere, torus, cylinder };
 const char* mesh_kind_name(MeshKind kind);
+// A sphere, torus or cylinder: a mesh whose surface bends (Vertex::curvature
+// is fitted), where a material's silhouette follows the curved relief.
+bool mesh_kind_is_curved(MeshKind kind);
 Result<MeshKind> parse_mesh_kind(const std::string& name);
 
 // Plane in the xy plane facing +z, centred on the origin, `size` wide,
@@ -109,6 +128,17 @@ Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, co
 // (checked before allocating).
 Result<Mesh> make_displaced_plane(float size, const HeightField& field, const glm::dmat2& uv_matrix,
                                   const glm::dvec2& uv_offset, float height_scale, float polygon_height);
+
+// Fits each vertex's `curvature` (Vertex) from the mesh itself, over the
+// vertex's neighbours (those it shares a triangle with, over every vertex at
+// its position, so that seams and poles see both sides): Goldfeather and
+// Interrante's cubic through the neighbours' drops below the tangent plane
+// and their normals, in the vertex's (tangent, bitangent) frame, keeping its
+// second-order part. Where the neighbours do not determine the cubic, the
+// quadric alone; where they do not determine that (all along one line), the
+// mean drop over squared distance, the same each way. Run after
+// generate_tangents (it reads the final frame).
+void fit_curvature(Mesh& mesh);
 
 // Recomputes every vertex tangent from positions, normals and uvs of an
 // indexed triangle list (per-triangle uv derivatives, accumulated and

@@ -184,6 +184,12 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
     const Status options = validate_options(m.technique);
     c.require(options.ok(), path + ".options", options.ok() ? "" : options.error().message);
     if (m.effects) c.require(validate_effect_request(*m.effects, path + ".effects"));
+    // A named technique must be one whose search can follow the bend (a
+    // planned material gets one from the planner).
+    c.require(!m.silhouette || m.effects || (technique_info(m.technique.technique).options & kOptSamples) != 0,
+              path + ".silhouette",
+              std::string("a curved silhouette is drawn by the linear searches (steep, pom, relief), not by '") +
+                  technique_name(m.technique.technique) + "'");
 }
 
 void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const std::string& path) {

@@ -553,6 +553,7 @@ void read_material(Reader& r, const json& j, const std::string& path, MaterialDe
     f.read("specular", m.specular);
     f.read("shininess", m.shininess);
     f.read("bounded", m.bounded);
+    f.read("silhouette", m.silhouette);
 
     Fields uv(r, f.get("uv"), f.sub("uv"));
     uv.read_scale("scale", m.uv.scale);

@@ -28,6 +28,7 @@ bool debug_output(const VariantKey& k) { return k.debug_output != 0; }
 bool count_work(const VariantKey& k) { return k.count_work; }
 bool capture_ray(const VariantKey& k) { return k.capture_ray; }
 bool bounded(const VariantKey& k) { return k.bounded; }
+bool curved(const VariantKey& k) { return k.curved; }
 // GLSL ES 1.00 debug outputs: the 11-bit packing stays for the driver to pick
 // (GL_FRAGMENT_PRECISION_HIGH) unless the key rules highp out.
 bool mediump_packing(const VariantKey& k) { return k.debug_output != 0 && k.es_major < 3; }
@@ -133,6 +134,11 @@ const std::vector<EffectMarker> kMarkers = {
     // surface_main.glsl: a bounded relief's discard.
     {"bounded", "u_bounds_matrix", bounded},
     {"bounded", "PX_BOUNDED", bounded},
+    // surface.vert and march.glsl: the curved relief's quadric and march.
+    {"curved", "a_curvature", curved},
+    {"curved", "u_curvature_scale", curved},
+    {"curved", "px_curved_search", curved},
+    {"curved", "PX_CURVED", curved},
     // debug_output.glsl: the 11-bit packing of a fragment stage without highp.
     {"mediump debug packing", "px_pack11", mediump_packing},
     // debug_output.glsl: the 24-bit packing, which needs highp.

@@ -174,6 +174,8 @@ bool needed(Uniform uniform, const VariantKey& key) {
         // surface_main.glsl: a bounded relief's discard (PX_BOUNDED).
         case Uniform::bounds_matrix:
         case Uniform::bounds_offset: return k.bounded;
+        // surface.vert: the curved relief's quadric into relief depths (PX_CURVED).
+        case Uniform::curvature_scale: return k.curved;
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:
@@ -197,6 +199,11 @@ bool needed(Attribute a, const VariantKey& key) {
         // The texture-space frame (see uses()).
         case Attribute::normal:
         case Attribute::tangent: return uses(k).frame;
+        // surface.vert: the curved relief's quadric (PX_CURVED).
+        case Attribute::curvature: return k.curved;
+        // surface.vert: the searches' uv step along the mesh's uv (every
+        // height-reading variant but the ladder's own shaders).
+        case Attribute::uv_stretch: return uses(k).traced && k.ladder_step == 0;
     }
     return true;
 }

@@ -24,7 +24,9 @@ namespace px::shader {
     X(position, "a_position", 3) \
     X(normal, "a_normal", 3)     \
     X(tangent, "a_tangent", 4)   \
-    X(uv, "a_uv", 2)
+    X(uv, "a_uv", 2)             \
+    X(curvature, "a_curvature", 3) \
+    X(uv_stretch, "a_uv_stretch", 2)
 
 enum class Attribute : std::uint8_t {
 #define PX_ENUM(id, name, components) id,
@@ -72,6 +74,7 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(max_atlas, "u_max_atlas", vec4, 1)                       \
     X(bounds_matrix, "u_bounds_matrix", mat2, 1)               \
     X(bounds_offset, "u_bounds_offset", vec2, 1)               \
+    X(curvature_scale, "u_curvature_scale", float1, 1)         \
     X(albedo_map, "u_albedo_map", sampler2d, 1)                \
     X(normal_map, "u_normal_map", sampler2d, 1)                \
     X(height_map, "u_height_map", sampler2d, 1)                \
