@@ -182,8 +182,8 @@ namespace {
 // their silhouettes. A sphere, a cylinder and a torus of hemispherical bumps
 // 0.05 tiles deep: displaced, their outline follows the bumps, so it leaves
 // the smooth mesh's by more than 1 % of the contour; drawn with POM, the
-// outline is the smooth mesh's to the pixel (no curved silhouettes yet:
-// the relief ends at the polygon's edge), and what it misses against the
+// outline is the smooth mesh's to the pixel (without "silhouette": the
+// relief ends at the polygon's edge), and what it misses against the
 // displaced reference is printed (docs/silhouettes.md).
 TEST(Silhouettes, DisplacedCurvedMeshesAreTheContourReference) {
     for (MeshKind kind : {MeshKind::sphere, MeshKind::cylinder, MeshKind::torus}) {

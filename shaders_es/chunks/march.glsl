@@ -119,7 +119,12 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // No farther than the flat searches reach (V.z clamped at 1/64).
     mu_start = max(mu_start, -64.0);
     mu_end = min(mu_end, 64.0);
-    mediump float count = min(px_sample_count(c), float(PX_MAX_SAMPLES));
+    // Steps no longer than the flat search's (a relief depth over its count,
+    // mu 1 / (V.z count)): the bent ray's range is up to 4 times longer
+    // (into the relief and out again), within the loop's bound.
+    PX_HIGHP float flat_range = 1.0 / max(c, 1.0 / 64.0);
+    mediump float count = min(floor(px_sample_count(c) * max((mu_end - mu_start) / flat_range, 1.0) + 0.5),
+                              float(PX_MAX_SAMPLES));
     PX_HIGHP float step = (mu_end - mu_start) / count;
     PxMarch m;
     m.step = step;
