@@ -57,6 +57,21 @@ reference::ContourError contour(const SurfaceImage& measured, const SurfaceImage
     return e.ok() ? *e : reference::ContourError{};
 }
 
+// A planner for a scene of one material, on this test's context.
+Result<std::unique_ptr<ScenePlanner>> one_material_planner(const SceneDesc& scene) {
+    Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
+    if (!images) return images.error();
+    return ScenePlanner::create(scene, Caps::full(test_es_major()),
+                                {material_relief(quantized_8bit(images->field), scene.materials[0])});
+}
+
+// A plan's notes, one per line.
+std::string notes_of(const ObjectPlan& p) {
+    std::string all;
+    for (const std::string& n : p.notes) all += n + "\n";
+    return all;
+}
+
 // The exact reference applies the same bounds (a ray that leaves the tile
 // before meeting the relief shows the background): the GPU's outline is the
 // reference's, to a few pixels along a contour of hundreds, where the tile
@@ -147,16 +162,8 @@ TEST(Silhouettes, ThePlannerDropsTheDiscardWhereNoOutlineIsOnScreen) {
     SceneDesc scene = tile(60.0, Technique::pom).build();
     scene.materials[0].bounded = true;
     scene.materials[0].effects.emplace().max_error_texels = 0.5;
-    Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
-    ASSERT_TRUE(images.ok()) << images.error().message;
-    auto planner = ScenePlanner::create(scene, Caps::full(test_es_major()),
-                                        {material_relief(quantized_8bit(images->field), scene.materials[0])});
+    Result<std::unique_ptr<ScenePlanner>> planner = one_material_planner(scene);
     ASSERT_TRUE(planner.ok()) << planner.error().message;
-    const auto notes_of = [](const ObjectPlan& p) {
-        std::string all;
-        for (const std::string& n : p.notes) all += n + "\n";
-        return all;
-    };
     auto whole = (*planner)->plan(scene.camera, kSize, kSize);
     ASSERT_TRUE(whole.ok()) << whole.error().message;
     EXPECT_TRUE(whole->at(0).key.bounded) << whole->at(0).key.describe();
@@ -322,16 +329,8 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
 TEST(Silhouettes, ThePlannerDrawsCurvedSilhouettesWhereTheContourIsOnScreen) {
     SceneDesc scene = curved_scene(MeshKind::sphere, 30.0, Technique::pom, true);
     scene.materials[0].effects.emplace().max_error_texels = 4.0f;
-    Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
-    ASSERT_TRUE(images.ok()) << images.error().message;
-    auto planner = ScenePlanner::create(scene, Caps::full(test_es_major()),
-                                        {material_relief(quantized_8bit(images->field), scene.materials[0])});
+    Result<std::unique_ptr<ScenePlanner>> planner = one_material_planner(scene);
     ASSERT_TRUE(planner.ok()) << planner.error().message;
-    const auto notes_of = [](const ObjectPlan& p) {
-        std::string all;
-        for (const std::string& n : p.notes) all += n + "\n";
-        return all;
-    };
     auto whole = (*planner)->plan(scene.camera, kSize, kSize);
     ASSERT_TRUE(whole.ok()) << whole.error().message;
     EXPECT_TRUE(whole->at(0).key.curved) << whole->at(0).key.describe();

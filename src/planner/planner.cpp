@@ -16,26 +16,43 @@ namespace px {
 
 namespace {
 bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// The four viewport corners' rays in model space, from the near plane
+// (origin) to the far plane (origin + direction); false where the
+// projection or view is degenerate there.
+struct CornerRay {
+    glm::dvec3 origin;
+    glm::dvec3 direction;
+};
+bool corner_rays(const glm::mat4& model, const glm::mat4& view, const glm::mat4& projection, CornerRay (&rays)[4]) {
+    const glm::dmat4 to_world = glm::inverse(glm::dmat4(projection) * glm::dmat4(view));
+    const glm::dmat4 to_model = glm::inverse(glm::dmat4(model));
+    int k = 0;
+    for (const glm::dvec2 corner : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
+        const glm::dvec4 near_h = to_world * glm::dvec4(corner, -1.0, 1.0);
+        const glm::dvec4 far_h = to_world * glm::dvec4(corner, 1.0, 1.0);
+        if (!(std::fabs(near_h.w) > 0.0) || !(std::fabs(far_h.w) > 0.0)) return false;
+        const glm::dvec3 o = glm::dvec3(to_model * glm::dvec4(glm::dvec3(near_h) / near_h.w, 1.0));
+        rays[k++] = {o, glm::dvec3(to_model * glm::dvec4(glm::dvec3(far_h) / far_h.w, 1.0)) - o};
+    }
+    return true;
+}
 }  // namespace
 
 bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth, const glm::mat4& view,
                                const glm::mat4& projection) {
-    const glm::dmat4 to_world = glm::inverse(glm::dmat4(projection) * glm::dmat4(view));
-    const glm::dmat4 to_model = glm::inverse(glm::dmat4(model));
     const double half = 0.5 * static_cast<double>(size);
     if (!(half > 0.0) || !std::isfinite(depth) || depth < 0.0) return true;
     // The viewport's corners: the image maps onto the plane projectively, so
     // if all four land well inside the (convex) bounds, every pixel does;
     // the sideways reach is largest at one of them.
+    CornerRay rays[4];
+    if (!corner_rays(model, view, projection, rays)) return true;
     glm::dvec2 hits[4];
     double reach = 0.0;
     int k = 0;
-    for (const glm::dvec2 corner : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
-        const glm::dvec4 near_h = to_world * glm::dvec4(corner, -1.0, 1.0);
-        const glm::dvec4 far_h = to_world * glm::dvec4(corner, 1.0, 1.0);
-        if (!(std::fabs(near_h.w) > 0.0) || !(std::fabs(far_h.w) > 0.0)) return true;
-        const glm::dvec3 o = glm::dvec3(to_model * glm::dvec4(glm::dvec3(near_h) / near_h.w, 1.0));
-        const glm::dvec3 d = glm::dvec3(to_model * glm::dvec4(glm::dvec3(far_h) / far_h.w, 1.0)) - o;
+    for (const CornerRay& ray : rays) {
+        const glm::dvec3 o = ray.origin, d = ray.direction;
         if (!(d.z < 0.0)) return true;  // the corner sees the back, or along the plane
         const double s = -o.z / d.z;
         if (!(s >= 0.0 && s <= 1.0)) return true;  // the plane is behind the near or past the far plane there
@@ -75,14 +92,10 @@ bool curved_outline_on_screen(const glm::mat4& model, MeshKind kind, float radiu
     // The corners' rays against the shrunk sphere, in model space.
     const double inner = r - depth;
     if (!(inner > 0.0)) return true;
-    const glm::dmat4 to_world = glm::inverse(clip);
-    const glm::dmat4 to_model = glm::inverse(glm::dmat4(model));
-    for (const glm::dvec2 corner : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
-        const glm::dvec4 near_h = to_world * glm::dvec4(corner, -1.0, 1.0);
-        const glm::dvec4 far_h = to_world * glm::dvec4(corner, 1.0, 1.0);
-        if (!(std::fabs(near_h.w) > 0.0) || !(std::fabs(far_h.w) > 0.0)) return true;
-        const glm::dvec3 o = glm::dvec3(to_model * glm::dvec4(glm::dvec3(near_h) / near_h.w, 1.0));
-        const glm::dvec3 d = glm::dvec3(to_model * glm::dvec4(glm::dvec3(far_h) / far_h.w, 1.0)) - o;
+    CornerRay rays[4];
+    if (!corner_rays(model, view, projection, rays)) return true;
+    for (const CornerRay& ray : rays) {
+        const glm::dvec3 o = ray.origin, d = ray.direction;
         // |o + s d| = inner at s in [0, 1], with o outside the sphere.
         const double a = glm::dot(d, d), b = glm::dot(o, d), c = glm::dot(o, o) - inner * inner;
         if (!(a > 0.0) || !(c > 0.0)) return true;  // degenerate, or the near plane inside the sphere

@@ -177,13 +177,29 @@ SceneDesc default_scene() {
     panel.uv.scale = {1.0f, 0.2f};
     panel.uv.offset = {0.0f, 0.4f};
 
-    s.materials = {pavement, panel};
+    // A bronze dome studded with bumps, set into the pavement behind the
+    // panel (depth written, so the bricks meet it where their relief does):
+    // its outline is the studs' (`silhouette`, the curved search).
+    FieldSpec studs = field(FieldKind::hemispheres);
+    studs.count = 2;
+    MaterialDesc bronze = material("studded bronze", kPaleStone, studs, 0.06f, pom, glm::vec2(6.0f, 3.0f));
+    bronze.albedo = ramp(studs, {0.20f, 0.15f, 0.10f}, {0.86f, 0.64f, 0.34f}, 0.06f);
+    bronze.specular = 0.6f;
+    bronze.shininess = 36.0f;
+    bronze.silhouette = true;
+
+    s.materials = {pavement, panel, bronze};
+    MeshDesc sphere;
+    sphere.kind = MeshKind::sphere;
+    sphere.radius = 0.45f;
+    ObjectDesc ball = object("dome", sphere, "studded bronze", {1.0f, 0.75f, -0.12f});
+    ball.transform.rotate_deg = {0.0f, 0.0f, 20.0f};
     ObjectDesc ground = object("pavement", plane(12.0f), "pavement", {0.0f, 4.0f, -0.002f});
     // The panel's ground (the glyphs' height 0) lies on the pavement's
     // bricks; its polygon is at the glyphs' tops, 0.025 of its 2.2-unit tile.
     ObjectDesc plaque = object("panel", plane(2.2f), "brass lettering", {0.0f, -0.35f, 0.025f * 2.2f});
     plaque.transform.scale = {1.0f, 0.2f, 1.0f};
-    s.objects = {ground, plaque};
+    s.objects = {ground, plaque, ball};
     return s;
 }
 
