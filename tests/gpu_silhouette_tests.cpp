@@ -185,60 +185,6 @@ TEST(Silhouettes, ThePlannerDropsTheDiscardWhereNoOutlineIsOnScreen) {
 namespace px::test {
 namespace {
 
-// Curved meshes as real geometry (make_displaced_curved): the reference for
-// their silhouettes. A sphere, a cylinder and a torus of hemispherical bumps
-// 0.05 tiles deep: displaced, their outline follows the bumps, so it leaves
-// the smooth mesh's by more than 1 % of the contour; drawn with POM, the
-// outline is the smooth mesh's to the pixel (without "silhouette": the
-// relief ends at the polygon's edge), and what it misses against the
-// displaced reference is printed (docs/silhouettes.md).
-TEST(Silhouettes, DisplacedCurvedMeshesAreTheContourReference) {
-    for (MeshKind kind : {MeshKind::sphere, MeshKind::cylinder, MeshKind::torus}) {
-        SCOPED_TRACE(mesh_kind_name(kind));
-        SceneDesc s;
-        s.camera.position = {0.0f, -3.4f, 0.8f};
-        s.camera.target = {0.0f, 0.0f, 0.0f};
-        s.camera.fov_y_deg = 40.0f;
-        MaterialDesc m;
-        m.name = "bumps";
-        m.height.kind = TextureSource::Kind::procedural;
-        m.height.field.kind = FieldKind::hemispheres;
-        m.height.field.count = 2;
-        m.height.field.size = 128;
-        m.height_scale = 0.05f;
-        m.uv.scale = kind == MeshKind::torus ? glm::vec2(6.0f, 2.0f) : glm::vec2(6.0f, 3.0f);
-        m.technique.technique = Technique::pom;
-        m.technique.max_samples = 64;
-        s.materials = {m};
-        ObjectDesc o;
-        o.name = "shape";
-        o.material = "bumps";
-        o.mesh.kind = kind;
-        o.mesh.radius = kind == MeshKind::torus ? 1.0f : 0.9f;
-        o.mesh.tube_radius = 0.4f;
-        o.mesh.size = 1.8f;
-        if (kind == MeshKind::torus) o.transform.rotate_deg = {60.0f, 0.0f, 0.0f};
-        s.objects = {o};
-        ASSERT_TRUE(validate_scene(s).ok());
-
-        const SurfaceImage pom = surfaces_of(s);
-        s.materials[0].technique.technique = Technique::normal;
-        const SurfaceImage smooth = surfaces_of(s);
-        s.objects[0].mesh.displaced = true;
-        const SurfaceImage geometry = surfaces_of(s);
-
-        const reference::ContourError relief_outline = contour(smooth, geometry);
-        EXPECT_GT(relief_outline.contour, 200);
-        EXPECT_GT(relief_outline.share(), 0.01);
-        const reference::ContourError pom_vs_polygon = contour(pom, smooth);
-        EXPECT_EQ(pom_vs_polygon.mismatched, 0);
-        const reference::ContourError pom_vs_geometry = contour(pom, geometry);
-        std::printf("%s: contour %ld px; POM (the smooth outline) mismatches %.1f %% of it, %ld px drawn outside\n",
-                    mesh_kind_name(kind), pom_vs_geometry.contour, 100.0 * pom_vs_geometry.share(),
-                    pom_vs_geometry.measured_only);
-    }
-}
-
 // A sphere, cylinder or torus under hemispherical bumps, seen from
 // `elevation` degrees above its equator (the torus tilted 60 degrees).
 SceneDesc curved_scene(MeshKind kind, double elevation, Technique technique, bool silhouette) {
@@ -270,6 +216,38 @@ SceneDesc curved_scene(MeshKind kind, double elevation, Technique technique, boo
     if (kind == MeshKind::torus) o.transform.rotate_deg = {60.0f, 0.0f, 0.0f};
     s.objects = {o};
     return s;
+}
+
+// Curved meshes as real geometry (make_displaced_curved): the reference for
+// their silhouettes. A sphere, a cylinder and a torus of hemispherical bumps
+// 0.05 tiles deep: displaced, their outline follows the bumps, so it leaves
+// the smooth mesh's by more than 1 % of the contour; drawn with POM, the
+// outline is the smooth mesh's to the pixel (without "silhouette": the
+// relief ends at the polygon's edge), and what it misses against the
+// displaced reference is printed (docs/silhouettes.md).
+TEST(Silhouettes, DisplacedCurvedMeshesAreTheContourReference) {
+    for (MeshKind kind : {MeshKind::sphere, MeshKind::cylinder, MeshKind::torus}) {
+        SCOPED_TRACE(mesh_kind_name(kind));
+        SceneDesc s = curved_scene(kind, 0.0, Technique::pom, false);
+        s.camera.position = {0.0f, -3.4f, 0.8f};
+        ASSERT_TRUE(validate_scene(s).ok());
+
+        const SurfaceImage pom = surfaces_of(s);
+        s.materials[0].technique.technique = Technique::normal;
+        const SurfaceImage smooth = surfaces_of(s);
+        s.objects[0].mesh.displaced = true;
+        const SurfaceImage geometry = surfaces_of(s);
+
+        const reference::ContourError relief_outline = contour(smooth, geometry);
+        EXPECT_GT(relief_outline.contour, 200);
+        EXPECT_GT(relief_outline.share(), 0.01);
+        const reference::ContourError pom_vs_polygon = contour(pom, smooth);
+        EXPECT_EQ(pom_vs_polygon.mismatched, 0);
+        const reference::ContourError pom_vs_geometry = contour(pom, geometry);
+        std::printf("%s: contour %ld px; POM (the smooth outline) mismatches %.1f %% of it, %ld px drawn outside\n",
+                    mesh_kind_name(kind), pom_vs_geometry.contour, 100.0 * pom_vs_geometry.share(),
+                    pom_vs_geometry.measured_only);
+    }
 }
 
 // Curved silhouettes (MaterialDesc::silhouette, PX_CURVED): the march
