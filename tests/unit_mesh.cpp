@@ -570,5 +570,28 @@ TEST(MeshUvStretch, FollowsTheLocalUvDensity) {
     }
 }
 
+// A bounded cylinder drawn longer (make_widened_cylinder): v runs past
+// [0, 1] by the margin at each end, at the same uv per mesh unit, with the
+// same frame, stretch and bend as the tube it extends.
+TEST(MeshWidenedCylinder, ExtendsTheTubeAtTheSameUvDensity) {
+    const float r = 0.7f, height = 2.0f, margin = 0.1f;
+    const Mesh tube = make_cylinder(r, height);
+    const Mesh longer = make_widened_cylinder(r, height, margin);
+    EXPECT_NEAR(longer.units_per_uv, tube.units_per_uv, 1e-4 * tube.units_per_uv);
+    float v_lo = 1.0f, v_hi = 0.0f;
+    for (const Vertex& v : longer.vertices) {
+        v_lo = std::min(v_lo, v.uv.y);
+        v_hi = std::max(v_hi, v.uv.y);
+        // z = (v - 0.5) height: the tube's own uv per unit, continued.
+        EXPECT_NEAR(v.position.z, (v.uv.y - 0.5f) * height, 1e-5f);
+        EXPECT_NEAR(v.uv_stretch.x, tube.vertices[0].uv_stretch.x, 1e-4f);
+        EXPECT_NEAR(v.uv_stretch.y, tube.vertices[0].uv_stretch.y, 1e-4f);
+        EXPECT_NEAR(v.curvature.x, tube.vertices[0].curvature.x, 1e-3f * std::fabs(tube.vertices[0].curvature.x) + 1e-6f);
+        EXPECT_NEAR(v.curvature.z, tube.vertices[0].curvature.z, 1e-4f);
+    }
+    EXPECT_FLOAT_EQ(v_lo, -margin);
+    EXPECT_FLOAT_EQ(v_hi, 1.0f + margin);
+}
+
 }  // namespace
 }  // namespace px

@@ -889,6 +889,11 @@ TEST(SceneParse, BoundedIsABooleanMaterialField) {
     ASSERT_FALSE(sphere.ok());
     EXPECT_NE(sphere.error().message.find("objects[0].material"), std::string::npos) << sphere.error().message;
     EXPECT_NE(sphere.error().message.find("seams"), std::string::npos) << sphere.error().message;
+    // An open cylinder's ends are bounds along v (u wraps around it): accepted.
+    Result<SceneDesc> tube = parse_scene(
+        R"({"materials": [{"name": "m", "bounded": true}], "objects": [{"material": "m", "mesh": {"type": "cylinder"}}]})",
+        "t.json");
+    EXPECT_TRUE(tube.ok()) << tube.error().message;
 }
 
 // "silhouette": a curved mesh's own outline, drawn by the linear searches.

@@ -109,15 +109,21 @@ VariantKey named_material_key(const VariantKey& planned, const TextureLayout& la
 }
 
 // An object's mesh as drawn: the prepared one, or for a bounded relief on a
-// plane the plane widened by bounded_margin, so that rays coming into the
-// tile through its side have fragments to be traced in (docs/silhouettes.md).
+// plane (or an open cylinder, along its length) the mesh widened by
+// bounded_margin, so that rays coming into the tile through its side have
+// fragments to be traced in (docs/silhouettes.md).
 Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared, const Caps& caps) {
     const std::string what = "object '" + echo(o.name) + "'";
     const double margin = bounded_margin(m);
-    if (o.mesh.kind != MeshKind::plane || o.mesh.displaced || !(margin > 0.0)) return upload_mesh(prepared, caps, what);
-    return upload_mesh(make_widened_plane(o.mesh.size, o.mesh.segments, static_cast<float>(margin), o.mesh.tangent,
-                                          o.mesh.normal),
-                       caps, what);
+    if (o.mesh.displaced || !(margin > 0.0)) return upload_mesh(prepared, caps, what);
+    if (o.mesh.kind == MeshKind::plane)
+        return upload_mesh(make_widened_plane(o.mesh.size, o.mesh.segments, static_cast<float>(margin),
+                                              o.mesh.tangent, o.mesh.normal),
+                           caps, what);
+    // As build_object_mesh (scene.cpp) makes the cylinder.
+    if (o.mesh.kind == MeshKind::cylinder)
+        return upload_mesh(make_widened_cylinder(o.mesh.radius, o.mesh.size, static_cast<float>(margin)), caps, what);
+    return upload_mesh(prepared, caps, what);
 }
 
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what) {
@@ -221,7 +227,7 @@ void bind_texture_unit(shader::Sampler sampler, const Texture& texture) {
 }
 
 void set_material_uniforms(const Program& p, const GpuMaterial& material, const VariantKey& key,
-                           const TechniqueOptions& options) {
+                           const TechniqueOptions& options, MeshKind mesh_kind) {
     const MaterialDesc& m = *material.desc;
     p.set(slot::uv_matrix, m.uv.matrix<float>());
     // Whole tiles of offset change no texel (GL_REPEAT), but uvs 1000 tiles
@@ -234,7 +240,11 @@ void set_material_uniforms(const Program& p, const GpuMaterial& material, const 
         // same fractional offset the vertex stage adds.
         const glm::dmat2 matrix = m.uv.matrix<double>();
         const double det = glm::determinant(matrix);
-        p.set(slot::bounds_matrix, det != 0.0 ? glm::mat2(glm::inverse(matrix)) : glm::mat2(0.0f));
+        glm::mat2 bounds = det != 0.0 ? glm::mat2(glm::inverse(matrix)) : glm::mat2(0.0f);
+        // An open cylinder is bounded along v only (its ends), u wraps around
+        // it: mesh u comes out 0 for every uv, always inside [0, 1].
+        if (mesh_kind == MeshKind::cylinder) bounds[0][0] = bounds[1][0] = 0.0f;
+        p.set(slot::bounds_matrix, bounds);
         p.set(slot::bounds_offset, m.uv.offset - glm::floor(m.uv.offset));
     }
     const float scale = m.height_scale;
@@ -339,7 +349,7 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     // A mirroring model matrix reverses the triangles' winding on screen:
     // flip the front face so the object's outside stays the drawn side.
     glFrontFace(mirrored ? GL_CW : GL_CCW);
-    set_material_uniforms(p, material, key, options);
+    set_material_uniforms(p, material, key, options, object.desc->mesh.kind);
     draw_mesh(mesh);
     if (!kCheckEveryDraw) return {};
     return check_gl("drawing object '" + object.desc->name + "' with " + p.description());

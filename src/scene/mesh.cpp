@@ -499,8 +499,8 @@ void fit_curvature(Mesh& mesh) {
             }
             if (!(rho4 > 0.0)) continue;
             glm::dvec3 c;
-            if (std::optional<std::vector<double>> k = cubic.solve()) {
-                c = glm::dvec3((*k)[0], (*k)[1], (*k)[2]);
+            if (std::optional<std::vector<double>> fit = cubic.solve()) {
+                c = glm::dvec3((*fit)[0], (*fit)[1], (*fit)[2]);
             } else if (std::optional<std::vector<double>> q = quadric.solve()) {
                 c = glm::dvec3((*q)[0], (*q)[1], (*q)[2]);
             } else {  // too few directions: the same bend each way
@@ -629,6 +629,15 @@ Mesh make_torus(float ring_radius, float tube_radius, int ring_segments, int tub
 
 Mesh make_cylinder(float radius, float height, int segments, int rows) {
     Mesh mesh = cylinder_unfitted(radius, height, segments, rows);
+    fit_curvature(mesh);
+    return mesh;
+}
+
+Mesh make_widened_cylinder(float radius, float height, float margin, int segments, int rows) {
+    const float grow = 1.0f + 2.0f * margin;
+    Mesh mesh = cylinder_unfitted(radius, height * grow, segments, rows);
+    for (Vertex& v : mesh.vertices) v.uv.y = v.uv.y * grow - margin;
+    (void)generate_tangents(mesh);  // the frame and uv density again, for the new v
     fit_curvature(mesh);
     return mesh;
 }

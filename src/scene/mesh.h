@@ -90,6 +90,10 @@ DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm:
 // the sphere's), v from the bottom (z = -height / 2) to the top; `rows`
 // rings of quads along it.
 Mesh make_cylinder(float radius = 0.6f, float height = 2.0f, int segments = 48, int rows = 1);
+// make_cylinder longer by `margin` (mesh uv) at each end: v from -margin to
+// 1 + margin over (1 + 2 margin) * height, the same uv per mesh unit (a
+// bounded relief's open ends: bounded_margin in scene.h).
+Mesh make_widened_cylinder(float radius, float height, float margin, int segments = 48, int rows = 1);
 
 // A sphere, torus or cylinder (`kind`, with the MeshDesc sizes given) as
 // real geometry: built at about one vertex per texel of the material's uv'

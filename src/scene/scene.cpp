@@ -237,8 +237,10 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
     } else if (scene.find_material(o.material)->bounded) {
         // A sphere's or a torus's uv wraps around it: its uv edges are seams,
         // where a bounded relief would be cut open (a plane's and each cube
-        // face's are the tile's own edges).
-        c.require(mesh.kind == MeshKind::plane || mesh.kind == MeshKind::cube, path + ".material",
+        // face's are the tile's own edges; an open cylinder's v edges are its
+        // ends, bounds along v only, while u wraps around).
+        c.require(mesh.kind == MeshKind::plane || mesh.kind == MeshKind::cube || mesh.kind == MeshKind::cylinder,
+                  path + ".material",
                   "material '" + echo(o.material) + "' is bounded (a tile or a decal), and a " +
                       mesh_kind_name(mesh.kind) + "'s uv edges are seams where its surface wraps around, not bounds");
     }
