@@ -366,6 +366,35 @@ TEST(Emulation, CurvedSilhouettesKeepTheirOutlineAtMobilePrecisions) {
     }
 }
 
+// Techniques without a trace (normal mapping, flat) shade the polygon: a
+// bounded tile drawn with them is the tile itself, not the wider polygon
+// that traced techniques draw to catch rays coming in through its side
+// (that polygon, unbounded, would show the next tiles of the texture); the
+// same for a bounded tube's ends.
+TEST(Silhouettes, UntracedTechniquesDrawTheBoundedReliefsOwnPolygon) {
+    for (Technique t : {Technique::normal, Technique::flat}) {
+        SCOPED_TRACE(technique_info(t).name);
+        SceneDesc open = tile(60.0, t).build();
+        SceneDesc bounded = open;
+        bounded.materials[0].bounded = true;
+        SceneDesc tube = curved_scene(MeshKind::cylinder, 30.0, t, false);
+        SceneDesc bounded_tube = tube;
+        bounded_tube.materials[0].bounded = true;
+        for (const auto& [a_scene, b_scene] : {std::pair<const SceneDesc*, const SceneDesc*>{&open, &bounded},
+                                               std::pair<const SceneDesc*, const SceneDesc*>{&tube, &bounded_tube}}) {
+            const SurfaceImage a = surfaces_of(*a_scene), b = surfaces_of(*b_scene);
+            ASSERT_EQ(a.samples.size(), b.samples.size());
+            long drawn = 0, differ = 0;
+            for (size_t i = 0; i < a.samples.size(); ++i) {
+                drawn += a.samples[i].covered;
+                differ += a.samples[i].covered != b.samples[i].covered;
+            }
+            EXPECT_GT(drawn, 1000);
+            EXPECT_EQ(differ, 0);
+        }
+    }
+}
+
 // The planner keeps a curved silhouette where the object's contour can be
 // on screen, picks a search that can draw it for a planned material, and
 // leaves it out (saying so) where the sphere fills the view.

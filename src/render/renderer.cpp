@@ -38,6 +38,10 @@ struct GpuMesh {
     GLsizei index_count = 0;
     GLenum index_type = GL_UNSIGNED_SHORT;
     float units_per_uv = 1.0f;
+    // A bounded relief's mesh drawn wider (upload_object_mesh) keeps its own
+    // polygon too, for the variants without a trace: they shade the polygon,
+    // and the wider one would show the texture's next tiles around the tile.
+    std::unique_ptr<GpuMesh> unwidened;
 };
 
 struct GpuMaterial {
@@ -115,15 +119,21 @@ VariantKey named_material_key(const VariantKey& planned, const TextureLayout& la
 Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared, const Caps& caps) {
     const std::string what = "object '" + echo(o.name) + "'";
     const double margin = bounded_margin(m);
-    if (o.mesh.displaced || !(margin > 0.0)) return upload_mesh(prepared, caps, what);
-    if (o.mesh.kind == MeshKind::plane)
-        return upload_mesh(make_widened_plane(o.mesh.size, o.mesh.segments, static_cast<float>(margin),
-                                              o.mesh.tangent, o.mesh.normal),
-                           caps, what);
-    // As build_object_mesh (scene.cpp) makes the cylinder.
-    if (o.mesh.kind == MeshKind::cylinder)
-        return upload_mesh(make_widened_cylinder(o.mesh.radius, o.mesh.size, static_cast<float>(margin)), caps, what);
-    return upload_mesh(prepared, caps, what);
+    const bool widens = !o.mesh.displaced && margin > 0.0 &&
+                        (o.mesh.kind == MeshKind::plane || o.mesh.kind == MeshKind::cylinder);
+    if (!widens) return upload_mesh(prepared, caps, what);
+    // As build_object_mesh (scene.cpp) makes the plane and the cylinder.
+    Result<GpuMesh> widened =
+        o.mesh.kind == MeshKind::plane
+            ? upload_mesh(make_widened_plane(o.mesh.size, o.mesh.segments, static_cast<float>(margin), o.mesh.tangent,
+                                             o.mesh.normal),
+                          caps, what)
+            : upload_mesh(make_widened_cylinder(o.mesh.radius, o.mesh.size, static_cast<float>(margin)), caps, what);
+    if (!widened) return widened;
+    Result<GpuMesh> own = upload_mesh(prepared, caps, what);
+    if (!own) return own.error();
+    widened->unwidened = std::make_unique<GpuMesh>(std::move(*own));
+    return widened;
 }
 
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what) {
@@ -344,7 +354,10 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     const Program& p = **program;
     glUseProgram(p.id());
     set_frame_uniforms(p, frame);
-    const GpuMesh& mesh = scene.meshes[object.mesh];
+    // Only a variant that traces (and so discards outside the bounds) draws
+    // a bounded relief's wider polygon.
+    const GpuMesh& uploaded = scene.meshes[object.mesh];
+    const GpuMesh& mesh = uploaded.unwidened && !key.canonical().bounded ? *uploaded.unwidened : uploaded;
     const bool mirrored = set_object_uniforms(p, model, mesh, *material.desc);
     // A mirroring model matrix reverses the triangles' winding on screen:
     // flip the front face so the object's outside stays the drawn side.
