@@ -47,10 +47,21 @@ PX_ATTRIBUTE highp vec3 a_curvature;
 // Into relief depths per squared tile: units_per_tile / (height_scale *
 // the model's scale) (renderer.cpp set_object_uniforms).
 uniform highp float u_curvature_scale;
+// The shell (renderer.cpp set_object_uniforms): x how far out along its
+// normals the mesh is drawn (mesh units), y the same in relief depths, z
+// relief depths per view-space unit.
+uniform highp vec3 u_shell;
 #endif
 
 void main() {
-    highp vec4 world_position = u_model * vec4(a_position, 1.0);
+    highp vec3 position = a_position;
+#ifdef PX_CURVED
+    // Drawn out past its chords, so that the polygon covers the smooth
+    // surface's outline (the relief's top); the fragment stage knows how far
+    // above the smooth surface each of its points lies (v_shell_*).
+    if (dot(a_normal, a_normal) > 1e-12) position += normalize(a_normal) * u_shell.x;
+#endif
+    highp vec4 world_position = u_model * vec4(position, 1.0);
     highp vec4 view_position = u_view * world_position;
     gl_Position = u_projection * view_position;
     v_uv = u_uv_matrix * a_uv + u_uv_offset;
@@ -127,6 +138,17 @@ void main() {
     highp float gyy = mxx * a1.x * a1.x + 2.0 * mxy * a1.x * a1.y + myy * a1.y * a1.y;
     highp float gxy = mxx * a0.x * a1.x + mxy * (a0.x * a1.y + a0.y * a1.x) + myy * a0.y * a1.y;
     v_curvature = vec3(gxx, 2.0 * gxy, gyy) * u_curvature_scale;
+    // How far the polygon lies above the smooth surface, in relief depths:
+    // the shell minus the chord sag, sag(p) = 1/2 (<p_i . n_i> - p . <n_i>)
+    // (< > interpolated across the triangle; Phong tessellation with shape
+    // factor 1/2, exact to second order on a sphere), so that
+    // lift = v_shell_lift + dot(v_view_position, v_shell_xyz), each part linear.
+    highp vec3 n_view = normalize(mat3(u_view[0].xyz, u_view[1].xyz, u_view[2].xyz) * n);
+    highp vec3 half_normal = 0.5 * u_shell.z * n_view;
+    v_shell_x = half_normal.x;
+    v_shell_y = half_normal.y;
+    v_shell_z = half_normal.z;
+    v_shell_lift = u_shell.y - dot(view_position.xyz, half_normal);
 #endif
 
     for (int i = 0; i < PX_MAX_LIGHTS; i++) {

@@ -548,6 +548,43 @@ TEST(MeshCurvature, FitMatchesThePrincipalCurvatures) {
     EXPECT_NEAR(big.vertices[100].curvature.x, sphere.vertices[100].curvature.x / 4.0f, 1e-4f);
 }
 
+// The chord sag (chord_sag, Mesh::chord_sag): how deep a curved mesh's flat
+// triangles lie inside the smooth surface. On a uv sphere each triangle's
+// deepest point is R minus the centre's distance to its plane (its vertices
+// lie on the sphere); the second-order estimate finds the deepest of them
+// within 5 %, and falls as the square of the tessellation.
+TEST(MeshChordSag, MatchesTheSpheresTrianglesAndFallsWithTheTessellation) {
+    const float r = 0.9f;
+    const Mesh sphere = make_uv_sphere(r, 48, 24);
+    double deepest = 0.0;
+    for (std::size_t t = 0; t + 2 < sphere.indices.size(); t += 3) {
+        const glm::dvec3 a(sphere.vertices[sphere.indices[t]].position), b(sphere.vertices[sphere.indices[t + 1]].position),
+            c(sphere.vertices[sphere.indices[t + 2]].position);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        if (!(glm::length(n) > 1e-12)) continue;  // a pole's sliver
+        deepest = std::max(deepest, static_cast<double>(r) - std::fabs(glm::dot(glm::normalize(n), a)));
+    }
+    EXPECT_NEAR(sphere.chord_sag, deepest, 0.05 * deepest);
+    EXPECT_EQ(sphere.chord_sag, chord_sag(sphere));
+    const Mesh finer = make_uv_sphere(r, 96, 48);
+    EXPECT_NEAR(sphere.chord_sag / finer.chord_sag, 4.0, 0.4);
+    // A torus's inner half is a saddle (its chords partly outside): finite,
+    // and about its tube's chords (32 around a tube of 0.35).
+    const Mesh torus = make_torus(1.0f, 0.35f);
+    EXPECT_GT(torus.chord_sag, 0.35f * (1.0f - std::cos(kPi<float> / 32.0f)));
+    EXPECT_LT(torus.chord_sag, 4.0f * 0.35f * (1.0f - std::cos(kPi<float> / 32.0f)) + 1.0f * (1.0f - std::cos(kPi<float> / 64.0f)) * 2.0f);
+    EXPECT_EQ(make_plane(2.0f, 4).chord_sag, 0.0f);
+    EXPECT_EQ(chord_sag(make_plane(2.0f, 4)), 0.0f);
+    EXPECT_EQ(chord_sag(make_cube(2.0f)), 0.0f);
+    // Indices out of range and zero normals are passed over, not read.
+    Mesh broken = sphere;
+    broken.indices.push_back(static_cast<std::uint32_t>(broken.vertices.size()) + 5u);
+    broken.indices.push_back(0u);
+    broken.indices.push_back(1u);
+    for (Vertex& v : broken.vertices) v.normal = glm::vec3(0.0f);
+    EXPECT_TRUE(std::isfinite(chord_sag(broken)));
+}
+
 // The uv stretch (Vertex::uv_stretch): mesh uv per unit step along the
 // tangent and bitangent over the mesh's mean. A uv sphere's u runs 2 pi r
 // around the equator and its v pi r pole to pole; u crowds toward the poles.

@@ -29,4 +29,11 @@ PX_VARYING mediump vec2 v_uv_stretch;
 // below the polygon's plane, in relief depths, the surface lies at a uv
 // offset d: v_curvature . (d.x^2, d.x d.y, d.y^2). Linear across a triangle.
 PX_VARYING PX_HIGHP vec3 v_curvature;
+// How far the drawn polygon lies above the smooth surface, in relief
+// depths: v_shell_lift + dot(v_view_position, vec3(v_shell_x, v_shell_y,
+// v_shell_z)) (surface.vert). Four floats, not a vec4: GLSL ES 1.00's
+// packing rules (Appendix A.7) fit them into the fourth column beside the
+// vec3 varyings, where the ES 2.0 minimum of 8 varying vectors has no row
+// left for a vec4.
+PX_VARYING PX_HIGHP float v_shell_x, v_shell_y, v_shell_z, v_shell_lift;
 #endif

@@ -91,9 +91,13 @@ bool px_ray_left = false;
 PX_HIGHP float px_hit_mu = 0.0;  // the hit's mu (set by each trace)
 PX_HIGHP float px_curve_q = 0.0;
 PX_HIGHP float px_curve_cos = 1.0;
+// This fragment's polygon height: u_polygon_height, raised by how far the
+// polygon (drawn out as a shell past its chords) lies above the smooth
+// surface (v_shell_*).
+PX_HIGHP float px_curve_polygon = 1.0;
 
 PX_HIGHP float px_curved_height(PX_HIGHP float mu) {
-    return u_polygon_height - mu * px_curve_cos + mu * mu * px_curve_q;
+    return px_curve_polygon - mu * px_curve_cos + mu * mu * px_curve_q;
 }
 
 PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
@@ -102,14 +106,16 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     PX_HIGHP float q = dot(v_curvature, vec3(d.x * d.x, d.x * d.y, d.y * d.y));
     px_curve_q = q;
     px_curve_cos = c;
-    PX_HIGHP float ph = u_polygon_height;
-    PX_HIGHP float e = 1.0 - ph;  // the relief above the polygon
+    PX_HIGHP float ph = u_polygon_height + v_shell_lift + dot(v_view_position, vec3(v_shell_x, v_shell_y, v_shell_z));
+    px_curve_polygon = ph;
+    PX_HIGHP float e = 1.0 - ph;  // the relief above the polygon (< 0: the polygon above the relief)
     // The search starts where the ray comes in through the relief's top
     // (H = 1 at mu <= 0: the smaller root of q mu^2 - c mu - e = 0), and
     // ends at its bottom (H = 0: the smaller root of q mu^2 - c mu + ph = 0)
     // where the ray gets that deep, else where it goes out through the top
     // again (the larger root of the first): each in its stable form.
-    PX_HIGHP float root_top = sqrt(max(c * c + 4.0 * q * e, 0.0));
+    PX_HIGHP float top_disc = c * c + 4.0 * q * e;
+    PX_HIGHP float root_top = sqrt(max(top_disc, 0.0));
     PX_HIGHP float mu_start = -2.0 * e / max(c + root_top, 1e-30);
     PX_HIGHP float disc = c * c - 4.0 * q * ph;
     PX_HIGHP float down = c + sqrt(max(disc, 0.0));
@@ -128,6 +134,19 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     PX_HIGHP float step = (mu_end - mu_start) / count;
     PxMarch m;
     m.step = step;
+    if (e < 0.0 && top_disc < 0.0) {
+        // From above the relief, bending away before it reaches its top.
+        px_ray_left = true;
+        m.mu_above = mu_start;
+        m.mu_below = mu_start;
+        m.uv_above = uv0;
+        m.uv_below = uv0;
+        m.ray_above = ph;
+        m.ray_below = ph;
+        m.height_above = 0.0;
+        m.height_below = 0.0;
+        return m;
+    }
     m.mu_above = mu_start;
     m.ray_above = px_curved_height(mu_start);
     m.uv_above = uv0 - mu_start * d;

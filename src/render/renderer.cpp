@@ -31,6 +31,10 @@ constexpr bool kCheckEveryDraw = false;
 constexpr bool kCheckEveryDraw = true;
 #endif
 
+// How much farther out than its chord sag (the second-order estimate) a
+// curved relief's polygon is drawn: a margin for the sag's higher orders.
+constexpr float kShellOverSag = 1.5f;
+
 struct GpuMesh {
     BufferHandle vertices;
     BufferHandle indices;
@@ -38,6 +42,7 @@ struct GpuMesh {
     GLsizei index_count = 0;
     GLenum index_type = GL_UNSIGNED_SHORT;
     float units_per_uv = 1.0f;
+    float chord_sag = 0.0f;  // Mesh::chord_sag
     // A bounded relief's mesh drawn wider (upload_object_mesh) keeps its own
     // polygon too, for the variants without a trace: they shade the polygon,
     // and the wider one would show the texture's next tiles around the tile.
@@ -139,6 +144,7 @@ Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, c
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what) {
     GpuMesh g;
     g.units_per_uv = mesh.units_per_uv;
+    g.chord_sag = mesh.chord_sag;
     if (caps.es_major >= 3) {
         // Bound first: the element buffer binding below is state of the VAO.
         g.vertex_array = make_vertex_array();
@@ -228,6 +234,14 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
     // depths of height_scale * units_per_tile.
     const float curvature_scale = units_per_tile / (m.height_scale * model_scale);
     p.set(slot::curvature_scale, std::isfinite(curvature_scale) ? curvature_scale : 0.0f);
+    // The curved relief's shell (surface.vert): the mesh drawn out along its
+    // normals past its triangles' chord sag, so that its polygon covers the
+    // smooth surface's outline; x in mesh units, y the same in relief depths,
+    // z relief depths per view-space unit.
+    const float shell = kShellOverSag * mesh.chord_sag;
+    const float depths_per_unit = 1.0f / (m.height_scale * units_per_tile);
+    const glm::vec3 shell_uniform(shell, shell * model_scale * depths_per_unit, depths_per_unit);
+    p.set(slot::shell, std::isfinite(shell_uniform.y) && std::isfinite(shell_uniform.z) ? shell_uniform : glm::vec3(0.0f));
     return mirrored;
 }
 

@@ -427,7 +427,36 @@ private:
 
 }  // namespace
 
+float chord_sag(const Mesh& mesh) {
+    const std::size_t n = mesh.vertices.size();
+    double deepest = 0.0;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const std::uint32_t v[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
+        if (v[0] >= n || v[1] >= n || v[2] >= n) continue;
+        glm::dvec3 p[3], nrm[3];
+        for (int a = 0; a < 3; ++a) {
+            p[a] = glm::dvec3(mesh.vertices[v[a]].position);
+            const glm::dvec3 raw(mesh.vertices[v[a]].normal);
+            const double length = glm::length(raw);
+            nrm[a] = length > 1e-12 && std::isfinite(length) ? raw / length : glm::dvec3(0.0);
+        }
+        // sag(b) = 1/2 sum_i b_i (p_i - x(b)) . n_i at x(b) = sum_j b_j p_j.
+        const auto sag = [&](const glm::dvec3& b) {
+            const glm::dvec3 x = b.x * p[0] + b.y * p[1] + b.z * p[2];
+            return 0.5 * (b.x * glm::dot(p[0] - x, nrm[0]) + b.y * glm::dot(p[1] - x, nrm[1]) +
+                          b.z * glm::dot(p[2] - x, nrm[2]));
+        };
+        for (const glm::dvec3& b : {glm::dvec3(0.5, 0.5, 0.0), glm::dvec3(0.0, 0.5, 0.5), glm::dvec3(0.5, 0.0, 0.5),
+                                    glm::dvec3(1.0 / 3.0)}) {
+            const double s = sag(b);
+            if (std::isfinite(s)) deepest = std::max(deepest, s);
+        }
+    }
+    return static_cast<float>(deepest);
+}
+
 void fit_curvature(Mesh& mesh) {
+    mesh.chord_sag = chord_sag(mesh);
     const std::size_t n = mesh.vertices.size();
     std::vector<std::vector<std::uint32_t>> neighbours(n);
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {

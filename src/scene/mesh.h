@@ -45,6 +45,10 @@ struct Mesh {
     // World units per uv unit, averaged over the mesh: converts a relief depth
     // given in texture-tile units into object-space depth.
     float units_per_uv = 1.0f;
+    // How far the flat triangles lie inside the smooth surface that the
+    // vertex normals describe, at most (mesh units; chord_sag). 0 on planes
+    // and cubes; fit_curvature sets it.
+    float chord_sag = 0.0f;
 };
 
 enum class MeshKind { plane, cube, sphere, torus, cylinder };
@@ -143,6 +147,15 @@ Result<Mesh> make_displaced_plane(float size, const HeightField& field, const gl
 // mean drop over squared distance, the same each way. Run after
 // generate_tangents (it reads the final frame).
 void fit_curvature(Mesh& mesh);
+
+// The deepest point of the mesh's triangles below the smooth surface their
+// vertices and normals describe (mesh units, at least 0): per triangle, at
+// its edges' middles and its centroid, by the second-order estimate
+// 1/2 sum_i b_i (p_i - p) . n_i (Phong tessellation with shape factor 1/2,
+// exact to second order on a sphere: R (1 - cos phi) for a chord of half
+// angle phi). A saddle's triangles, partly outside, count their inside
+// part only.
+float chord_sag(const Mesh& mesh);
 
 // Recomputes every vertex tangent from positions, normals and uvs of an
 // indexed triangle list (per-triangle uv derivatives, accumulated and

@@ -175,7 +175,8 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::bounds_matrix:
         case Uniform::bounds_offset: return k.bounded;
         // surface.vert: the curved relief's quadric into relief depths (PX_CURVED).
-        case Uniform::curvature_scale: return k.curved;
+        case Uniform::curvature_scale:
+        case Uniform::shell: return k.curved;
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:

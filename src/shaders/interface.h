@@ -75,6 +75,7 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(bounds_matrix, "u_bounds_matrix", mat2, 1)               \
     X(bounds_offset, "u_bounds_offset", vec2, 1)               \
     X(curvature_scale, "u_curvature_scale", float1, 1)         \
+    X(shell, "u_shell", vec3, 1)                               \
     X(albedo_map, "u_albedo_map", sampler2d, 1)                \
     X(normal_map, "u_normal_map", sampler2d, 1)                \
     X(height_map, "u_height_map", sampler2d, 1)                \
