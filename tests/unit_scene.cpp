@@ -977,3 +977,60 @@ TEST(SceneErrors, AuthoredPlaneFrameErrorsNameThePath) {
 
 }  // namespace
 }  // namespace px
+
+namespace px {
+namespace {
+
+// The mesh a bounded relief is drawn on (build_widened_mesh) and its length
+// (drawn_length_scale) say the same: a plane wider on each side and an open
+// cylinder longer at each end by bounded_margin; nothing else is widened
+// (a sphere's and torus's uv edges are seams, a displaced mesh is geometry,
+// an unbounded or flat material has no margin).
+TEST(SceneWidenedMesh, PlanesAndCylindersOfBoundedReliefsOnly) {
+    MaterialDesc m;
+    m.bounded = true;
+    m.height_scale = 0.05f;
+    const double margin = bounded_margin(m);
+    ASSERT_GT(margin, 0.0);
+    const auto extent = [](const Mesh& mesh, int axis) {
+        float lo = 1e30f, hi = -1e30f;
+        for (const Vertex& v : mesh.vertices) {
+            lo = std::min(lo, v.position[axis]);
+            hi = std::max(hi, v.position[axis]);
+        }
+        return static_cast<double>(hi - lo);
+    };
+    MeshDesc plane;
+    plane.kind = MeshKind::plane;
+    plane.size = 2.0f;
+    const std::optional<Mesh> wide_plane = build_widened_mesh(plane, m);
+    ASSERT_TRUE(wide_plane.has_value());
+    EXPECT_NEAR(drawn_length_scale(plane, m), 1.0 + 2.0 * margin, 1e-12);
+    EXPECT_NEAR(extent(*wide_plane, 0), plane.size * drawn_length_scale(plane, m), 1e-5);
+    EXPECT_NEAR(extent(*wide_plane, 1), plane.size * drawn_length_scale(plane, m), 1e-5);
+    MeshDesc tube;
+    tube.kind = MeshKind::cylinder;
+    tube.size = 1.5f;
+    tube.radius = 0.5f;
+    const std::optional<Mesh> wide_tube = build_widened_mesh(tube, m);
+    ASSERT_TRUE(wide_tube.has_value());
+    EXPECT_NEAR(extent(*wide_tube, 2), tube.size * drawn_length_scale(tube, m), 1e-5);  // along its axis
+    EXPECT_NEAR(extent(*wide_tube, 0), 2.0 * tube.radius, 1e-5);                         // not around it
+    for (MeshKind kind : {MeshKind::sphere, MeshKind::torus, MeshKind::cube}) {
+        MeshDesc d;
+        d.kind = kind;
+        EXPECT_FALSE(build_widened_mesh(d, m).has_value()) << mesh_kind_name(kind);
+        EXPECT_EQ(drawn_length_scale(d, m), 1.0) << mesh_kind_name(kind);
+    }
+    MeshDesc displaced = plane;
+    displaced.displaced = true;
+    EXPECT_FALSE(build_widened_mesh(displaced, m).has_value());
+    EXPECT_EQ(drawn_length_scale(displaced, m), 1.0);
+    MaterialDesc unbounded = m;
+    unbounded.bounded = false;
+    EXPECT_FALSE(build_widened_mesh(plane, unbounded).has_value());
+    EXPECT_EQ(drawn_length_scale(tube, unbounded), 1.0);
+}
+
+}  // namespace
+}  // namespace px

@@ -1010,11 +1010,8 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
             const glm::mat4 model = frame.models.empty() ? object.transform.matrix() : frame.models[i];
             const double depth = static_cast<double>(mat.height_scale) * m.units_per_uv[i] /
                                  std::max(1e-12, mat.uv.area_scale<double>());
-            // A bounded cylinder is drawn longer by bounded_margin at each end
-            // (renderer.cpp upload_object_mesh).
-            const float length = object.mesh.kind == MeshKind::cylinder
-                                     ? object.mesh.size * static_cast<float>(1.0 + 2.0 * bounded_margin(mat))
-                                     : object.mesh.size;
+            // A bounded cylinder is drawn longer at each end (build_widened_mesh).
+            const float length = object.mesh.size * static_cast<float>(drawn_length_scale(object.mesh, mat));
             silhouette = curved_outline_on_screen(model, object.mesh.kind, object.mesh.radius, object.mesh.tube_radius,
                                                   length, depth, frame.view, frame.projection);
         }

@@ -550,7 +550,7 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         p.material = &m;
         p.object = static_cast<int>(f.planes.size());
         p.half_size = 0.5 * static_cast<double>(o.mesh.size);
-        p.drawn_half_size = p.half_size * (1.0 + 2.0 * bounded_margin(scene.materials[mi]));
+        p.drawn_half_size = p.half_size * drawn_length_scale(o.mesh, scene.materials[mi]);  // as build_widened_mesh
         p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
         p.inverse_model = glm::inverse(p.model);
         const glm::dmat3 model3(p.model);

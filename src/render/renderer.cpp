@@ -117,23 +117,13 @@ VariantKey named_material_key(const VariantKey& planned, const TextureLayout& la
     return key;
 }
 
-// An object's mesh as drawn: the prepared one, or for a bounded relief on a
-// plane (or an open cylinder, along its length) the mesh widened by
-// bounded_margin, so that rays coming into the tile through its side have
-// fragments to be traced in (docs/silhouettes.md).
+// An object's mesh as drawn: the prepared one, or for a bounded relief the
+// widened one (build_widened_mesh), with the prepared one beside it.
 Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared, const Caps& caps) {
     const std::string what = "object '" + echo(o.name) + "'";
-    const double margin = bounded_margin(m);
-    const bool widens = !o.mesh.displaced && margin > 0.0 &&
-                        (o.mesh.kind == MeshKind::plane || o.mesh.kind == MeshKind::cylinder);
-    if (!widens) return upload_mesh(prepared, caps, what);
-    // As build_object_mesh (scene.cpp) makes the plane and the cylinder.
-    Result<GpuMesh> widened =
-        o.mesh.kind == MeshKind::plane
-            ? upload_mesh(make_widened_plane(o.mesh.size, o.mesh.segments, static_cast<float>(margin), o.mesh.tangent,
-                                             o.mesh.normal),
-                          caps, what)
-            : upload_mesh(make_widened_cylinder(o.mesh.radius, o.mesh.size, static_cast<float>(margin)), caps, what);
+    std::optional<Mesh> wide = build_widened_mesh(o.mesh, m);
+    if (!wide) return upload_mesh(prepared, caps, what);
+    Result<GpuMesh> widened = upload_mesh(*wide, caps, what);
     if (!widened) return widened;
     Result<GpuMesh> own = upload_mesh(prepared, caps, what);
     if (!own) return own.error();

@@ -308,6 +308,27 @@ Status validate_scene(const SceneDesc& scene) {
     return c.status();
 }
 
+namespace {
+
+bool widens(const MeshDesc& d, const MaterialDesc& m) {
+    return !d.displaced && bounded_margin(m) > 0.0 && (d.kind == MeshKind::plane || d.kind == MeshKind::cylinder);
+}
+
+}  // namespace
+
+std::optional<Mesh> build_widened_mesh(const MeshDesc& d, const MaterialDesc& m) {
+    if (!widens(d, m)) return std::nullopt;
+    counters::count(counters::Step::mesh_build);
+    const auto margin = static_cast<float>(bounded_margin(m));
+    // As build_object_mesh makes the plane and the cylinder, wider.
+    if (d.kind == MeshKind::plane) return make_widened_plane(d.size, d.segments, margin, d.tangent, d.normal);
+    return make_widened_cylinder(d.radius, d.size, margin);
+}
+
+double drawn_length_scale(const MeshDesc& d, const MaterialDesc& m) {
+    return widens(d, m) ? 1.0 + 2.0 * bounded_margin(m) : 1.0;
+}
+
 Mesh build_object_mesh(const MeshDesc& d) {
     counters::count(counters::Step::mesh_build);
     switch (d.kind) {

@@ -196,6 +196,17 @@ struct SceneDesc {
 // The mesh an object draws (a displaced plane: its flat plane; the
 // renderer displaces it from the material's field).
 Mesh build_object_mesh(const MeshDesc& mesh);
+// The mesh a bounded relief is drawn on, so that rays coming into it through
+// its bounds have fragments to be traced in: on a plane (not displaced) the
+// plane widened by bounded_margin on each side (make_widened_plane), on an
+// open cylinder the tube longer by it at each end (make_widened_cylinder);
+// std::nullopt for every other object, drawn on build_object_mesh's mesh
+// (docs/silhouettes.md). The renderer draws this; the planner and the exact
+// reference size what is drawn by drawn_length_scale.
+std::optional<Mesh> build_widened_mesh(const MeshDesc& mesh, const MaterialDesc& m);
+// How many times its MeshDesc's size the mesh build_widened_mesh makes is
+// along its bounded directions: 1 + 2 bounded_margin where it widens, else 1.
+double drawn_length_scale(const MeshDesc& mesh, const MaterialDesc& m);
 
 // Scenes built into the program.
 std::vector<std::string> builtin_scene_names();
