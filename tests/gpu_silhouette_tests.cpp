@@ -259,6 +259,8 @@ TEST(Silhouettes, DisplacedCurvedMeshesAreTheContourReference) {
 // 30 degrees, docs/silhouettes.md). What the curved silhouette misses
 // against it (11 to 33 %) is the parallax trace's, not the reference's.
 TEST(Silhouettes, TheDisplacedReferenceHasConverged) {
+    // The same geometry on either context: measured once, on ES 3.0.
+    if (test_es_major() < 3) GTEST_SKIP() << "the displaced meshes are the same geometry on OpenGL ES 2.0";
     for (MeshKind kind : {MeshKind::sphere, MeshKind::torus}) {
         SCOPED_TRACE(mesh_kind_name(kind));
         SceneDesc s = curved_scene(kind, 30.0, Technique::pom, false);
