@@ -372,10 +372,14 @@ TEST(Silhouettes, CurvedSilhouettesCoverTheSmoothOutlineNotTheChords) {
 // displaced mesh stays under half the smooth outline's, as at full precision
 // (docs/silhouettes.md has the figures).
 TEST(Emulation, CurvedSilhouettesKeepTheirOutlineAtMobilePrecisions) {
-    SceneDesc s = curved_scene(MeshKind::sphere, 30.0, Technique::pom, true);
+  for (MeshKind kind : {MeshKind::sphere, MeshKind::cylinder}) {
+    SCOPED_TRACE(mesh_kind_name(kind));
+    SceneDesc s = curved_scene(kind, 30.0, Technique::pom, true);
+    s.materials[0].bounded = kind == MeshKind::cylinder;  // its ends
     ASSERT_TRUE(validate_scene(s).ok());
     SceneDesc smooth_scene = s;
     smooth_scene.materials[0].silhouette = false;
+    smooth_scene.materials[0].bounded = false;
     SceneDesc geometry_scene = smooth_scene;
     geometry_scene.objects[0].mesh.displaced = true;
     const SurfaceImage geometry = surfaces_of(geometry_scene);
@@ -412,14 +416,15 @@ TEST(Emulation, CurvedSilhouettesKeepTheirOutlineAtMobilePrecisions) {
             moved += glm::length(p.uv - full.samples[i].uv) * s.materials[0].height.field.size;
         }
         const double share = contour(emulated, geometry).share();
-        std::printf("curved sphere at 30 deg, %s: contour mismatch %.1f %% (full precision %.1f %%, smooth outline "
+        std::printf("curved %s at 30 deg, %s: contour mismatch %.1f %% (full precision %.1f %%, smooth outline "
                     "%.1f %%), %ld of %ld pixels not finite, hits %.3g texels from full precision's (mean)\n",
-                    c.name, 100.0 * share, 100.0 * native, 100.0 * smooth, non_finite, covered,
+                    mesh_kind_name(kind), c.name, 100.0 * share, 100.0 * native, 100.0 * smooth, non_finite, covered,
                     both > 0 ? moved / static_cast<double>(both) : 0.0);
         EXPECT_GT(covered, 5000);
         EXPECT_EQ(non_finite, 0);
         EXPECT_LT(share, 0.5 * smooth);
     }
+  }
 }
 
 // Techniques without a trace (normal mapping, flat) shade the polygon: a

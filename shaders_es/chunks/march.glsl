@@ -116,14 +116,16 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // again (the larger root of the first): each in its stable form.
     PX_HIGHP float top_disc = c * c + 4.0 * q * e;
     PX_HIGHP float root_top = sqrt(max(top_disc, 0.0));
-    PX_HIGHP float mu_start = -2.0 * e / max(c + root_top, 1e-30);
+    // (1e-4, not smaller: without fragment highp these are fp16, whose
+    // smallest normal is 6e-5; a quotient past 64 is clamped below anyway.)
+    PX_HIGHP float mu_start = -2.0 * e / max(c + root_top, 1e-4);
     PX_HIGHP float disc = c * c - 4.0 * q * ph;
     PX_HIGHP float down = c + sqrt(max(disc, 0.0));
     bool leaves = !(disc >= 0.0 && down > 0.0);
-    PX_HIGHP float mu_end = leaves ? (c > 0.0 ? (c + root_top) / (2.0 * q) : 2.0 * e / max(root_top - c, 1e-30))
+    PX_HIGHP float mu_end = leaves ? (c > 0.0 ? (c + root_top) / (2.0 * q) : 2.0 * e / max(root_top - c, 1e-4))
                                    : 2.0 * ph / down;
     // No farther than the flat searches reach (V.z clamped at 1/64).
-    mu_start = max(mu_start, -64.0);
+    mu_start = clamp(mu_start, -64.0, 64.0);
     mu_end = min(mu_end, 64.0);
     // Steps no longer than the flat search's (a relief depth over its count,
     // mu 1 / (V.z count)): the bent ray's range is up to 4 times longer
@@ -134,8 +136,9 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     PX_HIGHP float step = (mu_end - mu_start) / count;
     PxMarch m;
     m.step = step;
-    if (e < 0.0 && top_disc < 0.0) {
-        // From above the relief, bending away before it reaches its top.
+    if (e < 0.0 && !(top_disc >= 0.0 && c + root_top > 0.0)) {
+        // From above the relief, bending away (or going up) before it
+        // reaches its top: both roots are negative, or there are none.
         px_ray_left = true;
         m.mu_above = mu_start;
         m.mu_below = mu_start;
