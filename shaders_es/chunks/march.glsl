@@ -96,14 +96,29 @@ PX_HIGHP float px_curve_cos = 1.0;
 // surface (v_shell_*).
 PX_HIGHP float px_curve_polygon = 1.0;
 
-PX_HIGHP float px_curved_height(PX_HIGHP float mu) {
-    return px_curve_polygon - mu * px_curve_cos + mu * mu * px_curve_q;
+// 1 / (1 - k / 2) for the relief's bottom (px_curved_search).
+PX_HIGHP float px_curve_deepen = 0.0;
+
+// The ray's height at mu, against a surface at height h: the bend matched
+// to the circle at the surface's own depth below the relief's top.
+PX_HIGHP float px_curved_height(PX_HIGHP float mu, mediump float h) {
+    return px_curve_polygon - mu * px_curve_cos + mu * mu * px_curve_q * (1.0 + px_curve_deepen * (1.0 - h));
 }
 
 PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
     PX_HIGHP vec2 d = view_ts.xy;
     PX_HIGHP float c = view_ts.z;
     PX_HIGHP float q = dot(v_curvature, vec3(d.x * d.x, d.x * d.y, d.y * d.y));
+    // The fitted quadric is the surface's osculating one: exact at the
+    // relief's top, it bends too little below it (a circle of radius R drops
+    // R - sqrt(R^2 - x^2), more than x^2 / 2R). Each comparison with the
+    // surface at height h uses the circle of the ray's direction matched at
+    // that depth below the top, d = 1 - h: a circle of curvature k (relief
+    // depths, k = 2 |q| / sin^2) falls by d where x^2 = 2d / k - d^2, so q
+    // grows by 1 / (1 - k d / 2), here to first order in k d, 1 + k d / 2
+    // (docs/silhouettes.md).
+    PX_HIGHP float k_abs = 2.0 * abs(q) / max(1.0 - c * c, 1e-4);
+    px_curve_deepen = min(0.5 * k_abs, 1.0);
     px_curve_q = q;
     px_curve_cos = c;
     PX_HIGHP float ph = u_polygon_height + v_shell_lift + dot(v_view_position, vec3(v_shell_x, v_shell_y, v_shell_z));
@@ -119,11 +134,12 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // (1e-4, not smaller: without fragment highp these are fp16, whose
     // smallest normal is 6e-5; a quotient past 64 is clamped below anyway.)
     PX_HIGHP float mu_start = -2.0 * e / max(c + root_top, 1e-4);
-    PX_HIGHP float disc = c * c - 4.0 * q * ph;
+    PX_HIGHP float q_bottom = q * (1.0 + px_curve_deepen);  // the bend at the bottom (h = 0)
+    PX_HIGHP float disc = c * c - 4.0 * q_bottom * ph;
     PX_HIGHP float down = c + sqrt(max(disc, 0.0));
     bool leaves = !(disc >= 0.0 && down > 0.0);
     PX_HIGHP float mu_end = leaves ? (c > 0.0 ? (c + root_top) / (2.0 * q) : 2.0 * e / max(root_top - c, 1e-4))
-                                   : 2.0 * ph / down;
+                                   : 2.0 * ph / down;  // where the ray reaches the bottom
     // No farther than the flat searches reach (V.z clamped at 1/64).
     mu_start = clamp(mu_start, -64.0, 64.0);
     mu_end = min(mu_end, 64.0);
@@ -151,9 +167,9 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         return m;
     }
     m.mu_above = mu_start;
-    m.ray_above = px_curved_height(mu_start);
     m.uv_above = uv0 - mu_start * d;
     m.height_above = px_trace_height(m.uv_above);
+    m.ray_above = px_curved_height(mu_start, m.height_above);
     PX_WORK(0.0, 1.0);
     m.mu_below = m.mu_above;
     m.uv_below = m.uv_above;
@@ -162,9 +178,9 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     if (m.height_above >= m.ray_above) return m;  // hit where the search starts
     for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
         PX_HIGHP float mu = mu_start + float(i) * step;
-        PX_HIGHP float ray = px_curved_height(mu);
         PX_HIGHP vec2 uv = uv0 - mu * d;
         mediump float h = px_trace_height(uv);
+        PX_HIGHP float ray = px_curved_height(mu, h);
         PX_WORK(1.0, 1.0);
         m.mu_below = mu;
         m.uv_below = uv;

@@ -21,7 +21,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PxHit hit;
 #ifdef PX_CURVED
     px_hit_mu = mix(m.mu_above, m.mu_below, t);
-    hit.height = px_curved_height(px_hit_mu);
+    hit.height = mix(m.ray_above, m.ray_below, t);
     hit.uv = uv - px_hit_mu * view_ts.xy;
 #else
     hit.height = mix(m.ray_above, m.ray_below, t);

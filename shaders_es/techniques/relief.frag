@@ -15,7 +15,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
         PX_HIGHP float middle = 0.5 * (mu_above + mu_below);
         mediump float h = px_trace_height(uv - middle * view_ts.xy);
         PX_WORK(1.0, 1.0);
-        if (h >= px_curved_height(middle)) {
+        if (h >= px_curved_height(middle, h)) {
             mu_below = middle;
         } else {
             mu_above = middle;
@@ -23,7 +23,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     }
     PxHit hit;
     px_hit_mu = mu_below;
-    hit.height = px_curved_height(mu_below);
+    hit.height = px_curved_height(mu_below, m.height_below);
     hit.uv = uv - mu_below * view_ts.xy;
     return hit;
 #else
