@@ -252,6 +252,23 @@ TEST(Silhouettes, DisplacedCurvedMeshesAreTheContourReference) {
     }
 }
 
+// The three images a curved silhouette is judged by: the scene as given,
+// the smooth outline (silhouette and bounds off: the polygon's), and the
+// relief drawn as real geometry (the displaced reference).
+struct CurvedImages {
+    SurfaceImage with, smooth, geometry;
+};
+CurvedImages curved_images(SceneDesc s) {
+    CurvedImages images;
+    images.with = surfaces_of(s);
+    s.materials[0].silhouette = false;
+    s.materials[0].bounded = false;
+    images.smooth = surfaces_of(s);
+    s.objects[0].mesh.displaced = true;
+    images.geometry = surfaces_of(s);
+    return images;
+}
+
 // The displaced reference is fine enough to judge a 1 % goal: with the
 // relief sampled twice as finely (a 256-texel field of the same bumps, so
 // twice the vertices along u and v), the displaced sphere's and torus's
@@ -292,15 +309,10 @@ TEST(Silhouettes, TheDisplacedReferenceHasConverged) {
 //    tube is drawn longer by the relief's reach so that rays coming in
 //    through an end are traced.
 TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
-    const auto measure = [](SceneDesc s, double* with_share, double* without_share) {
-        const SurfaceImage with = surfaces_of(s);
-        s.materials[0].silhouette = false;
-        s.materials[0].bounded = false;
-        const SurfaceImage without = surfaces_of(s);
-        s.objects[0].mesh.displaced = true;
-        const SurfaceImage geometry = surfaces_of(s);
-        const reference::ContourError on = contour(with, geometry);
-        const reference::ContourError off = contour(without, geometry);
+    const auto measure = [](const SceneDesc& s, double* with_share, double* without_share) {
+        const CurvedImages images = curved_images(s);
+        const reference::ContourError on = contour(images.with, images.geometry);
+        const reference::ContourError off = contour(images.smooth, images.geometry);
         *with_share = on.share();
         *without_share = off.share();
         return on;
@@ -347,13 +359,9 @@ TEST(Silhouettes, CurvedSilhouettesCoverTheSmoothOutlineNotTheChords) {
             s.materials[0].height.field.kind = FieldKind::flat;
             s.materials[0].height.field.level = 1.0f;
             ASSERT_TRUE(validate_scene(s).ok());
-            const SurfaceImage with = surfaces_of(s);
-            s.materials[0].silhouette = false;
-            const SurfaceImage polygon = surfaces_of(s);
-            s.objects[0].mesh.displaced = true;
-            const SurfaceImage smooth = surfaces_of(s);
-            const reference::ContourError on = contour(with, smooth);
-            const reference::ContourError chords = contour(polygon, smooth);
+            const CurvedImages images = curved_images(s);  // geometry: the smooth surface, built fine
+            const reference::ContourError on = contour(images.with, images.geometry);
+            const reference::ContourError chords = contour(images.smooth, images.geometry);
             std::printf("%s at %.0f, relief at its top: contour %ld px; the curved silhouette mismatches %.1f %% "
                         "(%ld px outside), the polygon %.1f %% (%ld px inside)\n",
                         mesh_kind_name(kind), elevation, on.contour, 100.0 * on.share(), on.measured_only,

@@ -80,8 +80,10 @@ PxMarch px_linear_search(PX_HIGHP vec2 uv0, PX_HIGHP vec2 parallax, mediump floa
 // mesh bends away from its tangent plane by the quadric v_curvature, so
 // along the view ray, uv(mu) = uv0 - mu * V.xy (V = view_ts: normalised, xy
 // scaled by the relief depth), the ray's height within the relief is
-//   H(mu) = u_polygon_height - mu * V.z + mu^2 * q,
-//   q = v_curvature . (V.x^2, V.x V.y, V.y^2).
+//   H(mu) = polygon - mu * V.z + mu^2 * q,
+//   q = v_curvature . (V.x^2, V.x V.y, V.y^2),
+// polygon = u_polygon_height plus the shell's lift (v_shell_*), and q
+// deepened below the relief's top (px_curved_height).
 // Under a convex surface (q > 0) the relief's top falls away from the ray:
 // H falls, then rises again, and a ray that comes back out through the top
 // has passed the surface without meeting it. That fragment shows what lies
@@ -96,7 +98,7 @@ PX_HIGHP float px_curve_cos = 1.0;
 // surface (v_shell_*).
 PX_HIGHP float px_curve_polygon = 1.0;
 
-// 1 / (1 - k / 2) for the relief's bottom (px_curved_search).
+// k / 2 (px_curved_search): at height h the bend is q (1 + px_curve_deepen (1 - h)).
 PX_HIGHP float px_curve_deepen = 0.0;
 
 // The ray's height at mu, against a surface at height h: the bend matched
@@ -126,7 +128,8 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     PX_HIGHP float e = 1.0 - ph;  // the relief above the polygon (< 0: the polygon above the relief)
     // The search starts where the ray comes in through the relief's top
     // (H = 1 at mu <= 0: the smaller root of q mu^2 - c mu - e = 0), and
-    // ends at its bottom (H = 0: the smaller root of q mu^2 - c mu + ph = 0)
+    // ends at its bottom (H = 0: the smaller root of q_bottom mu^2 - c mu +
+    // ph = 0, with the bend at the bottom's depth)
     // where the ray gets that deep, else where it goes out through the top
     // again (the larger root of the first): each in its stable form.
     PX_HIGHP float top_disc = c * c + 4.0 * q * e;
