@@ -318,7 +318,8 @@ bool widens(const MeshDesc& d, const MaterialDesc& m) {
 
 std::optional<Mesh> build_widened_mesh(const MeshDesc& d, const MaterialDesc& m) {
     if (!widens(d, m)) return std::nullopt;
-    counters::count(counters::Step::mesh_build);
+    // Not counted as a mesh build: the object's own mesh is (one per object,
+    // tests/render_stats.sh); this is the drawn copy of it.
     const auto margin = static_cast<float>(bounded_margin(m));
     // As build_object_mesh makes the plane and the cylinder, wider.
     if (d.kind == MeshKind::plane) return make_widened_plane(d.size, d.segments, margin, d.tangent, d.normal);
