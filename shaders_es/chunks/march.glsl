@@ -137,19 +137,6 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // (1e-4, not smaller: without fragment highp these are fp16, whose
     // smallest normal is 6e-5; a quotient past 64 is clamped below anyway.)
     PX_HIGHP float mu_start = -2.0 * e / max(c + root_top, 1e-4);
-    PxMarch m;
-    if (e < 0.0 && !(top_disc >= 0.0 && c + root_top > 0.0)) {
-        // From above the relief, bending away (or going up) before it
-        // reaches its top: both roots are negative, or there are none. The
-        // fragment is discarded: nothing below needs doing.
-        px_ray_left = true;
-        m.step = 0.0;
-        m.mu_above = m.mu_below = 0.0;
-        m.uv_above = m.uv_below = uv0;
-        m.ray_above = m.ray_below = ph;
-        m.height_above = m.height_below = 0.0;
-        return m;
-    }
     PX_HIGHP float q_bottom = q * (1.0 + px_curve_deepen);  // the bend at the bottom (h = 0)
     PX_HIGHP float disc = c * c - 4.0 * q_bottom * ph;
     PX_HIGHP float down = c + sqrt(max(disc, 0.0));
@@ -166,7 +153,22 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     mediump float count = min(floor(px_sample_count(c) * max((mu_end - mu_start) / flat_range, 1.0) + 0.5),
                               float(PX_MAX_SAMPLES));
     PX_HIGHP float step = (mu_end - mu_start) / count;
+    PxMarch m;
     m.step = step;
+    if (e < 0.0 && !(top_disc >= 0.0 && c + root_top > 0.0)) {
+        // From above the relief, bending away (or going up) before it
+        // reaches its top: both roots are negative, or there are none.
+        px_ray_left = true;
+        m.mu_above = mu_start;
+        m.mu_below = mu_start;
+        m.uv_above = uv0;
+        m.uv_below = uv0;
+        m.ray_above = ph;
+        m.ray_below = ph;
+        m.height_above = 0.0;
+        m.height_below = 0.0;
+        return m;
+    }
     m.mu_above = mu_start;
     m.uv_above = uv0 - mu_start * d;
     m.height_above = px_trace_height(m.uv_above);
