@@ -108,8 +108,9 @@ void main() {
 #ifdef PX_UV_STRETCH
     // The searches step in uv: a step along the tangent crosses a_uv_stretch
     // times the mean mesh uv per unit here (a uv sphere's u crowds at the
-    // poles), so the view's uv step is stretched by it. The fragment stage
-    // unstretches it for shading (the view direction itself).
+    // poles), so the view's uv step is stretched by it (the lights too: they
+    // share the frame). The fragment stage takes the frame's area out for
+    // shading (px_shading_vector, surface_main.glsl).
     view_ts.xy *= a_uv_stretch;
     v_uv_stretch = a_uv_stretch;
 #endif
@@ -157,6 +158,9 @@ void main() {
         // Left unnormalised: normalising per vertex visibly damaged lighting
         // (PowerVR whitepaper, section 3.1); the fragment stage normalises.
         mediump vec3 light_ts = vec3(dot(to_light, t), dot(to_light, b), dot(to_light, n));
+#ifdef PX_UV_STRETCH
+        light_ts.xy *= a_uv_stretch;
+#endif
         light_ts.xy = u_uv_frame * light_ts.xy;
         v_light_ts[i] = light_ts;
     }

@@ -4,6 +4,8 @@
 #include "gpu_fixture.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "parallaxes/reference/reference_image.h"
@@ -479,6 +481,80 @@ TEST(Lighting, LightOnOrBelowTheHorizonLightsNothingButAmbient) {
                 EXPECT_EQ(reference_lit, 0) << "the reference with the light " << elevation << " degrees up";
             }
         }
+    }
+}
+
+// A curved mesh's uv need not be square on the surface: a uv sphere's u runs
+// round the equator (2 pi r), its v pole to pole (pi r), so a material scaled
+// 6 x 3 on it has square tiles, and round bumps stay round. Shading must
+// then see the texture at the surface's proportions: a light 45 degrees
+// from the east lights the equator's front as one 45 degrees from the north
+// does (the scene turned a quarter round the view axis), in mean and in the
+// bumps' contrast. It did not: the lights' and the view's texture frame was
+// the material's uv matrix alone, diag(6, 3) / sqrt(18), so the east light
+// arrived 35 degrees up and the north one 55 (measured before the fix, ES
+// 3.0: mean luminance 115 from the east against 162 from the north, the
+// bumps' deviation 1.3 times as strong), for every technique, and the
+// shadow rays stepped uv without the mesh's stretch.
+TEST(Lighting, ASquareMaterialOnAStretchedUvShadesTheSameFromEachSide) {
+    const auto lit_by = [](Technique technique, glm::vec3 to_light) {
+        SceneDesc s;
+        s.camera.position = {0.0f, -3.4f, 0.0f};
+        s.camera.target = {0.0f, 0.0f, 0.0f};
+        s.camera.up = {0.0f, 0.0f, 1.0f};
+        s.camera.fov_y_deg = 14.0f;  // the front of the equator, +-20 degrees of the sphere
+        MaterialDesc m;
+        m.name = "bumps";
+        m.height.kind = TextureSource::Kind::procedural;
+        m.height.field.kind = FieldKind::hemispheres;
+        m.height.field.count = 2;
+        m.height.field.size = 128;
+        m.height_scale = 0.05f;
+        m.uv.scale = {6.0f, 3.0f};
+        m.specular = 0.0f;
+        m.technique.technique = technique;
+        s.materials = {m};
+        ObjectDesc o;
+        o.name = "sphere";
+        o.material = "bumps";
+        o.mesh.kind = MeshKind::sphere;
+        o.mesh.radius = 0.9f;
+        s.objects = {o};
+        LightDesc l;
+        l.direction = -glm::normalize(to_light);
+        l.angular_radius_deg = 0.0f;
+        s.lights = {l};
+        s.ambient = glm::vec3(0.0f);
+        EXPECT_TRUE(validate_scene(s).ok());
+        return render(s).image;
+    };
+    // Mean and standard deviation of the luminance over the middle half.
+    struct Stats {
+        double mean = 0.0, deviation = 0.0;
+    };
+    const auto stats = [](const Image& image) {
+        double sum = 0.0, sum2 = 0.0;
+        long n = 0;
+        for (int y = 32; y < 96; ++y)
+            for (int x = 32; x < 96; ++x) {
+                const double v = luminance(image, x, y, 0);
+                sum += v;
+                sum2 += v * v;
+                ++n;
+            }
+        const double mean = sum / n;
+        return Stats{mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean))};
+    };
+    const double c = std::sqrt(0.5);
+    for (Technique technique : {Technique::normal, Technique::pom}) {
+        SCOPED_TRACE(technique_name(technique));
+        const Stats east = stats(lit_by(technique, {c, -c, 0.0f}));
+        const Stats north = stats(lit_by(technique, {0.0f, -c, c}));
+        std::printf("%s: lit from the east mean %.1f, deviation %.1f; from the north %.1f, %.1f\n",
+                    technique_name(technique), east.mean, east.deviation, north.mean, north.deviation);
+        EXPECT_GT(east.deviation, 3.0) << "the bumps do not show";
+        EXPECT_NEAR(east.mean / north.mean, 1.0, 0.05);
+        EXPECT_NEAR(east.deviation / north.deviation, 1.0, 0.15);
     }
 }
 

@@ -18,9 +18,11 @@ PX_VARYING PX_HIGHP vec2 v_uv;             // material uv; PX_HIGHP for large ti
 PX_VARYING PX_VIEW_PRECISION vec3 v_view_ts;
 PX_VARYING PX_HIGHP vec3 v_view_position;  // view space, for perspective-correct depth
 PX_VARYING mediump vec3 v_light_ts[PX_MAX_LIGHTS];  // toward each light, texture space, unnormalised
-#if defined(PX_READS_HEIGHT) && !defined(PX_LADDER_STEP)
-// The trace's view vector is stretched along the mesh's uv (surface.vert,
-// Vertex::uv_stretch); surface_main.glsl undoes it for shading.
+#ifndef PX_LADDER_STEP
+// The texture frame is the mesh's tangent frame carried by F = u_uv_frame
+// times the mesh's uv stretch (surface.vert, Vertex::uv_stretch): the
+// trace's view vector and the lights are F applied to their tangent-frame
+// xy, and shading takes F's area out again (surface_main.glsl).
 #define PX_UV_STRETCH
 PX_VARYING mediump vec2 v_uv_stretch;
 #endif

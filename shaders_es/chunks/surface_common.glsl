@@ -30,9 +30,6 @@ uniform mediump int u_light_count;
 uniform mediump vec3 u_light_color[PX_MAX_LIGHTS];
 uniform mediump vec3 u_ambient;
 uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
-#ifdef PX_UV_STRETCH
-uniform mediump mat2 u_uv_frame;  // surface.vert's (one precision in both stages)
-#endif
 
 // PX_COUNT_WORK (VariantKey::count_work, debug outputs only; read by
 // profiling/measurement/work.h for `parallax bench`'s work columns): the

@@ -55,6 +55,21 @@ mediump float px_mip_level(PX_HIGHP vec2 uv) {
 }
 #endif
 
+// A texture-frame vector (its xy F applied to the tangent frame's, F =
+// u_uv_frame times the mesh's uv stretch, surface.vert) for shading: F's
+// area taken out, F / sqrt(det F), so that the normal map's axes keep the
+// surface's own proportions. A uv sphere's u runs twice as long as its v,
+// and a material scaled 2 x 1 on it is square on the surface: F is then a
+// rotation, where u_uv_frame alone stretched the shading twice over (until
+// 2026-12-05). On planes the stretch is 1 and F = u_uv_frame (det +-1).
+PX_HIGHP vec3 px_shading_vector(PX_HIGHP vec3 v) {
+#ifdef PX_UV_STRETCH
+    return vec3(v.xy * inversesqrt(v_uv_stretch.x * v_uv_stretch.y), v.z);
+#else
+    return v;
+#endif
+}
+
 mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 view_dir PX_TRACE_GRADIENTS) {
     // The two dependent reads issued back to back, before any arithmetic on
     // them (PowerVR whitepaper 3.2.1: one wait instead of two).
@@ -81,10 +96,14 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     mediump vec3 color = u_ambient * albedo.rgb;
     for (int i = 0; i < PX_MAX_LIGHTS; i++) {
         if (i >= u_light_count) break;
-        mediump vec3 light_dir = normalize(v_light_ts[i]);
+        mediump vec3 light_shading = px_shading_vector(v_light_ts[i]);
+        mediump vec3 light_dir = normalize(light_shading);
         mediump float visibility = 1.0;
 #ifdef PX_SHADOW
-        visibility = px_light_visibility(uv, hit_height, light_dir, u_light_angular_radius[i] PX_TRACE_GRADIENT_ARGS);
+        // The shadow ray steps in uv as the view's trace does: F's own xy, over
+        // the shading length (its z the cosine, as the view's).
+        visibility = px_light_visibility(uv, hit_height, v_light_ts[i] / length(light_shading),
+                                         u_light_angular_radius[i] PX_TRACE_GRADIENT_ARGS);
 #endif
         color += px_light_term(albedo.rgb, normal, view_dir, light_dir, u_light_color[i], visibility);
     }
@@ -99,22 +118,15 @@ void main() {
     PX_HIGHP vec2 uv_dy = dFdy(uv);
 #endif
     PX_VIEW_PRECISION vec3 view_ts = v_view_ts;
-#ifdef PX_READS_HEIGHT
-    PX_VIEW_PRECISION vec3 view_unscaled = vec3(view_ts.xy * u_inv_height_scale, view_ts.z);
-#ifdef PX_UV_STRETCH
-    {
-        // The view direction itself, for shading and the normalisation:
-        // F S^-1 F^-1 undoes the vertex stage's stretch S (F = u_uv_frame,
-        // det +-1).
-        mediump mat2 f = u_uv_frame;
-        PX_HIGHP vec2 mesh_xy = vec2(f[1].y * view_ts.x - f[1].x * view_ts.y, f[0].x * view_ts.y - f[0].y * view_ts.x) /
-                                (f[0].x * f[1].y - f[1].x * f[0].y);
-        view_unscaled.xy = (f * (mesh_xy / v_uv_stretch)) * u_inv_height_scale;
-    }
-#endif
-#else
+    // The view direction for shading: the texture frame's xy without the
+    // relief's scale and without the area of the frame F (u_uv_frame times
+    // the uv stretch): F / sqrt(det F) turns the tangent frame into the
+    // texture's axes at the surface's own proportions (px_shading_vector).
     PX_VIEW_PRECISION vec3 view_unscaled = view_ts;
+#ifdef PX_READS_HEIGHT
+    view_unscaled.xy = view_ts.xy * u_inv_height_scale;
 #endif
+    view_unscaled = px_shading_vector(view_unscaled);
 #ifdef PX_EXACT_VIEW
     // Interpolated unnormalised: normalise here, keeping xy scaled and z the
     // cosine of the view angle, as the per-vertex path delivers it.
@@ -223,7 +235,7 @@ void main() {
     if (u_light_count > 0) {
         visibility = normalize(v_light_ts[0]).z > 0.0 ? 1.0 : 0.0;
 #ifdef PX_SHADOW
-        visibility = px_light_visibility(shown.uv, shown.height, normalize(v_light_ts[0]),
+        visibility = px_light_visibility(shown.uv, shown.height, v_light_ts[0] / length(px_shading_vector(v_light_ts[0])),
                                          u_light_angular_radius[0] PX_TRACE_GRADIENT_ARGS);
 #endif
     }

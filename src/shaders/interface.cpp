@@ -202,9 +202,10 @@ bool needed(Attribute a, const VariantKey& key) {
         case Attribute::tangent: return uses(k).frame;
         // surface.vert: the curved relief's quadric (PX_CURVED).
         case Attribute::curvature: return k.curved;
-        // surface.vert: the searches' uv step along the mesh's uv (every
-        // height-reading variant but the ladder's own shaders).
-        case Attribute::uv_stretch: return uses(k).traced && k.ladder_step == 0;
+        // surface.vert: the texture frame F = u_uv_frame times the mesh's uv
+        // stretch, for the searches' uv step and for shading (every variant
+        // with a frame but the ladder's own shaders).
+        case Attribute::uv_stretch: return uses(k).frame && k.ladder_step == 0;
     }
     return true;
 }
