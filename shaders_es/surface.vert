@@ -47,6 +47,12 @@ PX_ATTRIBUTE highp vec3 a_curvature;
 // Into relief depths per squared tile: units_per_tile / (height_scale *
 // the model's scale) (renderer.cpp set_object_uniforms).
 uniform highp float u_curvature_scale;
+// The mesh's uv bend (Vertex::uv_bend_u/v: mesh uv per squared mesh unit
+// along the tangent plane) and its scale into squared ray parameters
+// (renderer.cpp set_object_uniforms).
+PX_ATTRIBUTE highp vec3 a_uv_bend_u;
+PX_ATTRIBUTE highp vec3 a_uv_bend_v;
+uniform highp float u_uv_bend_scale;
 // The shell (renderer.cpp set_object_uniforms): x how far out along its
 // normals the mesh is drawn (mesh units), y the same in relief depths, z
 // relief depths per view-space unit.
@@ -112,7 +118,7 @@ void main() {
     // share the frame). The fragment stage takes the frame's area out for
     // shading (px_shading_vector, surface_main.glsl).
     view_ts.xy *= a_uv_stretch;
-    v_uv_stretch = a_uv_stretch;
+    v_frame_scale = inversesqrt(a_uv_stretch.x * a_uv_stretch.y);
 #endif
     view_ts.xy = u_uv_frame * view_ts.xy;
 #ifdef PX_READS_HEIGHT
@@ -139,6 +145,15 @@ void main() {
     highp float gyy = mxx * a1.x * a1.x + 2.0 * mxy * a1.x * a1.y + myy * a1.y * a1.y;
     highp float gxy = mxx * a0.x * a1.x + mxy * (a0.x * a1.y + a0.y * a1.x) + myy * a0.y * a1.y;
     v_curvature = vec3(gxx, 2.0 * gxy, gyy) * u_curvature_scale;
+    {
+        // Where the search's ray runs in the tangent plane the mesh's uv is
+        // not linear: at parameter mu it is uv0 - mu d + mu^2 v_uv_bend, the
+        // bend of the view's own tangent direction (unit view vector).
+        highp vec3 e = normalize(to_eye);
+        highp vec2 w = vec2(dot(e, t), dot(e, b));
+        highp vec3 ww = vec3(w.x * w.x, w.x * w.y, w.y * w.y);
+        v_uv_bend = (u_uv_matrix * vec2(dot(a_uv_bend_u, ww), dot(a_uv_bend_v, ww))) * u_uv_bend_scale;
+    }
     // How far the polygon lies above the smooth surface, in relief depths:
     // the shell minus the chord sag, sag(p) = 1/2 (<p_i . n_i> - p . <n_i>)
     // (< > interpolated across the triangle; Phong tessellation with shape

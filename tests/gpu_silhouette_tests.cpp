@@ -331,6 +331,7 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
         EXPECT_LT(on, 0.2);
     }
     for (MeshKind kind : {MeshKind::sphere, MeshKind::torus, MeshKind::cylinder}) {
+        double mean = 0.0;
         for (double elevation : {0.0, 30.0, 60.0}) {
             SCOPED_TRACE(std::string(mesh_kind_name(kind)) + " at " + std::to_string(elevation));
             SceneDesc s = curved_scene(kind, elevation, Technique::pom, true);
@@ -341,7 +342,13 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
             std::printf("%s at %.0f: contour %ld px; mismatched with silhouette %.1f %% (%ld outside), without %.1f %%\n",
                         mesh_kind_name(kind), elevation, e.contour, 100.0 * on, e.measured_only, 100.0 * off);
             EXPECT_LT(on, 0.5 * off);
+            mean += on / 3.0;
         }
+        // The search follows the sphere's uv rows as they curve toward the
+        // poles (Vertex::uv_bend_u/v): its three views measure 11.1 % on
+        // the mean, 17.7 % with the bend left out (2026-12-05; 24.8 % at 0
+        // degrees, where the contour runs through every latitude).
+        if (kind == MeshKind::sphere) EXPECT_LT(mean, 0.14) << "the sphere's mean contour mismatch";
     }
 }
 

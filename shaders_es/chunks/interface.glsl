@@ -22,15 +22,22 @@ PX_VARYING mediump vec3 v_light_ts[PX_MAX_LIGHTS];  // toward each light, textur
 // The texture frame is the mesh's tangent frame carried by F = u_uv_frame
 // times the mesh's uv stretch (surface.vert, Vertex::uv_stretch): the
 // trace's view vector and the lights are F applied to their tangent-frame
-// xy, and shading takes F's area out again (surface_main.glsl).
+// xy, and shading takes F's area out again (surface_main.glsl): times
+// v_frame_scale, 1 / sqrt(det) of the stretch (one float, not the stretch's
+// vec2: GLSL ES 1.00's packing puts it in the fourth column beside the vec3
+// varyings, where the curved variant has no vec2 row left).
 #define PX_UV_STRETCH
-PX_VARYING mediump vec2 v_uv_stretch;
+PX_VARYING mediump float v_frame_scale;
 #endif
 #ifdef PX_CURVED
 // The curved relief's quadric in the texture frame (surface.vert): how far
 // below the polygon's plane, in relief depths, the surface lies at a uv
 // offset d: v_curvature . (d.x^2, d.x d.y, d.y^2). Linear across a triangle.
 PX_VARYING PX_HIGHP vec3 v_curvature;
+// The mesh's uv bend along the view's tangent direction, in texture uv per
+// squared ray parameter (surface.vert): the search's uv at mu is
+// uv0 - mu d + mu^2 v_uv_bend.
+PX_VARYING PX_HIGHP vec2 v_uv_bend;
 // How far the drawn polygon lies above the smooth surface, in relief
 // depths: v_shell_lift + dot(v_view_position, vec3(v_shell_x, v_shell_y,
 // v_shell_z)) (surface.vert). Four floats, not a vec4: GLSL ES 1.00's

@@ -170,7 +170,7 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         return m;
     }
     m.mu_above = mu_start;
-    m.uv_above = uv0 - mu_start * d;
+    m.uv_above = uv0 - mu_start * d + (mu_start * mu_start) * v_uv_bend;
     m.height_above = px_trace_height(m.uv_above);
     m.ray_above = px_curved_height(mu_start, m.height_above);
     PX_WORK(0.0, 1.0);
@@ -181,7 +181,7 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     if (m.height_above >= m.ray_above) return m;  // hit where the search starts
     for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
         PX_HIGHP float mu = mu_start + float(i) * step;
-        PX_HIGHP vec2 uv = uv0 - mu * d;
+        PX_HIGHP vec2 uv = uv0 - mu * d + (mu * mu) * v_uv_bend;
         mediump float h = px_trace_height(uv);
         PX_HIGHP float ray = px_curved_height(mu, h);
         PX_WORK(1.0, 1.0);

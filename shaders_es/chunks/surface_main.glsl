@@ -64,7 +64,7 @@ mediump float px_mip_level(PX_HIGHP vec2 uv) {
 // 2026-12-05). On planes the stretch is 1 and F = u_uv_frame (det +-1).
 PX_HIGHP vec3 px_shading_vector(PX_HIGHP vec3 v) {
 #ifdef PX_UV_STRETCH
-    return vec3(v.xy * inversesqrt(v_uv_stretch.x * v_uv_stretch.y), v.z);
+    return vec3(v.xy * v_frame_scale, v.z);
 #else
     return v;
 #endif

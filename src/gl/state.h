@@ -37,9 +37,11 @@
 
 namespace px {
 
-// Texture units and vertex attribute slots the library uses (shaders/interface.h).
+// Texture units and vertex attribute slots the library uses (shaders/interface.h;
+// renderer.cpp checks at compile time that these cover its tables). Eight
+// attribute slots: the minimum GL_MAX_VERTEX_ATTRIBS of ES 2.0.
 inline constexpr int kLibraryTextureUnits = 4;
-inline constexpr int kLibraryAttributeSlots = 4;
+inline constexpr int kLibraryAttributeSlots = 8;
 
 class SavedGlState {
 public:

@@ -18,6 +18,14 @@
 
 namespace px {
 
+// The state guard (gl/state.h) saves every texture unit and, on ES 2.0,
+// every attribute slot the library touches: point_attributes enables each
+// slot of the interface table.
+static_assert(shader::kAttributeCount <= static_cast<std::size_t>(kLibraryAttributeSlots),
+              "SavedGlState must save every attribute slot the interface table points");
+static_assert(shader::kSamplerCount <= static_cast<std::size_t>(kLibraryTextureUnits),
+              "SavedGlState must save every texture unit the interface table binds");
+
 namespace slot = shader::slot;
 
 namespace {
@@ -83,6 +91,8 @@ std::size_t vertex_offset(shader::Attribute a) {
         case shader::Attribute::uv: return offsetof(Vertex, uv);
         case shader::Attribute::curvature: return offsetof(Vertex, curvature);
         case shader::Attribute::uv_stretch: return offsetof(Vertex, uv_stretch);
+        case shader::Attribute::uv_bend_u: return offsetof(Vertex, uv_bend_u);
+        case shader::Attribute::uv_bend_v: return offsetof(Vertex, uv_bend_v);
     }
     return 0;
 }
@@ -232,6 +242,13 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
     const float depths_per_unit = 1.0f / (m.height_scale * units_per_tile);
     const glm::vec3 shell_uniform(shell, shell * model_scale * depths_per_unit, depths_per_unit);
     p.set(slot::shell, std::isfinite(shell_uniform.y) && std::isfinite(shell_uniform.z) ? shell_uniform : glm::vec3(0.0f));
+    // The mesh's uv bend (Vertex::uv_bend_u/v, per squared mesh unit) per
+    // squared ray parameter: the curved search's ray moves height_scale *
+    // units_per_uv / area_scale mesh units along the tangent plane per unit
+    // of its parameter (a relief depth), times the view's tangent part.
+    const float bend_step = m.height_scale * mesh.units_per_uv / m.uv.area_scale<float>();
+    const float bend_scale = bend_step * bend_step;
+    p.set(slot::uv_bend_scale, std::isfinite(bend_scale) ? bend_scale : 0.0f);
     return mirrored;
 }
 

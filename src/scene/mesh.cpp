@@ -455,6 +455,74 @@ float chord_sag(const Mesh& mesh) {
     return static_cast<float>(deepest);
 }
 
+namespace {
+
+// Vertex::uv_bend_u/v: over each vertex's own two rings of neighbours (by
+// index, so that a seam's copies keep their own side's uv), mesh u and v
+// fitted as cubics in the tangent-plane offset (x, y), their second-order
+// parts kept (the cubic terms take up how the bend changes across the
+// rings, as in fit_curvature); the quadratic alone where the rings do not
+// determine the cubic, none where they do not determine that.
+void fit_uv_bend(Mesh& mesh, std::vector<std::vector<std::uint32_t>>& neighbours) {
+    const std::size_t n = mesh.vertices.size();
+    for (std::vector<std::uint32_t>& ring : neighbours) {
+        std::sort(ring.begin(), ring.end());
+        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    }
+    std::vector<std::uint32_t> rings;
+    for (std::size_t i = 0; i < n; ++i) {
+        rings.clear();
+        for (std::uint32_t j : neighbours[i]) {
+            rings.push_back(j);
+            rings.insert(rings.end(), neighbours[j].begin(), neighbours[j].end());
+        }
+        std::sort(rings.begin(), rings.end());
+        rings.erase(std::unique(rings.begin(), rings.end()), rings.end());
+        Vertex& v = mesh.vertices[i];
+        const glm::dvec3 p(v.position);
+        const glm::dvec3 normal = glm::normalize(glm::dvec3(v.normal));
+        glm::dvec3 tangent(v.tangent);
+        tangent = tangent - normal * glm::dot(normal, tangent);
+        const double tl = glm::length(tangent);
+        if (!(tl > 1e-12) || !std::isfinite(tl) || !std::isfinite(normal.x + normal.y + normal.z)) continue;
+        tangent /= tl;
+        const glm::dvec3 bitangent = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent);
+        LeastSquares quartic_u(14), quartic_v(14), cubic_u(9), cubic_v(9), quadric_u(5), quadric_v(5);
+        for (std::uint32_t j : rings) {
+            if (j == i) continue;
+            const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
+            const double x = glm::dot(e, tangent), y = glm::dot(e, bitangent);
+            if (!(x * x + y * y > 0.0)) continue;
+            const double du = static_cast<double>(mesh.vertices[j].uv.x) - v.uv.x;
+            const double dv = static_cast<double>(mesh.vertices[j].uv.y) - v.uv.y;
+            const double x2 = x * x, y2 = y * y;
+            quartic_u.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y, x2 * x2, x2 * x * y, x2 * y2, x * y2 * y, y2 * y2}, du);
+            quartic_v.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y, x2 * x2, x2 * x * y, x2 * y2, x * y2 * y, y2 * y2}, dv);
+            cubic_u.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y}, du);
+            cubic_v.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y}, dv);
+            quadric_u.add({x, y, x * x, x * y, y * y}, du);
+            quadric_v.add({x, y, x * x, x * y, y * y}, dv);
+        }
+        const auto bend = [](const LeastSquares& quartic, const LeastSquares& cubic,
+                             const LeastSquares& quadric) -> std::optional<glm::dvec3> {
+            std::optional<std::vector<double>> fit = quartic.solve();
+            if (!fit) fit = cubic.solve();
+            if (!fit) fit = quadric.solve();
+            if (!fit) return std::nullopt;
+            const glm::dvec3 c((*fit)[2], (*fit)[3], (*fit)[4]);
+            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) return std::nullopt;
+            return c;
+        };
+        const std::optional<glm::dvec3> bu = bend(quartic_u, cubic_u, quadric_u), bv = bend(quartic_v, cubic_v, quadric_v);
+        if (bu && bv) {
+            v.uv_bend_u = glm::vec3(*bu);
+            v.uv_bend_v = glm::vec3(*bv);
+        }
+    }
+}
+
+}  // namespace
+
 void fit_curvature(Mesh& mesh) {
     mesh.chord_sag = chord_sag(mesh);
     const std::size_t n = mesh.vertices.size();
@@ -540,6 +608,7 @@ void fit_curvature(Mesh& mesh) {
         }
         start = end;
     }
+    fit_uv_bend(mesh, neighbours);
 }
 
 namespace {

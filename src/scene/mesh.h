@@ -37,6 +37,16 @@ struct Vertex {
     // its shape in space wherever the mesh's uv does not. 1 on planes and
     // cubes; generate_tangents sets it, within [1/64, 64].
     glm::vec2 uv_stretch{1.0f};
+    // How the mesh's uv bends away from linear across the tangent plane: at
+    // a tangent-plane offset (x, y) (mesh units, as `curvature`), mesh u
+    // moves by its linear part plus uv_bend_u . (x^2, x y, y^2), v by its
+    // part plus uv_bend_v . (x^2, x y, y^2) (a uv sphere's rows curve
+    // toward its poles: a straight step east at latitude L drifts toward the
+    // equator by tan(L) x^2 / 2 r^2 radians). The curved search follows it
+    // along its long grazing paths (surface.vert v_uv_bend). Zero on planes
+    // and cubes; fit_curvature fits it.
+    glm::vec3 uv_bend_u{0.0f};
+    glm::vec3 uv_bend_v{0.0f};
 };
 
 struct Mesh {

@@ -137,6 +137,7 @@ const std::vector<EffectMarker> kMarkers = {
     // surface.vert and march.glsl: the curved relief's quadric and march.
     {"curved", "a_curvature", curved},
     {"curved", "u_curvature_scale", curved},
+    {"curved", "u_uv_bend_scale", curved},
     {"curved", "px_curved_search", curved},
     {"curved", "PX_CURVED", curved},
     // debug_output.glsl: the 11-bit packing of a fragment stage without highp.

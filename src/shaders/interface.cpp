@@ -176,7 +176,8 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::bounds_offset: return k.bounded;
         // surface.vert: the curved relief's quadric into relief depths (PX_CURVED).
         case Uniform::curvature_scale:
-        case Uniform::shell: return k.curved;
+        case Uniform::shell:
+        case Uniform::uv_bend_scale: return k.curved;
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:
@@ -201,7 +202,9 @@ bool needed(Attribute a, const VariantKey& key) {
         case Attribute::normal:
         case Attribute::tangent: return uses(k).frame;
         // surface.vert: the curved relief's quadric (PX_CURVED).
-        case Attribute::curvature: return k.curved;
+        case Attribute::curvature:
+        case Attribute::uv_bend_u:
+        case Attribute::uv_bend_v: return k.curved;
         // surface.vert: the texture frame F = u_uv_frame times the mesh's uv
         // stretch, for the searches' uv step and for shading (every variant
         // with a frame but the ladder's own shaders).

@@ -26,7 +26,9 @@ namespace px::shader {
     X(tangent, "a_tangent", 4)   \
     X(uv, "a_uv", 2)             \
     X(curvature, "a_curvature", 3) \
-    X(uv_stretch, "a_uv_stretch", 2)
+    X(uv_stretch, "a_uv_stretch", 2) \
+    X(uv_bend_u, "a_uv_bend_u", 3) \
+    X(uv_bend_v, "a_uv_bend_v", 3)
 
 enum class Attribute : std::uint8_t {
 #define PX_ENUM(id, name, components) id,
@@ -76,6 +78,7 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(bounds_offset, "u_bounds_offset", vec2, 1)               \
     X(curvature_scale, "u_curvature_scale", float1, 1)         \
     X(shell, "u_shell", vec3, 1)                               \
+    X(uv_bend_scale, "u_uv_bend_scale", float1, 1)             \
     X(albedo_map, "u_albedo_map", sampler2d, 1)                \
     X(normal_map, "u_normal_map", sampler2d, 1)                \
     X(height_map, "u_height_map", sampler2d, 1)                \
