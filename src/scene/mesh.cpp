@@ -487,7 +487,11 @@ void fit_uv_bend(Mesh& mesh, std::vector<std::vector<std::uint32_t>>& neighbours
         if (!(tl > 1e-12) || !std::isfinite(tl) || !std::isfinite(normal.x + normal.y + normal.z)) continue;
         tangent /= tl;
         const glm::dvec3 bitangent = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent);
-        LeastSquares quartic_u(14), quartic_v(14), cubic_u(9), cubic_v(9), quadric_u(5), quadric_v(5);
+        // One set of normal equations for the quartic in (x, y), u and v its
+        // two right-hand sides; the cubic's and the quadric's are its leading
+        // 9 x 9 and 5 x 5 blocks (the basis is ordered by degree).
+        constexpr std::size_t kTerms = 14;
+        std::vector<double> equations(kTerms * kTerms, 0.0), rhs_u(kTerms, 0.0), rhs_v(kTerms, 0.0);
         for (std::uint32_t j : rings) {
             if (j == i) continue;
             const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
@@ -496,24 +500,64 @@ void fit_uv_bend(Mesh& mesh, std::vector<std::vector<std::uint32_t>>& neighbours
             const double du = static_cast<double>(mesh.vertices[j].uv.x) - v.uv.x;
             const double dv = static_cast<double>(mesh.vertices[j].uv.y) - v.uv.y;
             const double x2 = x * x, y2 = y * y;
-            quartic_u.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y, x2 * x2, x2 * x * y, x2 * y2, x * y2 * y, y2 * y2}, du);
-            quartic_v.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y, x2 * x2, x2 * x * y, x2 * y2, x * y2 * y, y2 * y2}, dv);
-            cubic_u.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y}, du);
-            cubic_v.add({x, y, x2, x * y, y2, x2 * x, x2 * y, x * y2, y2 * y}, dv);
-            quadric_u.add({x, y, x * x, x * y, y * y}, du);
-            quadric_v.add({x, y, x * x, x * y, y * y}, dv);
+            const double row[kTerms] = {x,      y,          x2,      x * y,       y2,     x2 * x, x2 * y,
+                                        x * y2, y2 * y,     x2 * x2, x2 * x * y,  x2 * y2, x * y2 * y, y2 * y2};
+            for (std::size_t a = 0; a < kTerms; ++a) {
+                for (std::size_t c = a; c < kTerms; ++c) equations[a * kTerms + c] += row[a] * row[c];
+                rhs_u[a] += row[a] * du;
+                rhs_v[a] += row[a] * dv;
+            }
         }
-        const auto bend = [](const LeastSquares& quartic, const LeastSquares& cubic,
-                             const LeastSquares& quadric) -> std::optional<glm::dvec3> {
-            std::optional<std::vector<double>> fit = quartic.solve();
-            if (!fit) fit = cubic.solve();
-            if (!fit) fit = quadric.solve();
-            if (!fit) return std::nullopt;
-            const glm::dvec3 c((*fit)[2], (*fit)[3], (*fit)[4]);
-            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) return std::nullopt;
-            return c;
+        for (std::size_t a = 0; a < kTerms; ++a)
+            for (std::size_t c = 0; c < a; ++c) equations[a * kTerms + c] = equations[c * kTerms + a];
+        // u and v share the equations: one elimination for both.
+        const auto bend = [&](std::size_t k) -> std::optional<std::pair<glm::dvec3, glm::dvec3>> {
+            double m[kTerms * kTerms], r[2][kTerms], scale[kTerms];
+            for (std::size_t a = 0; a < k; ++a) {
+                const double d = equations[a * kTerms + a];
+                if (!(d > 0.0) || !std::isfinite(d)) return std::nullopt;
+                scale[a] = 1.0 / std::sqrt(d);
+            }
+            for (std::size_t a = 0; a < k; ++a) {
+                for (std::size_t c = 0; c < k; ++c) m[a * k + c] = equations[a * kTerms + c] * scale[a] * scale[c];
+                r[0][a] = rhs_u[a] * scale[a];
+                r[1][a] = rhs_v[a] * scale[a];
+            }
+            for (std::size_t col = 0; col < k; ++col) {
+                std::size_t pivot = col;
+                for (std::size_t a = col + 1; a < k; ++a)
+                    if (std::fabs(m[a * k + col]) > std::fabs(m[pivot * k + col])) pivot = a;
+                if (!(std::fabs(m[pivot * k + col]) > 1e-9)) return std::nullopt;
+                if (pivot != col) {
+                    for (std::size_t c = 0; c < k; ++c) std::swap(m[col * k + c], m[pivot * k + c]);
+                    std::swap(r[0][col], r[0][pivot]);
+                    std::swap(r[1][col], r[1][pivot]);
+                }
+                for (std::size_t a = col + 1; a < k; ++a) {
+                    const double f = m[a * k + col] / m[col * k + col];
+                    for (std::size_t c = col; c < k; ++c) m[a * k + c] -= f * m[col * k + c];
+                    r[0][a] -= f * r[0][col];
+                    r[1][a] -= f * r[1][col];
+                }
+            }
+            double x[2][kTerms];
+            for (std::size_t a = k; a-- > 0;) {
+                for (int w = 0; w < 2; ++w) {
+                    double sum = r[w][a];
+                    for (std::size_t c = a + 1; c < k; ++c) sum -= m[a * k + c] * x[w][c];
+                    x[w][a] = sum / m[a * k + a];
+                }
+            }
+            const glm::dvec3 qu(x[0][2] * scale[2], x[0][3] * scale[3], x[0][4] * scale[4]);
+            const glm::dvec3 qv(x[1][2] * scale[2], x[1][3] * scale[3], x[1][4] * scale[4]);
+            if (!std::isfinite(qu.x + qu.y + qu.z + qv.x + qv.y + qv.z)) return std::nullopt;
+            return std::make_pair(qu, qv);
         };
-        const std::optional<glm::dvec3> bu = bend(quartic_u, cubic_u, quadric_u), bv = bend(quartic_v, cubic_v, quadric_v);
+        std::optional<std::pair<glm::dvec3, glm::dvec3>> fit = bend(kTerms);
+        if (!fit) fit = bend(9);
+        if (!fit) fit = bend(5);
+        const std::optional<glm::dvec3> bu = fit ? std::optional<glm::dvec3>(fit->first) : std::nullopt;
+        const std::optional<glm::dvec3> bv = fit ? std::optional<glm::dvec3>(fit->second) : std::nullopt;
         if (bu && bv) {
             v.uv_bend_u = glm::vec3(*bu);
             v.uv_bend_v = glm::vec3(*bv);
