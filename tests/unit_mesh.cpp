@@ -607,6 +607,31 @@ TEST(MeshUvStretch, FollowsTheLocalUvDensity) {
     }
 }
 
+// A vertex's position and frame as the mesh's fits read it.
+struct VertexFrame {
+    glm::dvec3 p, n, t, b;
+};
+VertexFrame frame_of(const Vertex& v) {
+    VertexFrame f;
+    f.p = glm::dvec3(v.position);
+    f.n = glm::normalize(glm::dvec3(v.normal));
+    f.t = glm::dvec3(v.tangent);
+    f.t = glm::normalize(f.t - f.n * glm::dot(f.n, f.t));
+    f.b = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(f.n, f.t);
+    return f;
+}
+
+// The second-order part of uv at a tangent-plane offset, by central
+// differences at 0: u's and v's (x^2, x y, y^2) coefficients.
+std::pair<glm::dvec3, glm::dvec3> bend_by_differences(const std::function<glm::dvec2(double, double)>& uv_off) {
+    const double h = 1e-3;
+    const glm::dvec2 f0 = uv_off(0.0, 0.0);
+    const glm::dvec2 fxx = (uv_off(h, 0.0) - 2.0 * f0 + uv_off(-h, 0.0)) / (h * h);
+    const glm::dvec2 fyy = (uv_off(0.0, h) - 2.0 * f0 + uv_off(0.0, -h)) / (h * h);
+    const glm::dvec2 fxy = (uv_off(h, h) - uv_off(h, -h) - uv_off(-h, h) + uv_off(-h, -h)) / (4.0 * h * h);
+    return {glm::dvec3(0.5 * fxx.x, fxy.x, 0.5 * fyy.x), glm::dvec3(0.5 * fxx.y, fxy.y, 0.5 * fyy.y)};
+}
+
 // The uv bend (fit_uv_bend, Vertex::uv_bend_u/v): mesh uv's second-order
 // part across the tangent plane, against the sphere's own uv written out.
 // A point at tangent-plane offset (x, y) from a vertex is the sphere's point
@@ -634,20 +659,11 @@ TEST(MeshUvBend, MatchesTheSpheresOwnUvToSecondOrder) {
         const double lat = std::asin(std::clamp(static_cast<double>(v.position.z) / r, -1.0, 1.0));
         if (std::fabs(lat) > 45.0 * kPi<double> / 180.0 + 1e-6) continue;
         if (v.uv.x < 0.1f || v.uv.x > 0.9f) continue;  // away from the seam, where u wraps
-        const glm::dvec3 p(v.position), n = glm::normalize(glm::dvec3(v.normal));
-        glm::dvec3 t(v.tangent);
-        t = glm::normalize(t - n * glm::dot(n, t));
-        const glm::dvec3 b = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(n, t);
-        const auto uv_off = [&](double x, double y) {
-            const glm::dvec3 q = p + x * t + y * b;
-            return uv_at(q - (r - std::sqrt(r * r - x * x - y * y)) * n);
-        };
-        const double h = 1e-3;
-        const glm::dvec2 f0 = uv_off(0.0, 0.0);
-        const glm::dvec2 fxx = (uv_off(h, 0.0) - 2.0 * f0 + uv_off(-h, 0.0)) / (h * h);
-        const glm::dvec2 fyy = (uv_off(0.0, h) - 2.0 * f0 + uv_off(0.0, -h)) / (h * h);
-        const glm::dvec2 fxy = (uv_off(h, h) - uv_off(h, -h) - uv_off(-h, h) + uv_off(-h, -h)) / (4.0 * h * h);
-        const glm::dvec3 want_u(0.5 * fxx.x, fxy.x, 0.5 * fyy.x), want_v(0.5 * fxx.y, fxy.y, 0.5 * fyy.y);
+        const VertexFrame f = frame_of(v);
+        const auto [want_u, want_v] = bend_by_differences([&](double x, double y) {
+            const glm::dvec3 q = f.p + x * f.t + y * f.b;
+            return uv_at(q - (r - std::sqrt(r * r - x * x - y * y)) * f.n);
+        });
         // The largest second-order term at this latitude, with a floor where
         // the bend vanishes at the equator: 1 / (2 pi r^2), the v xx term's
         // at 45 degrees.
@@ -693,26 +709,17 @@ TEST(MeshUvBend, MatchesTheTorussOwnUvToSecondOrder) {
     long checked = 0;
     for (const Vertex& v : torus.vertices) {
         if (v.uv.x < 0.1f || v.uv.x > 0.9f || v.uv.y < 0.1f || v.uv.y > 0.9f) continue;  // the seams
-        const glm::dvec3 p(v.position), n = glm::normalize(glm::dvec3(v.normal));
-        glm::dvec3 t(v.tangent);
-        t = glm::normalize(t - n * glm::dot(n, t));
-        const glm::dvec3 b = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(n, t);
-        const auto uv_off = [&](double x, double y) {
-            const glm::dvec3 q = p + x * t + y * b;
+        const VertexFrame f = frame_of(v);
+        const auto [want_u, want_v] = bend_by_differences([&](double x, double y) {
+            const glm::dvec3 q = f.p + x * f.t + y * f.b;
             double s = 0.0;
             for (int i = 0; i < 20; ++i) {
                 const double e = 1e-6;
-                const double slope = (implicit(q + (s + e) * n) - implicit(q + (s - e) * n)) / (2.0 * e);
-                s -= implicit(q + s * n) / slope;
+                const double slope = (implicit(q + (s + e) * f.n) - implicit(q + (s - e) * f.n)) / (2.0 * e);
+                s -= implicit(q + s * f.n) / slope;
             }
-            return uv_at(q + s * n);
-        };
-        const double h = 1e-3;
-        const glm::dvec2 f0 = uv_off(0.0, 0.0);
-        const glm::dvec2 fxx = (uv_off(h, 0.0) - 2.0 * f0 + uv_off(-h, 0.0)) / (h * h);
-        const glm::dvec2 fyy = (uv_off(0.0, h) - 2.0 * f0 + uv_off(0.0, -h)) / (h * h);
-        const glm::dvec2 fxy = (uv_off(h, h) - uv_off(h, -h) - uv_off(-h, h) + uv_off(-h, -h)) / (4.0 * h * h);
-        const glm::dvec3 want_u(0.5 * fxx.x, fxy.x, 0.5 * fyy.x), want_v(0.5 * fxx.y, fxy.y, 0.5 * fyy.y);
+            return uv_at(q + s * f.n);
+        });
         double scale = 0.0;
         for (int k = 0; k < 3; ++k) scale = std::max({scale, std::fabs(want_u[k]), std::fabs(want_v[k])});
         if (!(scale > 0.05)) continue;  // the outer and inner equators' flat rows: nothing to compare against

@@ -457,6 +457,22 @@ float chord_sag(const Mesh& mesh) {
 
 namespace {
 
+// A vertex's frame as the fits read it: its unit normal, its tangent made
+// orthogonal to that, and the bitangent by its handedness (the frame the
+// shaders rebuild); none where degenerate or not finite.
+struct FitFrame {
+    glm::dvec3 normal, tangent, bitangent;
+};
+std::optional<FitFrame> fit_frame(const Vertex& v) {
+    const glm::dvec3 normal = glm::normalize(glm::dvec3(v.normal));
+    glm::dvec3 tangent(v.tangent);
+    tangent = tangent - normal * glm::dot(normal, tangent);
+    const double tl = glm::length(tangent);
+    if (!(tl > 1e-12) || !std::isfinite(tl) || !std::isfinite(normal.x + normal.y + normal.z)) return std::nullopt;
+    tangent /= tl;
+    return FitFrame{normal, tangent, (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent)};
+}
+
 // Vertex::uv_bend_u/v: over each vertex's own two rings of neighbours (by
 // index, so that a seam's copies keep their own side's uv), mesh u and v
 // fitted as cubics in the tangent-plane offset (x, y), their second-order
@@ -480,13 +496,9 @@ void fit_uv_bend(Mesh& mesh, std::vector<std::vector<std::uint32_t>>& neighbours
         rings.erase(std::unique(rings.begin(), rings.end()), rings.end());
         Vertex& v = mesh.vertices[i];
         const glm::dvec3 p(v.position);
-        const glm::dvec3 normal = glm::normalize(glm::dvec3(v.normal));
-        glm::dvec3 tangent(v.tangent);
-        tangent = tangent - normal * glm::dot(normal, tangent);
-        const double tl = glm::length(tangent);
-        if (!(tl > 1e-12) || !std::isfinite(tl) || !std::isfinite(normal.x + normal.y + normal.z)) continue;
-        tangent /= tl;
-        const glm::dvec3 bitangent = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent);
+        const std::optional<FitFrame> frame = fit_frame(v);
+        if (!frame) continue;
+        const glm::dvec3 &tangent = frame->tangent, &bitangent = frame->bitangent;
         // One set of normal equations for the quartic in (x, y), u and v its
         // two right-hand sides; the cubic's and the quadric's are its leading
         // 9 x 9 and 5 x 5 blocks (the basis is ordered by degree).
@@ -603,13 +615,9 @@ void fit_curvature(Mesh& mesh) {
         for (std::size_t k = start; k < end; ++k) {
             Vertex& v = mesh.vertices[order[k]];
             const glm::dvec3 p(v.position);
-            const glm::dvec3 normal = glm::normalize(glm::dvec3(v.normal));
-            glm::dvec3 tangent(v.tangent);
-            tangent = tangent - normal * glm::dot(normal, tangent);
-            const double tl = glm::length(tangent);
-            if (!(tl > 1e-12) || !std::isfinite(tl) || !std::isfinite(normal.x + normal.y + normal.z)) continue;
-            tangent /= tl;
-            const glm::dvec3 bitangent = (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent);
+            const std::optional<FitFrame> frame = fit_frame(v);
+            if (!frame) continue;
+            const glm::dvec3 &normal = frame->normal, &tangent = frame->tangent, &bitangent = frame->bitangent;
             // Goldfeather and Interrante's adjacent-normal cubic fit: the
             // surface near the vertex as z = A x^2 + B x y + C y^2 + D x^3 +
             // E x^2 y + F x y^2 + G y^3 below its tangent plane, through each
