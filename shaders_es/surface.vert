@@ -40,7 +40,7 @@ uniform highp vec4 u_light_vector[PX_MAX_LIGHTS];
 // mesh's mean (Vertex::uv_stretch).
 PX_ATTRIBUTE highp vec2 a_uv_stretch;
 #endif
-#ifdef PX_CURVED
+#if defined(PX_CURVED) && !defined(PX_SHAPE)
 // The mesh's bend below its tangent plane (Vertex::curvature, mesh units):
 // c.x x^2 + c.y x y + c.z y^2 at offset (x, y) along tangent and bitangent.
 PX_ATTRIBUTE highp vec3 a_curvature;
@@ -53,6 +53,8 @@ uniform highp float u_curvature_scale;
 PX_ATTRIBUTE highp vec3 a_uv_bend_u;
 PX_ATTRIBUTE highp vec3 a_uv_bend_v;
 uniform highp float u_uv_bend_scale;
+#endif
+#ifdef PX_CURVED
 // The shell (renderer.cpp set_object_uniforms): x how far out along its
 // normals the mesh is drawn (mesh units), y the same in relief depths, z
 // relief depths per view-space unit.
@@ -125,7 +127,9 @@ void main() {
     view_ts.xy *= u_parallax_scale;  // folded here: one multiply per vertex, not per fragment
 #endif
     v_view_ts = view_ts;
-#ifdef PX_CURVED
+#ifdef PX_SHAPE
+    v_object_position = position;  // the exact search's ray starts here (march.glsl)
+#elif defined(PX_CURVED)
     // The quadric carried into the texture frame: x_tex = F x_mesh (F =
     // u_uv_frame, det +-1), so with A = F^-1 its matrix G becomes A^T G A,
     // and q = view_ts.xy . (A^T G A) view_ts.xy is the quadric of the mesh-

@@ -29,7 +29,11 @@ PX_VARYING mediump vec3 v_light_ts[PX_MAX_LIGHTS];  // toward each light, textur
 #define PX_UV_STRETCH
 PX_VARYING mediump float v_frame_scale;
 #endif
-#ifdef PX_CURVED
+#ifdef PX_SHAPE
+// The exact curved search (march.glsl, PX_SHAPE): the fragment's mesh-space
+// position on the drawn polygon (affine across a triangle, so exact).
+PX_VARYING PX_HIGHP vec3 v_object_position;
+#elif defined(PX_CURVED)
 // The curved relief's quadric in the texture frame (surface.vert): how far
 // below the polygon's plane, in relief depths, the surface lies at a uv
 // offset d: v_curvature . (d.x^2, d.x d.y, d.y^2). Linear across a triangle.

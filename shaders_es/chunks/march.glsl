@@ -101,32 +101,132 @@ PX_HIGHP float px_curve_polygon = 1.0;
 // k (px_curved_search): at height h the bend is q (1 + px_curve_deepen (1 - h)).
 PX_HIGHP float px_curve_deepen = 0.0;
 
-// The ray's height at mu, against a surface at height h: the bend matched
-// to the circle at the surface's own depth below the relief's top.
+#ifdef PX_SHAPE
+// The exact curved search (PX_SHAPE 1: a sphere, 2: an open cylinder, 3: a
+// torus, as scene/mesh.cpp builds them): each sample is taken where the ray
+// really is, its mesh-space point, the mesh's own uv there (the analytic
+// parameterisation) and its height along the surface's normal, as the
+// displaced reference moves its vertices (make_displaced_curved). No
+// quadric, no uv bend: nothing is interpolated but the fragment's position.
+// x: the radius (a torus's ring), y: a torus's tube radius or a cylinder's
+// height, z: relief depths per mesh unit, w: view-space units per relief
+// depth (renderer.cpp set_object_uniforms).
+uniform PX_HIGHP vec4 u_shape;
+uniform PX_HIGHP vec3 u_object_camera;    // the camera in mesh space
+// Mesh uv into material uv: surface.vert's u_uv_matrix and offset, the
+// fragment stage's own (a uniform in both stages needs one precision).
+uniform PX_HIGHP mat2 u_shape_uv_matrix;
+uniform PX_HIGHP vec2 u_shape_uv_offset;
+PX_HIGHP vec3 px_shape_origin = vec3(0.0);  // the ray at mu = 0, mesh space
+PX_HIGHP vec3 px_shape_step = vec3(0.0);    // and its mesh units per unit of mu
+
+PX_HIGHP vec3 px_shape_point(PX_HIGHP float mu) {
+    return px_shape_origin + mu * px_shape_step;
+}
+
+// The relief height of mesh-space point p: u_polygon_height on the smooth
+// surface, one more per relief depth out along its normal.
+PX_HIGHP float px_shape_height(PX_HIGHP vec3 p) {
+#if PX_SHAPE == 1
+    PX_HIGHP float out_along = length(p) - u_shape.x;
+#elif PX_SHAPE == 2
+    PX_HIGHP float out_along = length(p.xy) - u_shape.x;
+#else
+    PX_HIGHP float out_along = length(vec2(length(p.xy) - u_shape.x, p.z)) - u_shape.y;
+#endif
+    return u_polygon_height + out_along * u_shape.z;
+}
+
+// The material uv over mesh-space point p (the mesh's uv: scene/mesh.cpp).
+PX_HIGHP vec2 px_shape_uv(PX_HIGHP vec3 p) {
+    PX_HIGHP float turn = 0.1591549431;  // 1 / 2 pi
+#if PX_SHAPE == 3
+    // u around the ring from +x, v around the tube from the outer equator.
+    PX_HIGHP vec2 mesh_uv = fract(vec2(atan(p.y, p.x), atan(p.z, length(p.xy) - u_shape.x)) * turn);
+#else
+    // u around z from +y (the seam), towards -x.
+    PX_HIGHP float u = fract(atan(-p.x, p.y) * turn);
+#if PX_SHAPE == 1
+    PX_HIGHP vec2 mesh_uv = vec2(u, atan(p.z, length(p.xy)) * (2.0 * turn) + 0.5);  // v: latitude
+#else
+    PX_HIGHP vec2 mesh_uv = vec2(u, p.z / u_shape.y + 0.5);
+#endif
+#endif
+    return u_shape_uv_matrix * mesh_uv + u_shape_uv_offset;
+}
+#endif
+
+// The search's uv at mu along the ray from uv0 (d: the view's uv step).
+PX_HIGHP vec2 px_curved_uv(PX_HIGHP vec2 uv0, PX_HIGHP vec2 d, PX_HIGHP float mu) {
+#ifdef PX_SHAPE
+    return px_shape_uv(px_shape_point(mu));
+#else
+    return uv0 - mu * d + (mu * mu) * v_uv_bend;
+#endif
+}
+
+// The ray's height at mu, against a surface at height h: exact with
+// PX_SHAPE; else the bend matched to the circle at the surface's own depth
+// below the relief's top.
 PX_HIGHP float px_curved_height(PX_HIGHP float mu, mediump float h) {
+#ifdef PX_SHAPE
+    return px_shape_height(px_shape_point(mu));
+#else
     return px_curve_polygon - mu * px_curve_cos + mu * mu * px_curve_q * (1.0 + px_curve_deepen * (1.0 - h));
+#endif
 }
 
 PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIENTS) {
     PX_HIGHP vec2 d = view_ts.xy;
+#ifdef PX_SHAPE
+    // The ray in mesh space, mu in relief depths of view-space distance
+    // (as elsewhere: px_write_depth_at). Its range and step count come from
+    // the model below (the surface's osculating circle along the ray, from
+    // the shape's own normal curvature at the fragment); the samples do not.
+    PX_HIGHP vec3 p = v_object_position;
+    px_shape_origin = p;
+    px_shape_step = (p - u_object_camera) * (u_shape.w / length(v_view_position));
+#if PX_SHAPE == 1
+    PX_HIGHP vec3 n = normalize(p);
+#else
+    PX_HIGHP vec3 radial = normalize(vec3(p.xy, 0.0));
+    PX_HIGHP vec3 around = vec3(-radial.y, radial.x, 0.0);
+#if PX_SHAPE == 2
+    PX_HIGHP vec3 n = radial;
+#else
+    PX_HIGHP vec3 n = normalize(p - u_shape.x * radial);
+#endif
+#endif
+    PX_HIGHP float step_length = length(px_shape_step);
+    PX_HIGHP vec3 dir = px_shape_step / step_length;
+    PX_HIGHP float cos_in = -dot(dir, n);
+    PX_HIGHP vec3 along = dir + cos_in * n;  // the ray's part along the surface
+    PX_HIGHP float sin2 = dot(along, along);
+#if PX_SHAPE == 1
+    PX_HIGHP float k_normal = 1.0 / u_shape.x;
+#else
+    PX_HIGHP float a = dot(along, around);
+    PX_HIGHP float around2 = sin2 > 1e-8 ? a * a / sin2 : 1.0;
+#if PX_SHAPE == 2
+    PX_HIGHP float k_normal = around2 / u_shape.x;
+#else
+    // Principal curvatures: the tube's 1 / r, the ring's cos(phi) / (R + r cos(phi)).
+    PX_HIGHP float cos_phi = dot(n, radial);
+    PX_HIGHP float k_normal = around2 * cos_phi / (u_shape.x + u_shape.y * cos_phi) + (1.0 - around2) / u_shape.y;
+#endif
+#endif
+    PX_HIGHP float c = cos_in * step_length * u_shape.z;
+    PX_HIGHP float q = 0.5 * k_normal * sin2 * step_length * step_length * u_shape.z;
+    PX_HIGHP float ph = px_shape_height(p);
+#else
     PX_HIGHP float c = view_ts.z;
     PX_HIGHP float q = dot(v_curvature, vec3(d.x * d.x, d.x * d.y, d.y * d.y));
-    // The fitted quadric is the surface's osculating one: exact at the
-    // relief's top, it bends too little below it. The relief's level at
-    // depth d = 1 - h is the surface offset inward by d, a concentric circle
-    // along the ray's direction (curvature k in relief depths, k = 2 |q| /
-    // sin^2): its radius is 1 / k - d, so seen from the top's tangent plane
-    // it falls away by x^2 / (2 (1 / k - d)), the top's q times 1 / (1 - k
-    // d), here to first order, 1 + k d. (Until 2026-12-05, 1 + k d / 2, a
-    // circle of the top's curvature matched at that depth: the flat rows,
-    // whose outline is known, measured 5.7 / 7.0 / 2.3 % on the sphere and
-    // 63 / 48 / 63 % on the torus, now 2.6 / 5.7 / 3.9 and 35 / 19 / 35 %;
-    // docs/silhouettes.md.)
+    PX_HIGHP float ph = u_polygon_height + v_shell_lift + dot(v_view_position, vec3(v_shell_x, v_shell_y, v_shell_z));
+#endif
     PX_HIGHP float k_abs = 2.0 * abs(q) / max(1.0 - c * c, 1e-4);
     px_curve_deepen = min(k_abs, 1.0);
     px_curve_q = q;
     px_curve_cos = c;
-    PX_HIGHP float ph = u_polygon_height + v_shell_lift + dot(v_view_position, vec3(v_shell_x, v_shell_y, v_shell_z));
     px_curve_polygon = ph;
     PX_HIGHP float e = 1.0 - ph;  // the relief above the polygon (< 0: the polygon above the relief)
     // The search starts where the ray comes in through the relief's top
@@ -146,6 +246,14 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     bool leaves = !(disc >= 0.0 && down > 0.0);
     PX_HIGHP float mu_end = leaves ? (c > 0.0 ? (c + root_top) / (2.0 * q) : 2.0 * e / max(root_top - c, 1e-4))
                                    : 2.0 * ph / down;  // where the ray reaches the bottom
+#ifdef PX_SHAPE
+    // The samples are exact, the model only second order: from above the
+    // relief the search starts at the fragment (the model's entry could lie
+    // past the real one), and a ray the model has pass above the top, but
+    // heading in, is searched to where the model's ray is as high again.
+    if (e < 0.0) mu_start = 0.0;
+    if (top_disc < 0.0 && c > 0.0) mu_end = c / q;
+#endif
     // No farther than the flat searches reach (V.z clamped at 1/64).
     mu_start = clamp(mu_start, -64.0, 64.0);
     mu_end = min(mu_end, 64.0);
@@ -155,10 +263,21 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     PX_HIGHP float flat_range = 1.0 / max(c, 1.0 / 64.0);
     mediump float count = min(floor(px_sample_count(c) * max((mu_end - mu_start) / flat_range, 1.0) + 0.5),
                               float(PX_MAX_SAMPLES));
+#ifdef PX_SHAPE
+    // A quarter of the loop is kept for a ray still in the relief past the
+    // model's range (a torus's section is no circle: its model ended short
+    // of the real exit, and the flat torus's outline was drawn 58 % too
+    // wide): there the steps grow by 2^(1/4) each, out to 15 ranges.
+    count = min(count, floor(0.75 * float(PX_MAX_SAMPLES)));
+#endif
     PX_HIGHP float step = (mu_end - mu_start) / count;
     PxMarch m;
     m.step = step;
+#ifdef PX_SHAPE
+    if (e < 0.0 && c <= 0.0) {
+#else
     if (e < 0.0 && !(top_disc >= 0.0 && c + root_top > 0.0)) {
+#endif
         // From above the relief, bending away (or going up) before it
         // reaches its top: both roots are negative, or there are none.
         px_ray_left = true;
@@ -173,7 +292,7 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         return m;
     }
     m.mu_above = mu_start;
-    m.uv_above = uv0 - mu_start * d + (mu_start * mu_start) * v_uv_bend;
+    m.uv_above = px_curved_uv(uv0, d, mu_start);
     m.height_above = px_trace_height(m.uv_above);
     m.ray_above = px_curved_height(mu_start, m.height_above);
     PX_WORK(0.0, 1.0);
@@ -184,7 +303,10 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     if (m.height_above >= m.ray_above) return m;  // hit where the search starts
     for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
         PX_HIGHP float mu = mu_start + float(i) * step;
-        PX_HIGHP vec2 uv = uv0 - mu * d + (mu * mu) * v_uv_bend;
+#ifdef PX_SHAPE
+        if (float(i) > count) mu = mu_end + (mu_end - mu_start) * (exp2(0.25 * (float(i) - count)) - 1.0);
+#endif
+        PX_HIGHP vec2 uv = px_curved_uv(uv0, d, mu);
         mediump float h = px_trace_height(uv);
         PX_HIGHP float ray = px_curved_height(mu, h);
         PX_WORK(1.0, 1.0);
@@ -192,14 +314,23 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         m.uv_below = uv;
         m.ray_below = ray;
         m.height_below = h;
+#ifdef PX_SHAPE
+        // Past the model's range only while the ray is still in the relief.
+        if (h >= ray || (float(i) >= count && ray > 1.0)) break;
+#else
         if (h >= ray || float(i) >= count) break;
+#endif
         m.mu_above = mu;
         m.uv_above = uv;
         m.ray_above = ray;
         m.height_above = h;
     }
     // Through the relief and out of its top without meeting it.
+#ifdef PX_SHAPE
+    px_ray_left = m.height_below < m.ray_below && m.ray_below > 1.0;
+#else
     px_ray_left = leaves && m.height_below < m.ray_below;
+#endif
     return m;
 }
 #endif

@@ -22,7 +22,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
 #ifdef PX_CURVED
     px_hit_mu = mix(m.mu_above, m.mu_below, t);
     hit.height = mix(m.ray_above, m.ray_below, t);
-    hit.uv = uv - px_hit_mu * view_ts.xy;
+    hit.uv = px_curved_uv(uv, view_ts.xy, px_hit_mu);
 #else
     hit.height = mix(m.ray_above, m.ray_below, t);
     hit.uv = uv + (hit.height - u_polygon_height) * parallax;

@@ -13,7 +13,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PX_HIGHP float mu_below = m.mu_below;  // known on or under it
     for (int i = 0; i < PX_REFINE_STEPS; i++) {
         PX_HIGHP float middle = 0.5 * (mu_above + mu_below);
-        mediump float h = px_trace_height(uv - middle * view_ts.xy);
+        mediump float h = px_trace_height(px_curved_uv(uv, view_ts.xy, middle));
         PX_WORK(1.0, 1.0);
         if (h >= px_curved_height(middle, h)) {
             mu_below = middle;
@@ -24,7 +24,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PxHit hit;
     px_hit_mu = mu_below;
     hit.height = px_curved_height(mu_below, m.height_below);
-    hit.uv = uv - mu_below * view_ts.xy;
+    hit.uv = px_curved_uv(uv, view_ts.xy, mu_below);
     return hit;
 #else
     PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);

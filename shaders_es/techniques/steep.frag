@@ -11,7 +11,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PxHit hit;
     px_hit_mu = m.mu_below;
     hit.height = m.ray_below;
-    hit.uv = uv - px_hit_mu * view_ts.xy;
+    hit.uv = px_curved_uv(uv, view_ts.xy, px_hit_mu);
     return hit;
 #else
     PX_HIGHP vec2 parallax = px_parallax_vector(view_ts);

@@ -39,6 +39,7 @@ VariantKey VariantKey::canonical() const {
     if (!has_option(k.technique, kOptHeight)) k.bounded = false;
     // The curved march is the linear search's (march.glsl px_curved_search).
     if (!has_option(k.technique, kOptSamples)) k.curved = false;
+    if (!k.curved || k.shape > kShapeTorus || k.no_fragment_highp) k.shape = 0;
     if (k.debug_output == 0 || !(has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps)))
         k.count_work = false;
     if (k.debug_output != 1 || k.count_work || !has_option(k.technique, kOptHeight)) k.capture_ray = false;
@@ -52,6 +53,7 @@ VariantKey VariantKey::canonical() const {
         k.flip_v = 0;
         k.bounded = false;
         k.curved = false;
+        k.shape = 0;
         k.capture_ray = false;  // the ladder's shaders have no capture
     }
     return k;
@@ -81,6 +83,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.bounded) << 58;
     b |= static_cast<std::uint64_t>(k.capture_ray) << 59;
     b |= static_cast<std::uint64_t>(k.curved) << 60;
+    b |= static_cast<std::uint64_t>(k.shape & 0x3) << 61;  // 2 bits
     return b;
 }
 
@@ -110,6 +113,7 @@ std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
     k.bounded = (b >> 58) & 1;
     k.capture_ray = (b >> 59) & 1;
     k.curved = (b >> 60) & 1;
+    k.shape = static_cast<std::uint8_t>((b >> 61) & 0x3);
     if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
     return k;
 }
@@ -140,6 +144,7 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.capture_ray) d.push_back({"PX_CAPTURE_RAY", ""});
     if (k.bounded) d.push_back({"PX_BOUNDED", ""});
     if (k.curved) d.push_back({"PX_CURVED", ""});
+    if (k.shape) d.push_back({"PX_SHAPE", std::to_string(k.shape)});
     if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
     if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
     if (k.flip_v & kFlipAlbedo) d.push_back({"PX_FLIP_ALBEDO_V", ""});
@@ -175,6 +180,7 @@ std::string VariantKey::describe() const {
     if (k.capture_ray) s << " capture-ray";
     if (k.bounded) s << " bounded";
     if (k.curved) s << " curved";
+    if (k.shape) s << " shape=" << (k.shape == kShapeSphere ? "sphere" : k.shape == kShapeCylinder ? "cylinder" : "torus");
     if (k.no_fragment_highp) s << " no-fragment-highp";
     if (k.ladder_step) s << " ladder" << int(k.ladder_step);
     if (k.flip_v & kFlipAlbedo) s << " flip-albedo";
@@ -224,6 +230,9 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
         else if (word == "capture-ray") k.capture_ray = true;
         else if (word == "bounded") k.bounded = true;
         else if (word == "curved") k.curved = true;
+        else if (word == "shape=sphere") k.shape = kShapeSphere;
+        else if (word == "shape=cylinder") k.shape = kShapeCylinder;
+        else if (word == "shape=torus") k.shape = kShapeTorus;
         else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
         else if (word == "flip-normal") k.flip_v |= kFlipNormal;
         else if (word == "flip-height") k.flip_v |= kFlipHeight;
@@ -334,6 +343,12 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             k.curved = true;
             k.shadow = ShadowMode::soft;
             add(k);
+            // The exact curved search, one shape each.
+            for (std::uint8_t shape : {kShapeSphere, kShapeCylinder, kShapeTorus}) {
+                k.shape = shape;
+                add(k);
+            }
+            k.shape = 0;
         }
         // Debug outputs, with every option the technique has switched on.
         for (int debug = 1; debug <= 4; ++debug) {

@@ -35,6 +35,10 @@ struct TextureLayout {
 // at 1 - v.
 inline constexpr std::uint8_t kFlipAlbedo = 1, kFlipNormal = 2, kFlipHeight = 4;
 
+// VariantKey::shape values: the curved meshes whose shape the exact curved
+// search knows (scene/mesh.cpp's uv sphere, open cylinder and torus).
+inline constexpr std::uint8_t kShapeSphere = 1, kShapeCylinder = 2, kShapeTorus = 3;
+
 struct VariantKey {
     Technique technique = Technique::normal;
     ShadowMode shadow = ShadowMode::none;
@@ -75,6 +79,11 @@ struct VariantKey {
     // set per object (the mesh decides), the planner drops it where no
     // contour is on screen.
     bool curved = false;
+    // With curved: the mesh's own shape (kShape*: PX_SHAPE), whose
+    // parameterisation the search evaluates exactly at each sample in place
+    // of the fitted quadric (march.glsl). 0: the quadric (a context without
+    // fragment highp, where the angles would be fp16).
+    std::uint8_t shape = 0;
     // The PowerVR whitepaper's optimisation ladder (offset_limited only,
     // shaders_es/ladder/): 0 is the shipped shader; 1 the whitepaper's
     // baseline, and 2..6 each step it took, in its order (kLadderSteps).

@@ -65,6 +65,16 @@ bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth,
     return false;
 }
 
+VariantKey with_curved_shape(VariantKey key, MeshKind kind) {
+    key.shape = 0;
+    if (!key.curved || key.no_fragment_highp) return key;
+    key.shape = kind == MeshKind::sphere     ? kShapeSphere
+                : kind == MeshKind::cylinder ? kShapeCylinder
+                : kind == MeshKind::torus    ? kShapeTorus
+                                             : 0;
+    return key;
+}
+
 bool curved_outline_on_screen(const glm::mat4& model, MeshKind kind, float radius, float tube_radius, float height,
                               double depth, const glm::mat4& view, const glm::mat4& projection) {
     if (!std::isfinite(depth) || depth < 0.0) return true;

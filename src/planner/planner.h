@@ -79,6 +79,12 @@ bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth,
 bool curved_outline_on_screen(const glm::mat4& model, MeshKind kind, float radius, float tube_radius, float height,
                               double depth, const glm::mat4& view, const glm::mat4& projection);
 
+// A curved-silhouette key (VariantKey::curved) for a mesh of this kind: the
+// exact search of its shape (VariantKey::shape) where the fragment stage
+// has highp (its angles and lengths in fp16 would move the samples by most
+// of a texel), else the fitted quadric's.
+VariantKey with_curved_shape(VariantKey key, MeshKind kind);
+
 // What the camera sees of one object, over the visible part of its surface
 // (front-facing, inside the view frustum), from a few hundred points spread
 // over its triangles and weighted by their area on screen.

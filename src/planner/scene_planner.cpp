@@ -1020,6 +1020,7 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
         if (asks_silhouette) {
             const bool marches = (technique_info(p->key.technique).options & kOptSamples) != 0;
             p->key.curved = silhouette && marches;
+            p->key = with_curved_shape(p->key, object.mesh.kind);
             p->notes.push_back(
                 !silhouette ? "silhouette off: the object's contour is off screen (the relief fills the view, or the "
                               "object is outside it), so nothing is discarded"

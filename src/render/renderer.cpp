@@ -124,7 +124,7 @@ VariantKey named_material_key(const VariantKey& planned, const TextureLayout& la
     VariantKey key = planned.with_layout(layout);
     key.bounded = m.bounded;
     key.curved = curved_silhouette(m, o);
-    return key;
+    return with_curved_shape(key, o.mesh.kind);
 }
 
 // An object's mesh as drawn: the prepared one, or for a bounded relief the
@@ -250,6 +250,24 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
     const float bend_scale = bend_step * bend_step;
     p.set(slot::uv_bend_scale, std::isfinite(bend_scale) ? bend_scale : 0.0f);
     return mirrored;
+}
+
+// The exact curved search's shape (march.glsl, PX_SHAPE): the mesh's sizes,
+// its relief depth in mesh units (as make_displaced_curved displaces), the
+// view-space units of a relief depth (the search's ray parameter), the
+// camera in mesh space, and the material's uv transform.
+void set_shape_uniforms(const Program& p, const glm::mat4& model, const FrameValues& frame, const MeshDesc& shape,
+                        const GpuMesh& mesh, const MaterialDesc& m) {
+    const glm::mat3 model3(model);
+    const float model_scale = std::cbrt(std::fabs(glm::determinant(model3)));
+    const float depth = m.height_scale * mesh.units_per_uv / m.uv.area_scale<float>();  // mesh units
+    const float second = shape.kind == MeshKind::torus ? shape.tube_radius : shape.size;
+    glm::vec4 u(shape.radius, second, 1.0f / depth, depth * model_scale);
+    if (!(std::isfinite(u.z) && std::isfinite(u.w) && depth > 0.0f)) u = glm::vec4(shape.radius, second, 0.0f, 0.0f);
+    p.set(slot::shape, &u, 1);
+    p.set(slot::object_camera, glm::vec3(glm::inverse(model) * glm::vec4(frame.camera_position, 1.0f)));
+    p.set(slot::shape_uv_matrix, m.uv.matrix<float>());
+    p.set(slot::shape_uv_offset, m.uv.offset - glm::floor(m.uv.offset));
 }
 
 void bind_texture_unit(shader::Sampler sampler, const Texture& texture) {
@@ -384,6 +402,7 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     // flip the front face so the object's outside stays the drawn side.
     glFrontFace(mirrored ? GL_CW : GL_CCW);
     set_material_uniforms(p, material, key, options, object.desc->mesh.kind);
+    if (key.canonical().shape) set_shape_uniforms(p, model, frame, object.desc->mesh, mesh, *material.desc);
     draw_mesh(mesh);
     if (!kCheckEveryDraw) return {};
     return check_gl("drawing object '" + object.desc->name + "' with " + p.description());

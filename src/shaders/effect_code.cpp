@@ -29,6 +29,8 @@ bool count_work(const VariantKey& k) { return k.count_work; }
 bool capture_ray(const VariantKey& k) { return k.capture_ray; }
 bool bounded(const VariantKey& k) { return k.bounded; }
 bool curved(const VariantKey& k) { return k.curved; }
+bool curve_quadric(const VariantKey& k) { return k.curved && k.shape == 0; }
+bool curve_shape(const VariantKey& k) { return k.curved && k.shape != 0; }
 // GLSL ES 1.00 debug outputs: the 11-bit packing stays for the driver to pick
 // (GL_FRAGMENT_PRECISION_HIGH) unless the key rules highp out.
 bool mediump_packing(const VariantKey& k) { return k.debug_output != 0 && k.es_major < 3; }
@@ -135,9 +137,16 @@ const std::vector<EffectMarker> kMarkers = {
     {"bounded", "u_bounds_matrix", bounded},
     {"bounded", "PX_BOUNDED", bounded},
     // surface.vert and march.glsl: the curved relief's quadric and march.
-    {"curved", "a_curvature", curved},
-    {"curved", "u_curvature_scale", curved},
-    {"curved", "u_uv_bend_scale", curved},
+    {"curved", "px_curved_uv", curved},
+    {"curved quadric", "a_curvature", curve_quadric},
+    {"curved quadric", "u_curvature_scale", curve_quadric},
+    {"curved quadric", "u_uv_bend_scale", curve_quadric},
+    {"curved quadric", "v_uv_bend", curve_quadric},
+    // march.glsl: the exact curved search's shape.
+    {"curved shape", "u_shape", curve_shape},
+    {"curved shape", "px_shape_uv", curve_shape},
+    {"curved shape", "v_object_position", curve_shape},
+    {"curved shape", "PX_SHAPE", curve_shape},
     {"curved", "px_curved_search", curved},
     {"curved", "PX_CURVED", curved},
     // debug_output.glsl: the 11-bit packing of a fragment stage without highp.

@@ -79,6 +79,10 @@ struct Uses {
     bool searches;     // a search along the view ray (march or maxmip): the hit height depends on the view
     bool shadow;       // a shadow ray, read by the shading or by the shown visibility
     bool view_in_trace;  // the view vector changes an output through the trace or the depth
+    // The interpolated view vector (v_view_ts) changes an output: as
+    // view_in_trace, but the exact curved search (PX_SHAPE) traces the
+    // mesh-space ray instead, so there only shading reads it.
+    bool view_vector;
     bool frame;          // the texture-space frame (n, t, b) changes an output
 };
 
@@ -96,7 +100,9 @@ Uses uses(const VariantKey& k) {
     u.view_in_trace = u.traced && (u.shows_uv || (u.shows_height && u.searches) || u.shadow || k.depth_write);
     // The view vector (specular shading and the trace) and the light vectors
     // (shading and the shadow ray) are both built from the frame.
-    u.frame = u.shading || u.view_in_trace || u.shadow;
+    // (A bounded cylinder's ends still clip the ray as a flat tile's sides.)
+    u.view_vector = u.shading || (u.view_in_trace && (!(k.curved && k.shape) || k.bounded));
+    u.frame = u.view_vector || u.shadow;
     return u;
 }
 
@@ -130,12 +136,17 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::projection: return true;
         // surface.vert: v_uv, where the uv is shown or the height is read at it.
         case Uniform::uv_matrix:
-        case Uniform::uv_offset: return u.shows_uv || u.traced;
+        case Uniform::uv_offset:
+            // The exact curved search takes its uv from the ray's point:
+            // the polygon's uv is left to the shading's gradients (GLSL ES
+            // 3.00 textureGrad), LOD and bounds.
+            if (k.curved && k.shape) return (u.shading && k.es_major >= 3) || k.lod || k.bounded;
+            return u.shows_uv || u.traced;
         // surface.vert: n, t, b and from them the view and light vectors.
         case Uniform::normal_matrix:
         case Uniform::model_handedness:
         case Uniform::uv_frame: return u.frame;
-        case Uniform::camera_position: return u.shading || u.view_in_trace;
+        case Uniform::camera_position: return u.view_vector;
         // surface.vert: the light vectors (shading, or light 0's shadow ray).
         case Uniform::light_vector:
         case Uniform::light_count: return u.shading || u.shadow;
@@ -145,11 +156,11 @@ bool needed(Uniform uniform, const VariantKey& key) {
         // surface.vert folds the relief depth into the view vector (highp,
         // vertex stage only); shadows.glsl and px_write_depth read the
         // fragment stage's mediump copy.
-        case Uniform::parallax_scale: return u.traced && (u.shading || u.view_in_trace);
+        case Uniform::parallax_scale: return u.traced && u.view_vector;
         case Uniform::height_scale: return u.traced && (u.shadow || k.depth_write);
         // surface_main.glsl: unscales the view vector for shading, and for the
         // trace when the exact view vector is normalised per fragment.
-        case Uniform::inv_height_scale: return u.traced && (u.shading || (k.exact_view && u.view_in_trace));
+        case Uniform::inv_height_scale: return u.traced && (u.shading || (k.exact_view && u.view_vector));
         // Every trace starts from the polygon; the debug outputs show it as
         // the height of an untraced (or LOD-faded) surface.
         case Uniform::polygon_height:
@@ -175,9 +186,14 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::bounds_matrix:
         case Uniform::bounds_offset: return k.bounded;
         // surface.vert: the curved relief's quadric into relief depths (PX_CURVED).
+        case Uniform::shell: return k.curved;
         case Uniform::curvature_scale:
-        case Uniform::shell:
-        case Uniform::uv_bend_scale: return k.curved;
+        case Uniform::uv_bend_scale: return k.curved && k.shape == 0;
+        // march.glsl: the exact curved search (PX_SHAPE).
+        case Uniform::shape:
+        case Uniform::object_camera:
+        case Uniform::shape_uv_matrix:
+        case Uniform::shape_uv_offset: return k.curved && k.shape != 0;
         // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
         // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
         case Uniform::normal_map:
@@ -199,12 +215,13 @@ bool needed(Attribute a, const VariantKey& key) {
         case Attribute::position: return true;
         case Attribute::uv: return needed(Uniform::uv_matrix, k);
         // The texture-space frame (see uses()).
-        case Attribute::normal:
+        // (And the curved relief's shell, drawn out along the normals.)
+        case Attribute::normal: return uses(k).frame || k.curved;
         case Attribute::tangent: return uses(k).frame;
         // surface.vert: the curved relief's quadric (PX_CURVED).
         case Attribute::curvature:
         case Attribute::uv_bend_u:
-        case Attribute::uv_bend_v: return k.curved;
+        case Attribute::uv_bend_v: return k.curved && k.shape == 0;
         // surface.vert: the texture frame F = u_uv_frame times the mesh's uv
         // stretch, for the searches' uv step and for shading (every variant
         // with a frame but the ladder's own shaders).

@@ -79,6 +79,10 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(curvature_scale, "u_curvature_scale", float1, 1)         \
     X(shell, "u_shell", vec3, 1)                               \
     X(uv_bend_scale, "u_uv_bend_scale", float1, 1)             \
+    X(shape, "u_shape", vec4, 1)                               \
+    X(object_camera, "u_object_camera", vec3, 1)               \
+    X(shape_uv_matrix, "u_shape_uv_matrix", mat2, 1)           \
+    X(shape_uv_offset, "u_shape_uv_offset", vec2, 1)           \
     X(albedo_map, "u_albedo_map", sampler2d, 1)                \
     X(normal_map, "u_normal_map", sampler2d, 1)                \
     X(height_map, "u_height_map", sampler2d, 1)                \
