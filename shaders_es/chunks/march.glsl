@@ -267,7 +267,7 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // A quarter of the loop is kept for a ray still in the relief past the
     // model's range (a torus's section is no circle: its model ended short
     // of the real exit, and the flat torus's outline was drawn 58 % too
-    // wide): there the steps grow by 2^(1/4) each, out to 15 ranges.
+    // wide): there the steps grow by 1.4 each, out to 16 ranges.
     count = min(count, floor(0.75 * float(PX_MAX_SAMPLES)));
 #endif
     PX_HIGHP float step = (mu_end - mu_start) / count;
@@ -301,14 +301,24 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     m.ray_below = m.ray_above;
     m.height_below = m.height_above;
     if (m.height_above >= m.ray_above) return m;  // hit where the search starts
-    for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
-        PX_HIGHP float mu = mu_start + float(i) * step;
 #ifdef PX_SHAPE
-        if (float(i) > count) mu = mu_end + (mu_end - mu_start) * (exp2(0.25 * (float(i) - count)) - 1.0);
+    PX_HIGHP float mu = mu_start;
+    PX_HIGHP float shape_step = step;
 #endif
+    for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
+#ifdef PX_SHAPE
+        mu += shape_step;
+        if (float(i) >= count) shape_step *= 1.4;
+        PX_HIGHP vec3 point = px_shape_point(mu);
+        PX_HIGHP vec2 uv = px_shape_uv(point);
+        mediump float h = px_trace_height(uv);
+        PX_HIGHP float ray = px_shape_height(point);
+#else
+        PX_HIGHP float mu = mu_start + float(i) * step;
         PX_HIGHP vec2 uv = px_curved_uv(uv0, d, mu);
         mediump float h = px_trace_height(uv);
         PX_HIGHP float ray = px_curved_height(mu, h);
+#endif
         PX_WORK(1.0, 1.0);
         m.mu_below = mu;
         m.uv_below = uv;
