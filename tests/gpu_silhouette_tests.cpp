@@ -295,20 +295,26 @@ TEST(Silhouettes, TheDisplacedReferenceHasConverged) {
     }
 }
 
-// Curved silhouettes (MaterialDesc::silhouette, PX_CURVED): the march
-// follows each mesh's fitted bend, so the outline is the relief's, measured
-// against the relief drawn as real geometry (contour pixels covered in one
-// image only, over the contour's length).
+// Curved silhouettes (MaterialDesc::silhouette, PX_CURVED): the search
+// traces each mesh's own shape (PX_SHAPE: the sphere's, torus's or
+// cylinder's uv and normal height at every sample of the mesh-space ray), so
+// the outline is the relief's, measured against the relief drawn as real
+// geometry (contour pixels covered in one image only, over the contour's
+// length).
 //  - A relief all at its bottom (flat at 0): the true outline is the mesh
-//    shrunk by the relief's depth, whatever the uv; the curved march finds it
-//    to within 20 % of the contour (the smooth outline misses it by 350 %;
-//    what is left is the quadric's under-bend, docs/silhouettes.md).
+//    shrunk by the relief's depth, whatever the uv: the shape search finds
+//    it to 0.4 to 1.5 % of the contour (the smooth outline misses it by 350
+//    to 500 %; the fitted quadric, before the shape search, by 2.6 to 35 %).
 //  - Hemispherical bumps on a sphere, a torus and an open cylinder: the
-//    curved outline halves the mismatch at least (docs/silhouettes.md has
-//    the table). The cylinder's ends are its uv bounds along v: its material
-//    is bounded, so rays that leave through an end are discarded, and the
-//    tube is drawn longer by the relief's reach so that rays coming in
-//    through an end are traced.
+//    sphere and torus to 0.0 to 2.9 % (2026-12-05; the quadric 8.3 to
+//    19.2 %), about twice the reference's own 1.0 to 1.5 % against itself
+//    at twice the density (TheDisplacedReferenceHasConverged). The
+//    cylinder's ends are its uv bounds along v: its material is bounded,
+//    so rays that leave through an end are discarded, and the tube is drawn
+//    longer by the relief's reach so that rays coming in through an end are
+//    traced; looking into the open tube (60 degrees) the one-sided reference
+//    differs inside it (docs/silhouettes.md), so there the assertion is
+//    only that the outline halves the smooth one's mismatch.
 TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
     const auto measure = [](const SceneDesc& s, double* with_share, double* without_share) {
         const CurvedImages images = curved_images(s);
@@ -318,11 +324,7 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
         *without_share = off.share();
         return on;
     };
-    // The torus's tube bends 2.3 times as sharply as the sphere: there the
-    // bend's growth with depth decides the outline (the concentric level's,
-    // 1 + k d: 35 / 19 / 35 %; with the earlier 1 + k d / 2, 63 / 48 / 63 %,
-    // drawn outside; 2026-12-05).
-    for (const auto& [kind, limit] : {std::pair<MeshKind, double>{MeshKind::sphere, 0.2}, {MeshKind::torus, 0.45}}) {
+    for (MeshKind kind : {MeshKind::sphere, MeshKind::torus}) {
         for (double elevation : {0.0, 30.0, 60.0}) {
             SCOPED_TRACE(std::string("flat ") + mesh_kind_name(kind) + " at " + std::to_string(elevation));
             SceneDesc s = curved_scene(kind, elevation, Technique::pom, true);
@@ -333,12 +335,11 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
             const reference::ContourError e = measure(s, &on, &off);
             std::printf("flat %s at %.0f: contour %ld px; mismatched with silhouette %.1f %% (%ld outside), without %.1f %%\n",
                         mesh_kind_name(kind), elevation, e.contour, 100.0 * on, e.measured_only, 100.0 * off);
-            if (kind == MeshKind::sphere) EXPECT_GT(off, 2.0);
-            EXPECT_LT(on, limit);
+            EXPECT_GT(off, 2.0);
+            EXPECT_LT(on, 0.03);
         }
     }
     for (MeshKind kind : {MeshKind::sphere, MeshKind::torus, MeshKind::cylinder}) {
-        double mean = 0.0;
         for (double elevation : {0.0, 30.0, 60.0}) {
             SCOPED_TRACE(std::string(mesh_kind_name(kind)) + " at " + std::to_string(elevation));
             SceneDesc s = curved_scene(kind, elevation, Technique::pom, true);
@@ -349,15 +350,10 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
             std::printf("%s at %.0f: contour %ld px; mismatched with silhouette %.1f %% (%ld outside), without %.1f %%\n",
                         mesh_kind_name(kind), elevation, e.contour, 100.0 * on, e.measured_only, 100.0 * off);
             EXPECT_LT(on, 0.5 * off);
-            mean += on / 3.0;
+            // Within twice and a half the reference's own noise (at most 4 %:
+            // 16 of the sphere's 408 contour pixels).
+            if (kind != MeshKind::cylinder) EXPECT_LT(on, 0.04);
         }
-        // The search follows the sphere's uv rows as they curve toward the
-        // poles (Vertex::uv_bend_u/v): its three views measure 12.0 % on
-        // the mean (2026-12-05, with the concentric depth factor; 11.1 %
-        // before it), 17.7 % with the uv bend left out (measured before the
-        // depth factor; 24.8 % at 0 degrees, where the contour runs through
-        // every latitude).
-        if (kind == MeshKind::sphere) EXPECT_LT(mean, 0.14) << "the sphere's mean contour mismatch";
     }
 }
 

@@ -1024,8 +1024,11 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
             p->notes.push_back(
                 !silhouette ? "silhouette off: the object's contour is off screen (the relief fills the view, or the "
                               "object is outside it), so nothing is discarded"
-                : marches   ? "silhouette: the contour can be on screen; the search follows the surface's bend and "
-                              "rays that pass the relief are discarded"
+                : marches   ? std::string("silhouette: the contour can be on screen; ") +
+                                  (p->key.shape ? "the search traces the mesh's own shape and "
+                                                : "the search follows the surface's fitted bend (no fragment highp "
+                                                  "for the exact shape) and ") +
+                                  "rays that pass the relief are discarded"
                             : std::string("silhouette not drawn: ") + technique_name(p->key.technique) +
                                   " has no search to follow the bend");
         }

@@ -111,9 +111,10 @@ struct MaterialDesc {
     // are traced from there (docs/silhouettes.md).
     bool bounded = false;
     // The relief's own outline on a curved mesh (a sphere, torus or
-    // cylinder): the search follows the surface's bend (Vertex::curvature)
-    // and a ray that passes the relief without meeting it shows what lies
-    // behind (PX_CURVED), instead of the smooth mesh's outline. Drawn by the
+    // cylinder): the search traces the mesh's own shape (PX_SHAPE; without
+    // fragment highp, the fitted bend Vertex::curvature) and a ray that
+    // passes the relief without meeting it shows what lies behind
+    // (PX_CURVED), instead of the smooth mesh's outline. Drawn by the
     // linear searches (steep, pom, relief); a planned material gets one of
     // them wherever the object's contour can be on screen. No effect on
     // planes and cubes (`bounded` is theirs). docs/silhouettes.md.
