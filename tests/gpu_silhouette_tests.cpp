@@ -303,12 +303,12 @@ TEST(Silhouettes, TheDisplacedReferenceHasConverged) {
 // length).
 //  - A relief all at its bottom (flat at 0): the true outline is the mesh
 //    shrunk by the relief's depth, whatever the uv: the shape search finds
-//    it to 0.4 to 1.5 % of the contour (the smooth outline misses it by 350
+//    it to 0.0 to 0.5 % of the contour (the smooth outline misses it by 350
 //    to 500 %; the fitted quadric, before the shape search, by 2.6 to 35 %).
 //  - Hemispherical bumps on a sphere, a torus and an open cylinder: the
-//    sphere and torus to 0.0 to 2.9 % (2026-12-05; the quadric 8.3 to
-//    19.2 %), about twice the reference's own 1.0 to 1.5 % against itself
-//    at twice the density (TheDisplacedReferenceHasConverged). The
+//    sphere and torus to 0.0 to 1.5 % (2026-12-05; the quadric 8.3 to
+//    19.2 %), within the reference's own 1.0 to 1.5 % against itself at
+//    twice the density (TheDisplacedReferenceHasConverged). The
 //    cylinder's ends are its uv bounds along v: its material is bounded,
 //    so rays that leave through an end are discarded, and the tube is drawn
 //    longer by the relief's reach so that rays coming in through an end are
@@ -336,9 +336,10 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
             std::printf("flat %s at %.0f: contour %ld px; mismatched with silhouette %.1f %% (%ld outside), without %.1f %%\n",
                         mesh_kind_name(kind), elevation, e.contour, 100.0 * on, e.measured_only, 100.0 * off);
             EXPECT_GT(off, 2.0);
-            EXPECT_LT(on, 0.03);
+            EXPECT_LT(on, 0.01);
         }
     }
+    double mean = 0.0;  // the sphere's and torus's six views
     for (MeshKind kind : {MeshKind::sphere, MeshKind::torus, MeshKind::cylinder}) {
         for (double elevation : {0.0, 30.0, 60.0}) {
             SCOPED_TRACE(std::string(mesh_kind_name(kind)) + " at " + std::to_string(elevation));
@@ -350,11 +351,14 @@ TEST(Silhouettes, CurvedSilhouettesFollowTheDisplacedOutline) {
             std::printf("%s at %.0f: contour %ld px; mismatched with silhouette %.1f %% (%ld outside), without %.1f %%\n",
                         mesh_kind_name(kind), elevation, e.contour, 100.0 * on, e.measured_only, 100.0 * off);
             EXPECT_LT(on, 0.5 * off);
-            // Within twice and a half the reference's own noise (at most 4 %:
-            // 16 of the sphere's 408 contour pixels).
-            if (kind != MeshKind::cylinder) EXPECT_LT(on, 0.04);
+            if (kind == MeshKind::cylinder) continue;
+            // Each view within twice the reference's own noise, and the
+            // issue's 1 % on the mean (measured 0.4 %).
+            EXPECT_LT(on, 0.025);
+            mean += on / 6.0;
         }
     }
+    EXPECT_LT(mean, 0.01) << "the sphere's and torus's mean contour mismatch";
 }
 
 // The curved relief's polygon is drawn out past its chords (Mesh::chord_sag,

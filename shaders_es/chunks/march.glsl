@@ -251,8 +251,12 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // relief the search starts at the fragment (the model's entry could lie
     // past the real one), and a ray the model has pass above the top, but
     // heading in, is searched to where the model's ray is as high again.
+    // The range is a relief depth at least: a fragment just under the
+    // top, its ray grazing it, had a range of nearly 0, and its steps (even
+    // grown) stayed there, inside the relief: drawn though the ray passed.
     if (e < 0.0) mu_start = 0.0;
     if (top_disc < 0.0 && c > 0.0) mu_end = c / q;
+    mu_end = max(mu_end, mu_start + 1.0);
 #endif
     // No farther than the flat searches reach (V.z clamped at 1/64).
     mu_start = clamp(mu_start, -64.0, 64.0);
@@ -304,6 +308,11 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
 #ifdef PX_SHAPE
     PX_HIGHP float mu = mu_start;
     PX_HIGHP float shape_step = step;
+    // The last sample's height kept in highp: the struct's mediump copy may
+    // be fp16 (Mesa lowers it), which rounded a grazing ray's 1.00004 to 1
+    // and drew the ray as if it had stayed in the relief.
+    PX_HIGHP float last_ray = m.ray_above;
+    bool met = false;
 #endif
     for (int i = 1; i <= PX_MAX_SAMPLES; i++) {
 #ifdef PX_SHAPE
@@ -325,8 +334,10 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         m.ray_below = ray;
         m.height_below = h;
 #ifdef PX_SHAPE
+        last_ray = ray;
+        met = h >= ray;
         // Past the model's range only while the ray is still in the relief.
-        if (h >= ray || (float(i) >= count && ray > 1.0)) break;
+        if (met || (float(i) >= count && ray > 1.0)) break;
 #else
         if (h >= ray || float(i) >= count) break;
 #endif
@@ -337,7 +348,7 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     }
     // Through the relief and out of its top without meeting it.
 #ifdef PX_SHAPE
-    px_ray_left = m.height_below < m.ray_below && m.ray_below > 1.0;
+    px_ray_left = !met && last_ray > 1.0;
 #else
     px_ray_left = leaves && m.height_below < m.ray_below;
 #endif
