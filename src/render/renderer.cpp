@@ -403,6 +403,20 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     glFrontFace(mirrored ? GL_CW : GL_CCW);
     set_material_uniforms(p, material, key, options, object.desc->mesh.kind);
     if (key.canonical().shape) set_shape_uniforms(p, model, frame, object.desc->mesh, mesh, *material.desc);
+    if (object.desc->mesh.displaced && object.desc->mesh.kind == MeshKind::cylinder) {
+        // An open tube as real geometry: its inside (the back faces) goes
+        // into depth first, so that what lies behind its far wall stays
+        // hidden, as behind any wall. One-sided, the far wall's bump flanks
+        // that turn toward the camera showed through its culled inside
+        // where the parallax tube (whose far wall is culled whole) shows
+        // what lies behind: the silhouettes' reference differed from it in
+        // the opening, not at the outline (docs/silhouettes.md).
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glCullFace(GL_FRONT);
+        draw_mesh(mesh);
+        glCullFace(GL_BACK);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
     draw_mesh(mesh);
     if (!kCheckEveryDraw) return {};
     return check_gl("drawing object '" + object.desc->name + "' with " + p.description());
