@@ -61,11 +61,11 @@ reference::ContourError contour(const SurfaceImage& measured, const SurfaceImage
 }
 
 // A planner for a scene of one material, on this test's context.
-Result<std::unique_ptr<ScenePlanner>> one_material_planner(const SceneDesc& scene) {
+Result<std::unique_ptr<ScenePlanner>> one_material_planner(const SceneDesc& scene,
+                                                           const Caps& caps = Caps::full(test_es_major())) {
     Result<MaterialImages> images = build_material_images(scene.materials[0], scene.base_dir);
     if (!images) return images.error();
-    return ScenePlanner::create(scene, Caps::full(test_es_major()),
-                                {material_relief(quantized_8bit(images->field), scene.materials[0])});
+    return ScenePlanner::create(scene, caps, {material_relief(quantized_8bit(images->field), scene.materials[0])});
 }
 
 // A plan's notes, one per line.
@@ -493,6 +493,19 @@ TEST(Silhouettes, ThePlannerDrawsCurvedSilhouettesWhereTheContourIsOnScreen) {
     EXPECT_TRUE(whole->at(0).key.curved) << whole->at(0).key.describe();
     EXPECT_TRUE(technique_info(whole->at(0).key.technique).options & kOptSamples) << whole->at(0).key.describe();
     EXPECT_NE(notes_of(whole->at(0)).find("contour can be on screen"), std::string::npos) << notes_of(whole->at(0));
+    // The exact search of the sphere's own shape where the fragment stage
+    // has highp, the fitted one on an ES 2.0 GPU without it; the plan says which.
+    EXPECT_EQ(whole->at(0).key.shape, kShapeSphere) << whole->at(0).key.describe();
+    EXPECT_NE(notes_of(whole->at(0)).find("the mesh's own shape"), std::string::npos) << notes_of(whole->at(0));
+    Caps mali = Caps::full(2);
+    mali.fragment_highp = false;
+    Result<std::unique_ptr<ScenePlanner>> low = one_material_planner(scene, mali);
+    ASSERT_TRUE(low.ok()) << low.error().message;
+    auto fitted = (*low)->plan(scene.camera, kSize, kSize);
+    ASSERT_TRUE(fitted.ok()) << fitted.error().message;
+    EXPECT_TRUE(fitted->at(0).key.curved) << fitted->at(0).key.describe();
+    EXPECT_EQ(fitted->at(0).key.shape, 0) << fitted->at(0).key.describe();
+    EXPECT_NE(notes_of(fitted->at(0)).find("fitted bend"), std::string::npos) << notes_of(fitted->at(0));
     CameraDesc close;  // 0.1 above the 0.9 sphere, looking at it: all relief
     close.position = glm::vec3(0.0f, -1.0f, 0.0f);
     close.target = glm::vec3(0.0f);

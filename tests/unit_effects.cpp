@@ -67,6 +67,33 @@ TEST(VariantKey, OptionsATechniqueLacksDoNotChangeTheKey) {
     EXPECT_NE(a.bits(), b.bits());
 }
 
+// The curved search's shape (PX_SHAPE) is part of a curved variant only,
+// and only where the fragment stage has highp: the same key otherwise.
+TEST(VariantKey, TheCurvedShapeNeedsACurvedSearchWithFragmentHighp) {
+    VariantKey k;
+    k.technique = Technique::pom;
+    k.max_samples = 32;
+    k.shape = kShapeTorus;
+    VariantKey none = k;
+    none.shape = 0;
+    EXPECT_EQ(k.bits(), none.bits()) << "not curved: no shape";
+    k.curved = none.curved = true;
+    EXPECT_NE(k.bits(), none.bits());
+    EXPECT_EQ(k.describe(), "pom es3 samples<=32 packed curved shape=torus");
+    Result<VariantKey> parsed = VariantKey::parse(k.describe());
+    ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+    EXPECT_EQ(parsed->shape, kShapeTorus);
+    std::optional<VariantKey> back = VariantKey::from_bits(k.bits());
+    ASSERT_TRUE(back.has_value());
+    EXPECT_EQ(back->shape, kShapeTorus);
+    k.es_major = none.es_major = 2;
+    k.no_fragment_highp = none.no_fragment_highp = true;
+    EXPECT_EQ(k.bits(), none.bits()) << "no fragment highp: the fitted search";
+    k.technique = none.technique = Technique::maxmip;  // no linear search: not curved at all
+    k.no_fragment_highp = none.no_fragment_highp = false;
+    EXPECT_EQ(k.bits(), none.bits());
+}
+
 MaterialDesc material(Technique t) {
     MaterialDesc m;
     m.name = "m";
