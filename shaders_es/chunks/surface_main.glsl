@@ -182,7 +182,16 @@ void main() {
     // 0 below the band (full effect), 1 past the threshold (normal mapping).
     mediump float lod_blend = clamp((mip - (u_lod_range.x - u_lod_range.y)) / u_lod_range.y, 0.0, 1.0);
     PxHit hit = surface;
+#ifdef PX_CURVED
+    // A curved silhouette is decided by the trace at every fragment: at the
+    // contour the view grazes and the uv's footprint is largest, so LOD
+    // skipped the trace exactly there and drew the smooth outline (98 to
+    // 211 % of the contour mismatched, against 0 to 1.5 % without LOD).
+    // Only the shading fades.
+    hit = px_trace(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+#else
     if (lod_blend < 1.0) hit = px_trace(uv, view_ts PX_TRACE_GRADIENT_ARGS);
+#endif
 #else
     PxHit hit = px_trace(uv, view_ts PX_TRACE_GRADIENT_ARGS);
 #endif
