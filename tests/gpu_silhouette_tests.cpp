@@ -381,6 +381,37 @@ TEST(Silhouettes, LodKeepsTheCurvedSilhouette) {
     }
 }
 
+// A shallow relief (1e-6 tiles deep, or 4000 x 2000 tiles of 0.05 around
+// the mesh) lies thousands of relief depths under the drawn polygon (the
+// chords' sag): the shape search starts at the model's entry, not at the
+// fragment, or its whole range passes above the relief and the whole
+// object is discarded (2026-12-05: 0 and 2806 of the sphere's 16400
+// pixels drawn). Drawn, its outline is the smooth mesh's.
+TEST(Silhouettes, AShallowReliefKeepsItsObject) {
+    for (MeshKind kind : {MeshKind::sphere, MeshKind::torus}) {
+        for (int shallow = 0; shallow < 2; ++shallow) {
+            SCOPED_TRACE(std::string(mesh_kind_name(kind)) + (shallow ? " 1e-6 deep" : " 4000 tiles"));
+            SceneDesc s = curved_scene(kind, 30.0, Technique::pom, true);
+            if (shallow) s.materials[0].height_scale = 1e-6f;
+            else s.materials[0].uv.scale = glm::vec2(4000.0f, 2000.0f);
+            ASSERT_TRUE(validate_scene(s).ok());
+            const SurfaceImage traced = surfaces_of(s);
+            s.materials[0].silhouette = false;
+            const SurfaceImage plain = surfaces_of(s);
+            ASSERT_EQ(traced.samples.size(), plain.samples.size());
+            long with = 0, smooth = 0;
+            for (size_t i = 0; i < traced.samples.size(); ++i) {
+                with += traced.samples[i].covered;
+                smooth += plain.samples[i].covered;
+            }
+            std::printf("%s: %ld pixels drawn with the silhouette, %ld without\n",
+                        shallow ? "1e-6 deep" : "4000 tiles", with, smooth);
+            EXPECT_GT(smooth, 10000);
+            EXPECT_NEAR(static_cast<double>(with), static_cast<double>(smooth), 0.01 * static_cast<double>(smooth));
+        }
+    }
+}
+
 // The curved relief's polygon is drawn out past its chords (Mesh::chord_sag,
 // the shell in surface.vert), so that it covers the smooth surface's
 // outline: with the relief all at its top (the polygon's height, nothing

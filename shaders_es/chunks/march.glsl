@@ -254,13 +254,26 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // The range is a relief depth at least: a fragment just under the
     // top, its ray grazing it, had a range of nearly 0, and its steps (even
     // grown) stayed there, inside the relief: drawn though the ray passed.
-    if (e < 0.0) mu_start = 0.0;
+    // From above, the start is the model's entry less a relief depth and a
+    // hundredth, the fragment itself where that lands inside the relief:
+    // the drawn polygon lies above the relief by the chords' sag, which on
+    // a shallow relief (a height scale of 1e-6 tiles, or 4000 tiles around
+    // a sphere) is thousands of relief depths, past any range: its whole
+    // object was discarded when the search started at the fragment.
     if (top_disc < 0.0 && c > 0.0) mu_end = c / q;
-    mu_end = max(mu_end, mu_start + 1.0);
-#endif
+    PX_HIGHP float entry = max(mu_start, -64.0);
+    if (e < 0.0) {
+        entry = top_disc >= 0.0 ? mu_start : 0.5 * mu_end;
+        mu_start = max(0.0, 0.99 * entry - 1.0);
+        if (px_shape_height(px_shape_point(mu_start)) <= 1.0) mu_start = 0.0;
+    }
+    mu_start = max(mu_start, -64.0);
+    mu_end = min(max(mu_end, entry + 1.0), entry + 64.0);
+#else
     // No farther than the flat searches reach (V.z clamped at 1/64).
     mu_start = clamp(mu_start, -64.0, 64.0);
     mu_end = min(mu_end, 64.0);
+#endif
     // Steps no longer than the flat search's (a relief depth over its count,
     // mu 1 / (V.z count)): the bent ray's range is up to 4 times longer
     // (into the relief and out again), within the loop's bound.
