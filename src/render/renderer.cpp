@@ -217,6 +217,15 @@ void set_frame_uniforms(const Program& p, const FrameValues& f) {
     p.set(slot::light_angular_radius, f.light_radii.data(), kMaxLights);
 }
 
+// The model's mean scale (its 3x3's determinant, cube-rooted).
+float mean_scale(const glm::mat4& model) { return std::cbrt(std::fabs(glm::determinant(glm::mat3(model)))); }
+
+// The relief's depth in mesh units: height_scale tiles of units_per_uv /
+// area_scale mesh units each (as make_displaced_curved displaces).
+float relief_depth(const MaterialDesc& m, const GpuMesh& mesh) {
+    return m.height_scale * mesh.units_per_uv / m.uv.area_scale<float>();
+}
+
 // The object's transform; returns whether it mirrors.
 bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh& mesh, const MaterialDesc& m) {
     const glm::mat3 model3(model);
@@ -226,7 +235,7 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
     p.set(slot::model_handedness, mirrored ? -1.0f : 1.0f);
     // View-space units per texture tile: mesh units per uv, times the
     // model's mean scale, over tiles per mesh uv.
-    const float model_scale = std::cbrt(std::fabs(glm::determinant(model3)));
+    const float model_scale = mean_scale(model);
     const float units_per_tile = mesh.units_per_uv * model_scale / m.uv.area_scale<float>();
     p.set(slot::units_per_tile, units_per_tile);
     // The quadric (mesh units) into relief depths per squared tile: world
@@ -246,7 +255,7 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
     // squared ray parameter: the curved search's ray moves height_scale *
     // units_per_uv / area_scale mesh units along the tangent plane per unit
     // of its parameter (a relief depth), times the view's tangent part.
-    const float bend_step = m.height_scale * mesh.units_per_uv / m.uv.area_scale<float>();
+    const float bend_step = relief_depth(m, mesh);
     const float bend_scale = bend_step * bend_step;
     p.set(slot::uv_bend_scale, std::isfinite(bend_scale) ? bend_scale : 0.0f);
     return mirrored;
@@ -258,9 +267,8 @@ bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh
 // camera in mesh space, and the material's uv transform.
 void set_shape_uniforms(const Program& p, const glm::mat4& model, const FrameValues& frame, const MeshDesc& shape,
                         const GpuMesh& mesh, const MaterialDesc& m) {
-    const glm::mat3 model3(model);
-    const float model_scale = std::cbrt(std::fabs(glm::determinant(model3)));
-    const float depth = m.height_scale * mesh.units_per_uv / m.uv.area_scale<float>();  // mesh units
+    const float model_scale = mean_scale(model);
+    const float depth = relief_depth(m, mesh);
     const float second = shape.kind == MeshKind::torus ? shape.tube_radius : shape.size;
     glm::vec4 u(shape.radius, second, 1.0f / depth, depth * model_scale);
     if (!(std::isfinite(u.z) && std::isfinite(u.w) && depth > 0.0f)) u = glm::vec4(shape.radius, second, 0.0f, 0.0f);
@@ -396,13 +404,14 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     // Only a variant that traces (and so discards outside the bounds) draws
     // a bounded relief's wider polygon.
     const GpuMesh& uploaded = scene.meshes[object.mesh];
-    const GpuMesh& mesh = uploaded.unwidened && !key.canonical().bounded ? *uploaded.unwidened : uploaded;
+    const VariantKey drawn = key.canonical();
+    const GpuMesh& mesh = uploaded.unwidened && !drawn.bounded ? *uploaded.unwidened : uploaded;
     const bool mirrored = set_object_uniforms(p, model, mesh, *material.desc);
     // A mirroring model matrix reverses the triangles' winding on screen:
     // flip the front face so the object's outside stays the drawn side.
     glFrontFace(mirrored ? GL_CW : GL_CCW);
     set_material_uniforms(p, material, key, options, object.desc->mesh.kind);
-    if (key.canonical().shape) set_shape_uniforms(p, model, frame, object.desc->mesh, mesh, *material.desc);
+    if (drawn.shape) set_shape_uniforms(p, model, frame, object.desc->mesh, mesh, *material.desc);
     if (object.desc->mesh.displaced && object.desc->mesh.kind == MeshKind::cylinder) {
         // An open tube as real geometry: its inside (the back faces) goes
         // into depth first, so that what lies behind its far wall stays
