@@ -156,6 +156,35 @@ PX_HIGHP vec2 px_shape_uv(PX_HIGHP vec3 p) {
 }
 #endif
 
+#ifdef PX_SHAPE
+#if PX_SHAPE == 2 && defined(PX_BOUNDED)
+#define PX_SHAPE_TUBE
+#endif
+#endif
+#ifdef PX_SHAPE_TUBE
+// A bounded open tube (the only bounded curved mesh: a sphere's and torus's
+// edges are seams) is a relief with no thickness: a sheet r = R - depth (1 -
+// h) that exists along the tube's length only (mesh v in [0, 1]: |z| <= half
+// its height). A ray meets its front only where it comes to the sheet from
+// outside: from above the relief through the tube's side, or onto the
+// tube's length through an end's plane outside the sheet; one that comes
+// onto it in the hollow (under the sheet) meets the sheet's back first,
+// which shows nothing (one-sided, as the displaced reference draws it).
+// The tube itself is drawn unwidened; the rays that come onto its length
+// through an end are traced from the end's plane by its rim caps (annuli
+// over the relief's depth, make_tube_rim_caps, told from the tube by
+// gl_FrontFacing): the relief on the far wall's outside standing past the
+// rim, seen over it, and the near rim's bumps seen from above.
+// [x, y]: the ray's mu range along the tube's length (empty: x > y).
+PX_HIGHP vec2 px_tube_span(PX_HIGHP vec3 origin, PX_HIGHP vec3 step) {
+    PX_HIGHP float half_length = 0.5 * u_shape.y;
+    if (abs(step.z) < 1e-12) return abs(origin.z) <= half_length ? vec2(-1e20, 1e20) : vec2(1e20, -1e20);
+    PX_HIGHP float t0 = (-half_length - origin.z) / step.z;
+    PX_HIGHP float t1 = (half_length - origin.z) / step.z;
+    return vec2(min(t0, t1), max(t0, t1));
+}
+#endif
+
 // The search's uv at mu along the ray from uv0 (d: the view's uv step).
 PX_HIGHP vec2 px_curved_uv(PX_HIGHP vec2 uv0, PX_HIGHP vec2 d, PX_HIGHP float mu) {
 #ifdef PX_SHAPE
@@ -269,6 +298,40 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     }
     mu_start = max(mu_start, -64.0);
     mu_end = min(max(mu_end, entry + 1.0), entry + 64.0);
+    bool gone = e < 0.0 && c <= 0.0;  // from above the relief, heading away
+    PX_HIGHP float march_cos = c;
+#ifdef PX_SHAPE_TUBE
+    PX_HIGHP vec2 span = px_tube_span(p, px_shape_step);
+    PX_HIGHP float mu_last = span.y;  // the march goes no farther
+    bool back = !gl_FrontFacing;
+    bool round_rim = false;  // the march starts where the ray comes onto the tube's length
+    if (back) {
+        // A rim cap (drawn by its back faces: renderer.cpp draw_object): the
+        // ray comes onto the tube's length here, and is marched from here to
+        // where it leaves the relief's outer circle (the larger root) or the
+        // tube's other end. (Outside that circle here, it may yet come into
+        // the relief past the tube's polygon, which lies out by its shell.)
+        // Under the sheet (in the hollow) it meets the sheet's back: the
+        // first sample decides, below.
+        PX_HIGHP float r_top = u_shape.x + (1.0 - u_polygon_height) / max(u_shape.z, 1e-20);
+        PX_HIGHP vec2 across = px_shape_step.xy;
+        PX_HIGHP float a2 = max(dot(across, across), 1e-20);
+        PX_HIGHP float b = dot(p.xy, across);
+        PX_HIGHP float disc_top = b * b - a2 * (dot(p.xy, p.xy) - r_top * r_top);
+        PX_HIGHP float out_of_relief = (-b + sqrt(max(disc_top, 0.0))) / a2;
+        mu_start = 0.0;
+        mu_end = min(out_of_relief, span.y);
+        mu_last = mu_end;
+        gone = disc_top < 0.0 || mu_end <= 0.0;
+        march_cos = abs(c);
+        round_rim = true;
+    } else if (mu_start < span.x) {
+        mu_start = span.x;
+        mu_end = max(mu_end, span.x + 1.0);
+        round_rim = true;
+    }
+    gone = gone || mu_start > mu_last;
+#endif
 #else
     // No farther than the flat searches reach (V.z clamped at 1/64).
     mu_start = clamp(mu_start, -64.0, 64.0);
@@ -277,8 +340,11 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     // Steps no longer than the flat search's (a relief depth over its count,
     // mu 1 / (V.z count)): the bent ray's range is up to 4 times longer
     // (into the relief and out again), within the loop's bound.
-    PX_HIGHP float flat_range = 1.0 / max(c, 1.0 / 64.0);
-    mediump float count = min(floor(px_sample_count(c) * max((mu_end - mu_start) / flat_range, 1.0) + 0.5),
+#ifndef PX_SHAPE
+    PX_HIGHP float march_cos = c;
+#endif
+    PX_HIGHP float flat_range = 1.0 / max(march_cos, 1.0 / 64.0);
+    mediump float count = min(floor(px_sample_count(march_cos) * max((mu_end - mu_start) / flat_range, 1.0) + 0.5),
                               float(PX_MAX_SAMPLES));
 #ifdef PX_SHAPE
     // A quarter of the loop is kept for a ray still in the relief past the
@@ -291,7 +357,7 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     PxMarch m;
     m.step = step;
 #ifdef PX_SHAPE
-    if (e < 0.0 && c <= 0.0) {
+    if (gone) {
 #else
     if (e < 0.0 && !(top_disc >= 0.0 && c + root_top > 0.0)) {
 #endif
@@ -317,7 +383,14 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
     m.uv_below = m.uv_above;
     m.ray_below = m.ray_above;
     m.height_below = m.height_above;
-    if (m.height_above >= m.ray_above) return m;  // hit where the search starts
+    if (m.height_above >= m.ray_above) {  // hit where the search starts
+#ifdef PX_SHAPE_TUBE
+        // Come round a rim into the hollow (under the sheet there): it
+        // meets the sheet's back.
+        px_ray_left = round_rim;
+#endif
+        return m;
+    }
 #ifdef PX_SHAPE
     PX_HIGHP float mu = mu_start;
     PX_HIGHP float shape_step = step;
@@ -331,6 +404,10 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
 #ifdef PX_SHAPE
         mu += shape_step;
         if (float(i) >= count) shape_step *= 1.4;
+#ifdef PX_SHAPE_TUBE
+        bool at_end = mu >= mu_last;  // the tube's end (or, from a back face, the fragment)
+        mu = min(mu, mu_last);
+#endif
         PX_HIGHP vec3 point = px_shape_point(mu);
         PX_HIGHP vec2 uv = px_shape_uv(point);
         mediump float h = px_trace_height(uv);
@@ -350,7 +427,11 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         last_ray = ray;
         met = h >= ray;
         // Past the model's range only while the ray is still in the relief.
+#ifdef PX_SHAPE_TUBE
+        if (met || at_end || (float(i) >= count && (ray > 1.0 || back))) break;
+#else
         if (met || (float(i) >= count && ray > 1.0)) break;
+#endif
 #else
         if (h >= ray || float(i) >= count) break;
 #endif
@@ -360,7 +441,10 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         m.height_above = h;
     }
     // Through the relief and out of its top without meeting it.
-#ifdef PX_SHAPE
+#ifdef PX_SHAPE_TUBE
+    // Past the tube's end, or back at a back face, no relief is left to meet.
+    px_ray_left = !met && (last_ray > 1.0 || back || mu >= mu_last);
+#elif defined(PX_SHAPE)
     px_ray_left = !met && last_ray > 1.0;
 #else
     px_ray_left = leaves && m.height_below < m.ray_below;

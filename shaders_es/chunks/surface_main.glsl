@@ -134,7 +134,9 @@ void main() {
 #endif
     mediump vec3 view_dir = normalize(view_unscaled);
 
-#if defined(PX_BOUNDED) && defined(PX_HAS_TRACE)
+#if defined(PX_BOUNDED) && defined(PX_HAS_TRACE) && !defined(PX_SHAPE)
+    // (A bounded tube's shape search clips its exact ray to the tube's
+    // length itself: march.glsl, PX_SHAPE_TUBE.)
     // A bounded relief exists over mesh uv [0, 1]^2 only, and its polygon is
     // drawn wider by the relief's reach: the t range over which this
     // fragment's ray (from the relief's top, t = 0, to its bottom, t = 1) is
@@ -203,9 +205,12 @@ void main() {
     // The ray passed the curved relief without meeting it (march.glsl).
     if (px_ray_left) discard;
 #endif
-#if defined(PX_BOUNDED) && defined(PX_HAS_TRACE)
+#if defined(PX_BOUNDED) && defined(PX_HAS_TRACE) && !defined(PX_SHAPE)
     // The ray left the relief's bounds before it met the relief: it sees
     // what lies behind (the relief's silhouette, not the polygon's edge).
+    // (A bounded tube's shape search samples its ray on the tube's length
+    // only, so its hit is there: a hit on the rim, read back through the
+    // uv transform, fell a rounding outside and was discarded.)
     if (!px_on_tile(hit.uv)) discard;
 #endif
     mediump vec3 color = px_shade(hit.uv, hit.height, view_dir PX_TRACE_GRADIENT_ARGS);

@@ -55,6 +55,10 @@ struct GpuMesh {
     // polygon too, for the variants without a trace: they shade the polygon,
     // and the wider one would show the texture's next tiles around the tile.
     std::unique_ptr<GpuMesh> unwidened;
+    // A bounded tube with a curved silhouette: its rim caps
+    // (make_tube_rim_caps), which the exact shape search draws with the
+    // unwidened tube (draw_object).
+    std::unique_ptr<GpuMesh> rim_caps;
 };
 
 struct GpuMaterial {
@@ -127,8 +131,36 @@ VariantKey named_material_key(const VariantKey& planned, const TextureLayout& la
     return with_curved_shape(key, o.mesh.kind);
 }
 
+// The relief's depth in mesh units over a mesh of `units_per_uv`.
+float relief_depth(const MaterialDesc& m, float units_per_uv) {
+    return m.height_scale * units_per_uv / m.uv.area_scale<float>();
+}
+
+// A bounded tube's rim caps, or nothing: an annulus at each end over the
+// relief's whole depth, whatever the technique's polygon height (1 or
+// less: the relief from R - depth to R + depth at most), with room for the
+// shell that surface.vert pushes every vertex out by along its normal (the
+// caps' too: kShellOverSag chord sags, radially), which moved an inner
+// edge set at the relief's bottom a tenth of a relief depth outward and
+// cut the rays that come onto the tube just above its valleys (3.7 % of
+// the contour at 60 degrees, 18.6 % at 89); a cap fragment outside the
+// relief or in the hollow draws nothing (march.glsl).
+std::optional<Mesh> build_rim_caps(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared) {
+    if (!(m.bounded && curved_silhouette(m, o) && o.mesh.kind == MeshKind::cylinder)) return std::nullopt;
+    const float depth = relief_depth(m, prepared.units_per_uv);
+    if (!(std::isfinite(depth) && depth > 0.0f)) return std::nullopt;
+    const float r = o.mesh.radius;
+    const float shell = kShellOverSag * prepared.chord_sag;
+    const float inner = std::max(0.0f, r - 1.1f * depth - 2.0f * shell);
+    const float outer = r + 1.1f * depth + 2.0f * shell;
+    Mesh caps = make_tube_rim_caps(prepared, r, inner, outer);
+    if (caps.indices.empty()) return std::nullopt;
+    return caps;
+}
+
 // An object's mesh as drawn: the prepared one, or for a bounded relief the
-// widened one (build_widened_mesh), with the prepared one beside it.
+// widened one (build_widened_mesh), with the prepared one beside it (and a
+// bounded tube's rim caps).
 Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared, const Caps& caps) {
     const std::string what = "object '" + echo(o.name) + "'";
     std::optional<Mesh> wide = build_widened_mesh(o.mesh, m);
@@ -138,6 +170,11 @@ Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, c
     Result<GpuMesh> own = upload_mesh(prepared, caps, what);
     if (!own) return own.error();
     widened->unwidened = std::make_unique<GpuMesh>(std::move(*own));
+    if (std::optional<Mesh> rims = build_rim_caps(o, m, prepared)) {
+        Result<GpuMesh> uploaded = upload_mesh(*rims, caps, what + " (its rim caps)");
+        if (!uploaded) return uploaded.error();
+        widened->rim_caps = std::make_unique<GpuMesh>(std::move(*uploaded));
+    }
     return widened;
 }
 
@@ -222,9 +259,7 @@ float mean_scale(const glm::mat4& model) { return std::cbrt(std::fabs(glm::deter
 
 // The relief's depth in mesh units: height_scale tiles of units_per_uv /
 // area_scale mesh units each (as make_displaced_curved displaces).
-float relief_depth(const MaterialDesc& m, const GpuMesh& mesh) {
-    return m.height_scale * mesh.units_per_uv / m.uv.area_scale<float>();
-}
+float relief_depth(const MaterialDesc& m, const GpuMesh& mesh) { return relief_depth(m, mesh.units_per_uv); }
 
 // The object's transform; returns whether it mirrors.
 bool set_object_uniforms(const Program& p, const glm::mat4& model, const GpuMesh& mesh, const MaterialDesc& m) {
@@ -405,7 +440,10 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     // a bounded relief's wider polygon.
     const GpuMesh& uploaded = scene.meshes[object.mesh];
     const VariantKey drawn = key.canonical();
-    const GpuMesh& mesh = uploaded.unwidened && !drawn.bounded ? *uploaded.unwidened : uploaded;
+    // The exact shape search on a bounded tube traces the rays that come
+    // onto the tube's length through its rim caps, not through a wider tube.
+    const bool rim_caps = drawn.bounded && drawn.shape == kShapeCylinder && uploaded.rim_caps;
+    const GpuMesh& mesh = uploaded.unwidened && (!drawn.bounded || rim_caps) ? *uploaded.unwidened : uploaded;
     const bool mirrored = set_object_uniforms(p, model, mesh, *material.desc);
     // A mirroring model matrix reverses the triangles' winding on screen:
     // flip the front face so the object's outside stays the drawn side.
@@ -427,6 +465,15 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     draw_mesh(mesh);
+    if (rim_caps) {
+        // The caps face into the tube: drawn by their back faces, seen from
+        // beyond each end (march.glsl PX_SHAPE_TUBE tells them by
+        // gl_FrontFacing); what a cap fragment's ray does not meet on the
+        // tube's length it discards.
+        glCullFace(GL_FRONT);
+        draw_mesh(*uploaded.rim_caps);
+        glCullFace(GL_BACK);
+    }
     if (!kCheckEveryDraw) return {};
     return check_gl("drawing object '" + object.desc->name + "' with " + p.description());
 }
@@ -831,8 +878,13 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         std::vector<std::pair<size_t, GpuMesh>> meshes;
         for (size_t i = 0; i < p.objects.size(); ++i) {
             // Displaced from the new relief, or widened by other bounds.
-            const bool widened_differently = p.objects[i]->material == mi &&
-                                             bounded_margin(p.desc.materials[mi]) != bounded_margin(prepared_->desc.materials[mi]);
+            // (A bounded tube's rim caps span the relief's depth.)
+            const MaterialDesc& now = p.desc.materials[mi];
+            const MaterialDesc& before = prepared_->desc.materials[mi];
+            const bool widened_differently =
+                p.objects[i]->material == mi &&
+                (bounded_margin(now) != bounded_margin(before) || now.silhouette != before.silhouette ||
+                 relief_depth(now, 1.0f) != relief_depth(before, 1.0f));
             if (p.objects[i].get() == prepared_->objects[i].get() && !widened_differently) continue;
             Result<GpuMesh> m = upload_object_mesh(p.desc.objects[i], p.desc.materials[p.objects[i]->material],
                                                    p.objects[i]->mesh, caps_);

@@ -792,6 +792,39 @@ Mesh make_widened_cylinder(float radius, float height, float margin, int segment
     return mesh;
 }
 
+Mesh make_tube_rim_caps(const Mesh& tube, float radius, float inner, float outer) {
+    Mesh caps;
+    caps.units_per_uv = tube.units_per_uv;
+    caps.chord_sag = tube.chord_sag;
+    if (!(inner >= 0.0f && inner < outer && radius > 0.0f && std::isfinite(outer))) return caps;
+    for (const float rim_v : {0.0f, 1.0f}) {
+        std::vector<const Vertex*> rim;
+        for (const Vertex& v : tube.vertices)
+            if (v.uv.y == rim_v) rim.push_back(&v);
+        if (rim.size() < 3) continue;
+        std::stable_sort(rim.begin(), rim.end(), [](const Vertex* a, const Vertex* b) { return a->uv.x < b->uv.x; });
+        const auto first = static_cast<std::uint32_t>(caps.vertices.size());
+        for (const Vertex* v : rim) {
+            for (const float r : {inner, outer}) {
+                Vertex c = *v;
+                const glm::vec2 radial = glm::vec2(v->position) / radius;
+                c.position = glm::vec3(radial * r, v->position.z);
+                caps.vertices.push_back(c);
+            }
+        }
+        // Counter-clockwise seen from the tube's inside: from +z at the
+        // bottom end (v = 0), from -z at the top (u runs counter-clockwise
+        // seen from +z).
+        const bool top = rim_v == 1.0f;
+        for (std::uint32_t k = 0; k + 1 < rim.size(); ++k) {
+            const std::uint32_t ia = first + 2 * k, oa = ia + 1, ib = ia + 2, ob = ia + 3;
+            if (top) caps.indices.insert(caps.indices.end(), {oa, ib, ob, oa, ia, ib});
+            else caps.indices.insert(caps.indices.end(), {oa, ob, ib, oa, ib, ia});
+        }
+    }
+    return caps;
+}
+
 DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix) {
     DisplacedGrid grid = displaced_plane_grid(field_width, field_height, uv_matrix);
     // At least the parallax mesh's own tessellation, so that the displaced

@@ -109,6 +109,17 @@ Mesh make_cylinder(float radius = 0.6f, float height = 2.0f, int segments = 48, 
 // bounded relief's open ends: bounded_margin in scene.h).
 Mesh make_widened_cylinder(float radius, float height, float margin, int segments = 48, int rows = 1);
 
+// The rim caps of a bounded tube drawn by the exact shape search
+// (march.glsl, PX_SHAPE_TUBE): at each end of `tube` (a cylinder as
+// make_cylinder builds it, radius `radius`), an annulus in the end's plane
+// from radius `inner` to `outer`, where rays come onto the tube's length
+// inside its relief. Facing into the tube (the renderer draws their back
+// faces, which the shader tells from the tube's by gl_FrontFacing); every
+// vertex is a copy of the tube's rim vertex at its angle, frame, uv and
+// fits, so that a hit near the rim is shaded in the wall's frame.
+// Empty when `tube` has no rim rows or the radii are not 0 <= inner < outer.
+Mesh make_tube_rim_caps(const Mesh& tube, float radius, float inner, float outer);
+
 // A sphere, torus or cylinder (`kind`, with the MeshDesc sizes given) as
 // real geometry: built at about one vertex per texel of the material's uv'
 // = uv_matrix * uv + uv_offset along u and v (displaced_plane_grid's

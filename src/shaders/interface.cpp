@@ -100,8 +100,8 @@ Uses uses(const VariantKey& k) {
     u.view_in_trace = u.traced && (u.shows_uv || (u.shows_height && u.searches) || u.shadow || k.depth_write);
     // The view vector (specular shading and the trace) and the light vectors
     // (shading and the shadow ray) are both built from the frame.
-    // (A bounded cylinder's ends still clip the ray as a flat tile's sides.)
-    u.view_vector = u.shading || (u.view_in_trace && (!(k.curved && k.shape) || k.bounded));
+    // (The shape search clips its own ray to a bounded tube's ends.)
+    u.view_vector = u.shading || (u.view_in_trace && !(k.curved && k.shape));
     u.frame = u.view_vector || u.shadow;
     return u;
 }
@@ -139,8 +139,9 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::uv_offset:
             // The exact curved search takes its uv from the ray's point:
             // the polygon's uv is left to the shading's gradients (GLSL ES
-            // 3.00 textureGrad), LOD and bounds.
-            if (k.curved && k.shape) return (u.shading && k.es_major >= 3) || k.lod || k.bounded;
+            // 3.00 textureGrad) and LOD (a bounded tube's ends clip the
+            // ray in the search).
+            if (k.curved && k.shape) return (u.shading && k.es_major >= 3) || k.lod;
             return u.shows_uv || u.traced;
         // surface.vert: n, t, b and from them the view and light vectors.
         case Uniform::normal_matrix:
@@ -184,7 +185,7 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::max_atlas: return has(k, kOptSteps) && k.es_major < 3;
         // surface_main.glsl: a bounded relief's discard (PX_BOUNDED).
         case Uniform::bounds_matrix:
-        case Uniform::bounds_offset: return k.bounded;
+        case Uniform::bounds_offset: return k.bounded && !(k.curved && k.shape);  // a tube's: its ends in the search
         // surface.vert: the curved relief's quadric into relief depths (PX_CURVED).
         case Uniform::shell: return k.curved;
         case Uniform::curvature_scale:
