@@ -755,5 +755,51 @@ TEST(MeshWidenedCylinder, ExtendsTheTubeAtTheSameUvDensity) {
     EXPECT_FLOAT_EQ(v_hi, 1.0f + margin);
 }
 
+// A bounded tube's rim caps (make_tube_rim_caps): an annulus in each end's
+// plane from the inner to the outer radius, every triangle facing into the
+// tube (the renderer draws their back faces, seen from beyond each end),
+// every vertex the tube's rim vertex at its angle, but for its radius.
+TEST(MeshTubeRimCaps, AnnuliInTheEndPlanesFacingIntoTheTube) {
+    const float r = 0.7f, height = 2.0f, inner = 0.6f, outer = 0.75f;
+    const Mesh tube = make_cylinder(r, height);
+    const Mesh caps = make_tube_rim_caps(tube, r, inner, outer);
+    ASSERT_FALSE(caps.indices.empty());
+    ASSERT_EQ(caps.indices.size() % 3, 0u);
+    float covered = 0.0f;  // the annuli's area, top and bottom
+    for (size_t i = 0; i < caps.indices.size(); i += 3) {
+        const glm::vec3 a = caps.vertices[caps.indices[i]].position;
+        const glm::vec3 b = caps.vertices[caps.indices[i + 1]].position;
+        const glm::vec3 c = caps.vertices[caps.indices[i + 2]].position;
+        EXPECT_FLOAT_EQ(a.z, b.z);
+        EXPECT_FLOAT_EQ(a.z, c.z);
+        ASSERT_NEAR(std::fabs(a.z), 0.5f * height, 1e-6f);
+        // Counter-clockwise seen from the inside: its normal points along
+        // the axis towards the other end.
+        const glm::vec3 n = glm::cross(b - a, c - a);
+        EXPECT_LT(n.z * a.z, 0.0f) << "triangle " << i / 3 << " faces out of the tube";
+        covered += 0.5f * glm::length(n);
+    }
+    // Two 48-gon annuli: their area, inside the circles' by the chords.
+    const float ring = 48.0f * 0.5f * std::sin(2.0f * kPi<float> / 48.0f) * (outer * outer - inner * inner);
+    EXPECT_NEAR(covered, 2.0f * ring, 1e-4f * ring);
+    for (const Vertex& v : caps.vertices) {
+        const float radius = glm::length(glm::vec2(v.position));
+        EXPECT_TRUE(std::fabs(radius - inner) < 1e-5f || std::fabs(radius - outer) < 1e-5f) << radius;
+        // The wall's rim vertex: its frame, uv and fits.
+        const Vertex* rim = nullptr;
+        for (const Vertex& t : tube.vertices)
+            if (t.uv == v.uv) rim = &t;
+        ASSERT_NE(rim, nullptr);
+        EXPECT_EQ(rim->normal, v.normal);
+        EXPECT_EQ(rim->tangent, v.tangent);
+        EXPECT_EQ(rim->curvature, v.curvature);
+        EXPECT_EQ(rim->uv_stretch, v.uv_stretch);
+        EXPECT_NEAR(glm::length(glm::vec2(rim->position) / r - glm::vec2(v.position) / radius), 0.0f, 1e-5f);
+    }
+    // Radii that make no annulus, no caps.
+    EXPECT_TRUE(make_tube_rim_caps(tube, r, 0.8f, 0.75f).indices.empty());
+    EXPECT_TRUE(make_tube_rim_caps(tube, r, -0.1f, 0.75f).indices.empty());
+}
+
 }  // namespace
 }  // namespace px
