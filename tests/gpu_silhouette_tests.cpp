@@ -449,10 +449,10 @@ TEST(Silhouettes, CurvedSilhouettesCoverTheSmoothOutlineNotTheChords) {
 // only: the Emulation suite, left out of the ES 2.0 entry): the bend, the
 // ray's quadratic height and the march emulated in strict fp16 for every
 // mediump value, and on the ES 2.0 variant without fragment highp (every
-// fragment float fp16). The bumpy sphere at 30 degrees keeps its outline:
-// no pixel's hit is NaN or infinite, and the contour mismatch against the
-// displaced mesh stays under half the smooth outline's, as at full precision
-// (docs/silhouettes.md has the figures).
+// fragment float fp16). The bumpy sphere and bounded tube at 30 degrees
+// keep their outline: no pixel's hit is NaN or infinite, and the contour
+// mismatch against the displaced mesh stays under 5 % (docs/silhouettes.md
+// has the figures).
 TEST(Emulation, CurvedSilhouettesKeepTheirOutlineAtMobilePrecisions) {
   for (MeshKind kind : {MeshKind::sphere, MeshKind::cylinder}) {
     SCOPED_TRACE(mesh_kind_name(kind));
@@ -505,6 +505,10 @@ TEST(Emulation, CurvedSilhouettesKeepTheirOutlineAtMobilePrecisions) {
         EXPECT_GT(covered, 5000);
         EXPECT_EQ(non_finite, 0);
         EXPECT_LT(share, 0.5 * smooth);
+        // The shape search, drawn on every context: without fragment highp
+        // it measured 2.2 % (sphere) and 1.8 % (tube), where the fitted
+        // quadric, drawn there until 2026-12-05, measured 20.8 and 8.4 %.
+        EXPECT_LT(share, 0.05);
     }
   }
 }
@@ -551,19 +555,22 @@ TEST(Silhouettes, ThePlannerDrawsCurvedSilhouettesWhereTheContourIsOnScreen) {
     EXPECT_TRUE(whole->at(0).key.curved) << whole->at(0).key.describe();
     EXPECT_TRUE(technique_info(whole->at(0).key.technique).options & kOptSamples) << whole->at(0).key.describe();
     EXPECT_NE(notes_of(whole->at(0)).find("contour can be on screen"), std::string::npos) << notes_of(whole->at(0));
-    // The exact search of the sphere's own shape where the fragment stage
-    // has highp, the fitted one on an ES 2.0 GPU without it; the plan says which.
+    // The exact search of the sphere's own shape, on an ES 2.0 GPU without
+    // fragment highp too (it beats the fitted quadric there: 2.2 against
+    // 20.8 % at strict fp16, Emulation.CurvedSilhouettesKeepTheirOutline...);
+    // the plan says which search it draws.
     EXPECT_EQ(whole->at(0).key.shape, kShapeSphere) << whole->at(0).key.describe();
     EXPECT_NE(notes_of(whole->at(0)).find("the mesh's own shape"), std::string::npos) << notes_of(whole->at(0));
     Caps mali = Caps::full(2);
     mali.fragment_highp = false;
     Result<std::unique_ptr<ScenePlanner>> low = one_material_planner(scene, mali);
     ASSERT_TRUE(low.ok()) << low.error().message;
-    auto fitted = (*low)->plan(scene.camera, kSize, kSize);
-    ASSERT_TRUE(fitted.ok()) << fitted.error().message;
-    EXPECT_TRUE(fitted->at(0).key.curved) << fitted->at(0).key.describe();
-    EXPECT_EQ(fitted->at(0).key.shape, 0) << fitted->at(0).key.describe();
-    EXPECT_NE(notes_of(fitted->at(0)).find("fitted bend"), std::string::npos) << notes_of(fitted->at(0));
+    auto mobile = (*low)->plan(scene.camera, kSize, kSize);
+    ASSERT_TRUE(mobile.ok()) << mobile.error().message;
+    EXPECT_TRUE(mobile->at(0).key.curved) << mobile->at(0).key.describe();
+    EXPECT_TRUE(mobile->at(0).key.no_fragment_highp) << mobile->at(0).key.describe();
+    EXPECT_EQ(mobile->at(0).key.shape, kShapeSphere) << mobile->at(0).key.describe();
+    EXPECT_NE(notes_of(mobile->at(0)).find("the mesh's own shape"), std::string::npos) << notes_of(mobile->at(0));
     CameraDesc close;  // 0.1 above the 0.9 sphere, looking at it: all relief
     close.position = glm::vec3(0.0f, -1.0f, 0.0f);
     close.target = glm::vec3(0.0f);

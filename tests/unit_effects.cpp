@@ -67,9 +67,9 @@ TEST(VariantKey, OptionsATechniqueLacksDoNotChangeTheKey) {
     EXPECT_NE(a.bits(), b.bits());
 }
 
-// The curved search's shape (PX_SHAPE) is part of a curved variant only,
-// and only where the fragment stage has highp: the same key otherwise.
-TEST(VariantKey, TheCurvedShapeNeedsACurvedSearchWithFragmentHighp) {
+// The curved search's shape (PX_SHAPE) is part of a curved variant only
+// (on every context: without fragment highp too): the same key otherwise.
+TEST(VariantKey, TheCurvedShapeNeedsACurvedSearch) {
     VariantKey k;
     k.technique = Technique::pom;
     k.max_samples = 32;
@@ -88,7 +88,8 @@ TEST(VariantKey, TheCurvedShapeNeedsACurvedSearchWithFragmentHighp) {
     EXPECT_EQ(back->shape, kShapeTorus);
     k.es_major = none.es_major = 2;
     k.no_fragment_highp = none.no_fragment_highp = true;
-    EXPECT_EQ(k.bits(), none.bits()) << "no fragment highp: the fitted search";
+    EXPECT_NE(k.bits(), none.bits()) << "no fragment highp: still the shape search";
+    EXPECT_EQ(k.describe(), "pom es2 samples<=32 packed curved shape=torus no-fragment-highp");
     k.technique = none.technique = Technique::maxmip;  // no linear search: not curved at all
     k.no_fragment_highp = none.no_fragment_highp = false;
     EXPECT_EQ(k.bits(), none.bits());

@@ -39,7 +39,7 @@ VariantKey VariantKey::canonical() const {
     if (!has_option(k.technique, kOptHeight)) k.bounded = false;
     // The curved march is the linear search's (march.glsl px_curved_search).
     if (!has_option(k.technique, kOptSamples)) k.curved = false;
-    if (!k.curved || k.shape > kShapeTorus || k.no_fragment_highp) k.shape = 0;
+    if (!k.curved || k.shape > kShapeTorus) k.shape = 0;
     if (k.debug_output == 0 || !(has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps)))
         k.count_work = false;
     if (k.debug_output != 1 || k.count_work || !has_option(k.technique, kOptHeight)) k.capture_ray = false;
@@ -348,6 +348,20 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                 k.shape = shape;
                 add(k);
             }
+            // A bounded tube's (its ends in the search: PX_SHAPE_TUBE), and
+            // an ES 2.0 context without fragment highp's.
+            k.bounded = true;
+            k.shape = kShapeCylinder;
+            add(k);
+            if (es_major < 3) {
+                k.no_fragment_highp = true;
+                add(k);
+                k.bounded = false;
+                k.shape = kShapeTorus;
+                add(k);
+                k.no_fragment_highp = false;
+            }
+            k.bounded = false;
             k.shape = 0;
         }
         // Debug outputs, with every option the technique has switched on.

@@ -67,7 +67,7 @@ bool bounded_outline_on_screen(const glm::mat4& model, float size, double depth,
 
 VariantKey with_curved_shape(VariantKey key, MeshKind kind) {
     key.shape = 0;
-    if (!key.curved || key.no_fragment_highp) return key;
+    if (!key.curved) return key;
     key.shape = kind == MeshKind::sphere     ? kShapeSphere
                 : kind == MeshKind::cylinder ? kShapeCylinder
                 : kind == MeshKind::torus    ? kShapeTorus

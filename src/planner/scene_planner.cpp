@@ -1026,8 +1026,7 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
                               "object is outside it), so nothing is discarded"
                 : marches   ? std::string("silhouette: the contour can be on screen; ") +
                                   (p->key.shape ? "the search traces the mesh's own shape and "
-                                                : "the search follows the surface's fitted bend (no fragment highp "
-                                                  "for the exact shape) and ") +
+                                                : "the search follows the surface's fitted bend and ") +
                                   "rays that pass the relief are discarded"
                             : std::string("silhouette not drawn: ") + technique_name(p->key.technique) +
                                   " has no search to follow the bend");
