@@ -175,13 +175,17 @@ PX_HIGHP vec2 px_shape_uv(PX_HIGHP vec3 p) {
 // over the relief's depth, make_tube_rim_caps, told from the tube by
 // gl_FrontFacing): the relief on the far wall's outside standing past the
 // rim, seen over it, and the near rim's bumps seen from above.
-// [x, y]: the ray's mu range along the tube's length (empty: x > y).
+// [x, y]: the ray's mu range along the tube's length (empty: x > y),
+// within +-1e4 (fp16 holds it, without fragment highp; the search reaches
+// 64 relief depths).
 PX_HIGHP vec2 px_tube_span(PX_HIGHP vec3 origin, PX_HIGHP vec3 step) {
     PX_HIGHP float half_length = 0.5 * u_shape.y;
-    if (abs(step.z) < 1e-12) return abs(origin.z) <= half_length ? vec2(-1e20, 1e20) : vec2(1e20, -1e20);
+    // Across the axis (z moves under 1e-4 of the step): z stays.
+    if (abs(step.z) <= 1e-4 * length(step))
+        return abs(origin.z) <= half_length ? vec2(-1e4, 1e4) : vec2(1e4, -1e4);
     PX_HIGHP float t0 = (-half_length - origin.z) / step.z;
     PX_HIGHP float t1 = (half_length - origin.z) / step.z;
-    return vec2(min(t0, t1), max(t0, t1));
+    return clamp(vec2(min(t0, t1), max(t0, t1)), -1e4, 1e4);
 }
 #endif
 
@@ -313,16 +317,20 @@ PxMarch px_curved_search(PX_HIGHP vec2 uv0, PX_VIEW_PRECISION vec3 view_ts PX_TR
         // the relief past the tube's polygon, which lies out by its shell.)
         // Under the sheet (in the hollow) it meets the sheet's back: the
         // first sample decides, below.
-        PX_HIGHP float r_top = u_shape.x + (1.0 - u_polygon_height) / max(u_shape.z, 1e-20);
+        // (The divisors are kept from 0 in fp16 too, without fragment highp.)
+        PX_HIGHP float r_top = u_shape.x + (1.0 - u_polygon_height) / max(u_shape.z, 1e-4);
         PX_HIGHP vec2 across = px_shape_step.xy;
-        PX_HIGHP float a2 = max(dot(across, across), 1e-20);
+        PX_HIGHP float a2 = dot(across, across);
         PX_HIGHP float b = dot(p.xy, across);
         PX_HIGHP float disc_top = b * b - a2 * (dot(p.xy, p.xy) - r_top * r_top);
-        PX_HIGHP float out_of_relief = (-b + sqrt(max(disc_top, 0.0))) / a2;
+        // Along the axis (no step across it) the ray keeps its radius: in the
+        // relief, if at all, to the tube's other end.
+        bool along = a2 <= 1e-6 * dot(px_shape_step, px_shape_step);
+        PX_HIGHP float out_of_relief = along ? span.y : (-b + sqrt(max(disc_top, 0.0))) / a2;
         mu_start = 0.0;
         mu_end = min(out_of_relief, span.y);
         mu_last = mu_end;
-        gone = disc_top < 0.0 || mu_end <= 0.0;
+        gone = (disc_top < 0.0 && !along) || mu_end <= 0.0;
         march_cos = abs(c);
         round_rim = true;
     } else if (mu_start < span.x) {

@@ -209,8 +209,7 @@ void main() {
     // The ray left the relief's bounds before it met the relief: it sees
     // what lies behind (the relief's silhouette, not the polygon's edge).
     // (A bounded tube's shape search samples its ray on the tube's length
-    // only, so its hit is there: a hit on the rim, read back through the
-    // uv transform, fell a rounding outside and was discarded.)
+    // only, so its hit is there.)
     if (!px_on_tile(hit.uv)) discard;
 #endif
     mediump vec3 color = px_shade(hit.uv, hit.height, view_dir PX_TRACE_GRADIENT_ARGS);
