@@ -60,6 +60,9 @@ uniform highp float u_uv_bend_scale;
 // relief depths per view-space unit.
 uniform highp vec3 u_shell;
 #endif
+#if defined(PX_BOUNDED) && !defined(PX_CURVED)
+uniform highp float u_wall_scale;  // relief depths per mesh unit along z (a plane's normal)
+#endif
 
 void main() {
     highp vec3 position = a_position;
@@ -74,6 +77,10 @@ void main() {
     gl_Position = u_projection * view_position;
     v_uv = u_uv_matrix * a_uv + u_uv_offset;
     v_view_position = view_position.xyz;
+#if defined(PX_BOUNDED) && !defined(PX_CURVED)
+    // A side wall's height above the tile's polygon (which lies in z = 0).
+    v_wall_height = a_position.z * u_wall_scale;
+#endif
 
     // The frame in highp: the vertex stage always has it (GLSL ES 1.00 and
     // 3.00, section 4.5.3/4.5.4), and an authored frame may be any vector

@@ -801,5 +801,40 @@ TEST(MeshTubeRimCaps, AnnuliInTheEndPlanesFacingIntoTheTube) {
     EXPECT_TRUE(make_tube_rim_caps(tube, r, -0.1f, 0.75f).indices.empty());
 }
 
+// A bounded tile's side walls (make_tile_walls): a strip along each of the
+// plane's four edges from z = -below to +above, facing out of the tile,
+// every vertex the plane's edge vertex but for its z.
+TEST(MeshTileWalls, StripsAlongTheEdgesFacingOut) {
+    const float size = 2.0f, below = 0.3f, above = 0.05f;
+    const Mesh plane = make_plane(size, 4);
+    const Mesh walls = make_tile_walls(plane, below, above);
+    ASSERT_EQ(walls.indices.size(), 4u * 4u * 6u);  // 4 edges of 4 quads
+    float area = 0.0f;
+    for (size_t i = 0; i < walls.indices.size(); i += 3) {
+        const glm::vec3 a = walls.vertices[walls.indices[i]].position;
+        const glm::vec3 b = walls.vertices[walls.indices[i + 1]].position;
+        const glm::vec3 c = walls.vertices[walls.indices[i + 2]].position;
+        const glm::vec3 n = glm::cross(b - a, c - a);
+        EXPECT_NEAR(n.z, 0.0f, 1e-6f) << "vertical";
+        // Out of the tile: along the edge's outward axis.
+        const glm::vec3 mid = (a + b + c) / 3.0f;
+        EXPECT_GT(glm::dot(glm::vec2(n), glm::vec2(mid)), 0.0f) << "triangle " << i / 3 << " faces into the tile";
+        area += 0.5f * glm::length(n);
+    }
+    EXPECT_NEAR(area, 4.0f * size * (below + above), 1e-4f);
+    for (const Vertex& w : walls.vertices) {
+        EXPECT_TRUE(std::fabs(w.position.z + below) < 1e-6f || std::fabs(w.position.z - above) < 1e-6f);
+        const Vertex* edge = nullptr;
+        for (const Vertex& v : plane.vertices)
+            if (v.uv == w.uv) edge = &v;
+        ASSERT_NE(edge, nullptr);
+        EXPECT_TRUE(edge->uv.x == 0.0f || edge->uv.x == 1.0f || edge->uv.y == 0.0f || edge->uv.y == 1.0f);
+        EXPECT_EQ(glm::vec2(edge->position), glm::vec2(w.position));
+        EXPECT_EQ(edge->normal, w.normal);
+        EXPECT_EQ(edge->tangent, w.tangent);
+    }
+    EXPECT_TRUE(make_tile_walls(plane, -0.1f, 0.05f).indices.empty());
+}
+
 }  // namespace
 }  // namespace px

@@ -29,6 +29,11 @@ PX_VARYING mediump vec3 v_light_ts[PX_MAX_LIGHTS];  // toward each light, textur
 #define PX_UV_STRETCH
 PX_VARYING mediump float v_frame_scale;
 #endif
+#if defined(PX_BOUNDED) && !defined(PX_CURVED)
+// A bounded tile's side walls (renderer.cpp, make_tile_walls): how far this
+// fragment lies above the polygon, in relief depths (0 on the polygon).
+PX_VARYING PX_HIGHP float v_wall_height;
+#endif
 #ifdef PX_SHAPE
 // The exact curved search (march.glsl, PX_SHAPE): the fragment's mesh-space
 // position on the drawn polygon (affine across a triangle, so exact).

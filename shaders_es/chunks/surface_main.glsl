@@ -24,6 +24,13 @@ void px_write_depth_at(PX_HIGHP float distance) {
 
 void px_write_depth(mediump float hit_height, mediump float cos_view) {
     PX_HIGHP float depth_below_polygon = (u_polygon_height - hit_height) * u_height_scale * u_units_per_tile;
+#if defined(PX_BOUNDED) && !defined(PX_CURVED)
+    // A side wall's fragment lies v_wall_height above the polygon (added
+    // apart: the polygon's own depth keeps its precision, 0 added; in highp,
+    // u_polygon_height - hit_height moved a flush panel's depth against the
+    // bricks under it by enough to flip 5 pixels of the default scene).
+    depth_below_polygon += v_wall_height * u_height_scale * u_units_per_tile;
+#endif
     px_write_depth_at(depth_below_polygon / max(cos_view, 1.0 / 64.0));
 }
 #endif
@@ -148,6 +155,13 @@ void main() {
         PX_HIGHP vec2 parallax = view_ts.xy / max(view_ts.z, 1e-6);
 #else
         PX_HIGHP vec2 parallax = view_ts.xy / max(view_ts.z, 1.0 / 64.0);
+#endif
+#ifndef PX_CURVED
+        // A side wall's fragment (make_tile_walls: where rays come into the
+        // tile through its side, past the wider polygon's reach at grazing
+        // views) lies v_wall_height above the polygon: its ray crosses the
+        // polygon's plane at this uv.
+        uv -= v_wall_height * parallax;
 #endif
         PX_HIGHP vec2 top = u_bounds_matrix * (uv + (1.0 - u_polygon_height) * parallax - u_bounds_offset);
         PX_HIGHP vec2 step = -(u_bounds_matrix * parallax);

@@ -59,6 +59,9 @@ struct GpuMesh {
     // (make_tube_rim_caps), which the exact shape search draws with the
     // unwidened tube (draw_object).
     std::unique_ptr<GpuMesh> rim_caps;
+    // A bounded plane's side walls (make_tile_walls), which the variants
+    // whose trace starts part way (px_start_t) draw with it.
+    std::unique_ptr<GpuMesh> tile_walls;
 };
 
 struct GpuMaterial {
@@ -158,6 +161,21 @@ std::optional<Mesh> build_rim_caps(const ObjectDesc& o, const MaterialDesc& m, c
     return caps;
 }
 
+// A bounded plane's side walls, or nothing: along its edges over the
+// relief's whole depth, whatever the polygon's height in it (and a tenth of
+// a relief depth past each end).
+std::optional<Mesh> build_tile_walls(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared) {
+    if (!(m.bounded && o.mesh.kind == MeshKind::plane && !o.mesh.displaced)) return std::nullopt;
+    const float depth = relief_depth(m, prepared.units_per_uv);
+    const auto polygon = static_cast<float>(m.polygon_height());
+    if (!(std::isfinite(depth) && depth > 0.0f && std::isfinite(polygon))) return std::nullopt;
+    const float below = (std::max(polygon, 0.0f) + 0.1f) * depth;
+    const float above = (std::max(1.0f - polygon, 0.0f) + 0.1f) * depth;
+    Mesh walls = make_tile_walls(prepared, below, above);
+    if (walls.indices.empty()) return std::nullopt;
+    return walls;
+}
+
 // An object's mesh as drawn: the prepared one, or for a bounded relief the
 // widened one (build_widened_mesh), with the prepared one beside it (and a
 // bounded tube's rim caps).
@@ -174,6 +192,11 @@ Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, c
         Result<GpuMesh> uploaded = upload_mesh(*rims, caps, what + " (its rim caps)");
         if (!uploaded) return uploaded.error();
         widened->rim_caps = std::make_unique<GpuMesh>(std::move(*uploaded));
+    }
+    if (std::optional<Mesh> walls = build_tile_walls(o, m, prepared)) {
+        Result<GpuMesh> uploaded = upload_mesh(*walls, caps, what + " (its side walls)");
+        if (!uploaded) return uploaded.error();
+        widened->tile_walls = std::make_unique<GpuMesh>(std::move(*uploaded));
     }
     return widened;
 }
@@ -450,6 +473,11 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     glFrontFace(mirrored ? GL_CW : GL_CCW);
     set_material_uniforms(p, material, key, options, object.desc->mesh.kind);
     if (drawn.shape) set_shape_uniforms(p, model, frame, object.desc->mesh, mesh, *material.desc);
+    if (drawn.bounded && !drawn.curved) {
+        // Relief depths per mesh unit: a side wall's height (surface.vert).
+        const float depth = relief_depth(*material.desc, uploaded.tile_walls ? *uploaded.tile_walls : mesh);
+        p.set(slot::wall_scale, std::isfinite(1.0f / depth) && depth > 0.0f ? 1.0f / depth : 0.0f);
+    }
     if (object.desc->mesh.displaced && object.desc->mesh.kind == MeshKind::cylinder) {
         // An open tube as real geometry: its inside (the back faces) goes
         // into depth first, so that what lies behind its far wall stays
@@ -465,6 +493,14 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     }
     draw_mesh(mesh);
+    if (drawn.bounded && !drawn.curved && uploaded.tile_walls &&
+        (technique_info(drawn.technique).options & (kOptSamples | kOptSteps)) != 0) {
+        // A bounded tile's side walls, for the traces that start where the
+        // ray comes in (px_start_t): past about 80 degrees from the normal
+        // rays come into the tile through its side farther out than the
+        // wider polygon reaches.
+        draw_mesh(*uploaded.tile_walls);
+    }
     if (rim_caps) {
         // The caps face into the tube: drawn by their back faces, seen from
         // beyond each end (march.glsl PX_SHAPE_TUBE tells them by

@@ -825,6 +825,48 @@ Mesh make_tube_rim_caps(const Mesh& tube, float radius, float inner, float outer
     return caps;
 }
 
+Mesh make_tile_walls(const Mesh& plane, float below, float above) {
+    Mesh walls;
+    walls.units_per_uv = plane.units_per_uv;
+    if (!(std::isfinite(below) && std::isfinite(above) && -below < above)) return walls;
+    // Each edge: the vertices with one uv coordinate at 0 or 1, in order of
+    // the other; its outward direction from the plane's centre.
+    for (int axis = 0; axis < 2; ++axis) {
+        for (const float side : {0.0f, 1.0f}) {
+            std::vector<const Vertex*> edge;
+            for (const Vertex& v : plane.vertices)
+                if (v.uv[axis] == side) edge.push_back(&v);
+            if (edge.size() < 2) continue;
+            const int along = 1 - axis;
+            std::stable_sort(edge.begin(), edge.end(),
+                             [along](const Vertex* a, const Vertex* b) { return a->uv[along] < b->uv[along]; });
+            glm::vec3 centre(0.0f);
+            for (const Vertex& v : plane.vertices) centre += v.position;
+            centre /= static_cast<float>(plane.vertices.size());
+            const auto first = static_cast<std::uint32_t>(walls.vertices.size());
+            for (const Vertex* v : edge) {
+                for (const float z : {-below, above}) {
+                    Vertex w = *v;
+                    w.position.z = v->position.z + z;
+                    walls.vertices.push_back(w);
+                }
+            }
+            for (std::uint32_t k = 0; k + 1 < edge.size(); ++k) {
+                const std::uint32_t a0 = first + 2 * k, a1 = a0 + 1, b0 = a0 + 2, b1 = a0 + 3;
+                const glm::vec3 pa = walls.vertices[a0].position, pb = walls.vertices[b0].position;
+                const glm::vec3 pt = walls.vertices[a1].position;
+                const glm::vec3 outward = 0.5f * (pa + pb) - centre;
+                // Counter-clockwise seen from outside the tile.
+                if (glm::dot(glm::cross(pb - pa, pt - pa), outward) > 0.0f)
+                    walls.indices.insert(walls.indices.end(), {a0, b0, b1, a0, b1, a1});
+                else
+                    walls.indices.insert(walls.indices.end(), {a0, b1, b0, a0, a1, b1});
+            }
+        }
+    }
+    return walls;
+}
+
 DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix) {
     DisplacedGrid grid = displaced_plane_grid(field_width, field_height, uv_matrix);
     // At least the parallax mesh's own tessellation, so that the displaced

@@ -120,6 +120,14 @@ Mesh make_widened_cylinder(float radius, float height, float margin, int segment
 // Empty when `tube` has no rim rows or the radii are not 0 <= inner < outer.
 Mesh make_tube_rim_caps(const Mesh& tube, float radius, float inner, float outer);
 
+// The side walls of a bounded tile (surface_main.glsl, v_wall_height): along
+// each edge of `plane` (a plane as make_plane builds it, in z = 0), a strip
+// from z = -below to z = +above, where rays come into the tile's relief
+// through its side. Facing out of the tile; every vertex a copy of the
+// plane's edge vertex (frame and uv), but for its z. Empty when the plane
+// has no edge vertices or the span is not -below < above.
+Mesh make_tile_walls(const Mesh& plane, float below, float above);
+
 // A sphere, torus or cylinder (`kind`, with the MeshDesc sizes given) as
 // real geometry: built at about one vertex per texel of the material's uv'
 // = uv_matrix * uv + uv_offset along u and v (displaced_plane_grid's

@@ -135,6 +135,8 @@ const std::vector<EffectMarker> kMarkers = {
     {"ray capture", "PX_CAPTURE_RAY", capture_ray},
     // surface_main.glsl: a bounded relief's discard.
     {"bounded", "u_bounds_matrix", bounded},
+    {"bounded", "u_wall_scale", bounded},
+    {"bounded", "v_wall_height", bounded},
     {"bounded", "PX_BOUNDED", bounded},
     // surface.vert and march.glsl: the curved relief's quadric and march.
     {"curved", "px_curved_uv", curved},

@@ -186,6 +186,8 @@ bool needed(Uniform uniform, const VariantKey& key) {
         // surface_main.glsl: a bounded relief's discard (PX_BOUNDED).
         case Uniform::bounds_matrix:
         case Uniform::bounds_offset: return k.bounded && !(k.curved && k.shape);  // a tube's: its ends in the search
+        // surface.vert: a bounded tile's side walls, their height (v_wall_height).
+        case Uniform::wall_scale: return k.bounded && !k.curved;
         // surface.vert: the curved relief's quadric into relief depths (PX_CURVED).
         case Uniform::shell: return k.curved;
         case Uniform::curvature_scale:

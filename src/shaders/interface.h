@@ -76,6 +76,7 @@ enum class Type : std::uint8_t { float1, vec2, vec3, vec4, mat2, mat3, mat4, int
     X(max_atlas, "u_max_atlas", vec4, 1)                       \
     X(bounds_matrix, "u_bounds_matrix", mat2, 1)               \
     X(bounds_offset, "u_bounds_offset", vec2, 1)               \
+    X(wall_scale, "u_wall_scale", float1, 1)                   \
     X(curvature_scale, "u_curvature_scale", float1, 1)         \
     X(shell, "u_shell", vec3, 1)                               \
     X(uv_bend_scale, "u_uv_bend_scale", float1, 1)             \
