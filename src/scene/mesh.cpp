@@ -802,7 +802,7 @@ Mesh make_tube_rim_caps(const Mesh& tube, float radius, float inner, float outer
         for (const Vertex& v : tube.vertices)
             if (v.uv.y == rim_v) rim.push_back(&v);
         if (rim.size() < 3) continue;
-        std::stable_sort(rim.begin(), rim.end(), [](const Vertex* a, const Vertex* b) { return a->uv.x < b->uv.x; });
+        // In order of u: make_cylinder lays each ring out that way.
         const auto first = static_cast<std::uint32_t>(caps.vertices.size());
         for (const Vertex* v : rim) {
             for (const float r : {inner, outer}) {
@@ -837,9 +837,8 @@ Mesh make_tile_walls(const Mesh& plane, float below, float above) {
             for (const Vertex& v : plane.vertices)
                 if (v.uv[axis] == side) edge.push_back(&v);
             if (edge.size() < 2) continue;
-            const int along = 1 - axis;
-            std::stable_sort(edge.begin(), edge.end(),
-                             [along](const Vertex* a, const Vertex* b) { return a->uv[along] < b->uv[along]; });
+            // In order of the other coordinate: make_plane lays its grid out
+            // row by row, u then v.
             glm::vec3 centre(0.0f);
             for (const Vertex& v : plane.vertices) centre += v.position;
             centre /= static_cast<float>(plane.vertices.size());
