@@ -498,7 +498,9 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
     if (drawn.shape) set_shape_uniforms(p, model, frame, object.desc->mesh, mesh, *material.desc);
     if (drawn.bounded && !drawn.curved) {
         // Relief depths per mesh unit: a side wall's height (surface.vert).
-        const float depth = relief_depth(*material.desc, uploaded.tile_walls ? *uploaded.tile_walls : mesh);
+        // Only a plane has walls; 0 elsewhere, where a vertex's z is not a
+        // height above the polygon (a bounded cube's faces).
+        const float depth = uploaded.tile_walls ? relief_depth(*material.desc, *uploaded.tile_walls) : 0.0f;
         p.set(slot::wall_scale, std::isfinite(1.0f / depth) && depth > 0.0f ? 1.0f / depth : 0.0f);
     }
     if (object.desc->mesh.displaced && object.desc->mesh.kind == MeshKind::cylinder) {
