@@ -104,6 +104,8 @@ printf '{"lights": [%s, %s, %s, %s, %s], "objects": [{}]}\n' "$lights" "$lights"
 printf '{"objects": [{}], "materials": [{"name": "default", "height": {"procedural": "lines", "size": 64, "line_width": 2147483647}}]}\n' >"$work/lines.json"
 printf '{"objects": [{"transform": {"scale": 1e-20}}]}\n' >"$work/scale.json"
 printf '{"objects": [{"mesh": {"displaced": true}}], "materials": [{"name": "default", "height": {"procedural": "bricks", "size": 4096}}]}\n' >"$work/displaced.json"
+printf '{"objects": [{"mesh": {"type": "sphere", "displaced": true, "vertices_per_texel": 8}}], "materials": [{"name": "default", "height": {"procedural": "bricks", "size": 512}}]}\n' >"$work/dense.json"
+printf '{"objects": [{"mesh": {"vertices_per_texel": 2}}]}\n' >"$work/dense_flat.json"
 # A small PNG declaring 30000 x 30000 (it used to abort with bad_alloc, exit 134).
 printf '\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x75\x30\x00\x00\x75\x30\x08\x00\x00\x00\x00\x43\x4c\xa7\x66\x00\x00\x00\x0c\x49\x44\x41\x54\x78\x9c\x63\x60\xa0\x0c\x00\x00\x00\x40\x00\x01\xb7\x34\x7c\xef\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82' >"$work/huge.png"
 printf '{"objects": [{}], "materials": [{"name": "default", "height": "huge.png"}]}\n' >"$work/huge.json"
@@ -112,6 +114,8 @@ expect_error "a fifth light is refused, not dropped" "lights[4]: at most 4 light
 expect_error "an overflowing line width is refused at once" "materials[0].height: field 'lines'" render "$work/lines.json" -o "$work/out.png"
 expect_error "an object scale that overflows floats" "objects[0].transform.scale" render "$work/scale.json" -o "$work/out.png"
 expect_error "a displaced plane over the vertex budget" "objects[0].mesh: the scene's meshes pass the limit" render "$work/displaced.json" -o "$work/out.png"
+expect_error "a dense displaced sphere over the vertex budget" "about 8 per texel along each side" render "$work/dense.json" -o "$work/out.png"
+expect_error "vertices per texel on a mesh that is not displaced" "objects[0].mesh.vertices_per_texel: only a displaced mesh" render "$work/dense_flat.json" -o "$work/out.png"
 
 # A symlink planted where the old writer put its temporary file: the
 # link's target is untouched and the image is written.

@@ -442,6 +442,39 @@ TEST(MeshDisplacedPlane, GridAndDisplacementFollowTheUvTransform) {
     EXPECT_EQ(displaced_plane_grid(16, 8, quarter_turn).rows, 16);
 }
 
+// vertices_per_texel: k quads per texel along each side, so an even k puts a
+// vertex on every texel centre (uv (i + 0.5) / 16 is vertex 2i + 1 at k = 2),
+// where the displaced height is the texel's own.
+TEST(MeshDisplacedPlane, VerticesPerTexelPutVerticesOnTexelCentres) {
+    HeightField field = ramp_field(16, 8);
+    for (std::size_t i = 0; i < field.texels.size(); ++i) field.texels[i] = static_cast<float>((i * 7919) % 13) / 13.0f;
+    const DisplacedGrid grid = displaced_plane_grid(16, 8, uv_scale(1.0, 1.0), 2);
+    EXPECT_EQ(grid.columns, 32);
+    EXPECT_EQ(grid.rows, 16);
+    EXPECT_EQ(displaced_plane_grid(16, 8, uv_scale(2.0, -3.0), 4).columns, 128);
+    EXPECT_EQ(displaced_plane_grid(16, 8, uv_scale(1.0, 1.0), 0).columns, 16);   // clamped to 1
+    EXPECT_EQ(displaced_plane_grid(16, 8, uv_scale(1.0, 1.0), 99).columns, 128);  // clamped to 8
+    Result<Mesh> mesh = make_displaced_plane(2.0f, field, uv_scale(1.0, 1.0), glm::dvec2(0.0), 0.1f, 0.0f, 2);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    ASSERT_EQ(static_cast<std::int64_t>(mesh->vertices.size()), grid.vertex_count());
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const Vertex& v = mesh->vertices[static_cast<std::size_t>((2 * y + 1) * 33 + 2 * x + 1)];
+            ASSERT_NEAR(v.uv.x, (x + 0.5) / 16.0, 1e-6);
+            ASSERT_NEAR(v.uv.y, (y + 0.5) / 8.0, 1e-6);
+            // The relief 0.1 tiles deep, a tile 2 units: z = h * 0.2.
+            ASSERT_NEAR(v.position.z, field.texels[static_cast<std::size_t>(y) * 16 + x] * 0.2f, 1e-6)
+                << "texel " << x << ", " << y;
+        }
+    // The budget counts the denser grid: 1024^2 texels at 2 per texel is over it.
+    HeightField sized_only;
+    sized_only.width = sized_only.height = 1024;
+    Result<Mesh> over = make_displaced_plane(2.0f, sized_only, uv_scale(1.0, 1.0), glm::dvec2(0.0), 0.1f, 1.0f, 2);
+    ASSERT_FALSE(over.ok());
+    EXPECT_NE(over.error().message.find("2048x2048 grid (2 vertices per texel"), std::string::npos)
+        << over.error().message;
+}
+
 // The grid grows with the uv scale, so the budget is checked on the grid,
 // from sizes, before any vertex exists (the field below has no texels).
 TEST(MeshDisplacedPlane, OverTheVertexLimitIsRefusedBeforeAllocating) {

@@ -410,6 +410,14 @@ TEST(SceneErrors, UnknownNamesListTheKnownOnes) {
                          "(known: plane, cube, sphere, torus, cylinder)"));
     EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"type": "cube", "displaced": true})")),
                          "objects[0].mesh.displaced: a cube cannot be displaced"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"displaced": true, "vertices_per_texel": 0})")),
+                         "objects[0].mesh.vertices_per_texel: must be within 1..8, got 0"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"displaced": true, "vertices_per_texel": 9})")),
+                         "objects[0].mesh.vertices_per_texel: must be within 1..8, got 9"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"vertices_per_texel": 2})")),
+                         "objects[0].mesh.vertices_per_texel: only a displaced mesh"));
+    EXPECT_TRUE(contains(parse_error(object_doc(R"("mesh": {"displaced": true, "vertices_per_texel": 2.5})")),
+                         "objects[0].mesh.vertices_per_texel"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"procedural": "brick"})")),
                          "materials[0].height.procedural: unknown field kind 'brick'"));
     EXPECT_TRUE(contains(parse_error(doc(R"("lights": [{"type": "spot"}])")),

@@ -28,6 +28,8 @@ inline constexpr std::int64_t kMaxSceneTexels = std::int64_t{1} << 26;
 // Vertices of all a scene's meshes together (a displaced plane has one per
 // texel corner): 4M vertices of 48 bytes plus indices stay under 300 MB.
 inline constexpr std::int64_t kMaxSceneVertices = std::int64_t{1} << 22;
+// A displaced mesh's vertices per texel along each side (MeshDesc).
+inline constexpr int kMaxDisplacedVerticesPerTexel = 8;
 
 // Counts in one scene.
 inline constexpr int kMaxMaterials = 64;

@@ -147,13 +147,14 @@ Status check_scene_resources_with(const SceneDesc& scene, const TextureFileReade
         switch (o.mesh.kind) {
             case MeshKind::plane: {
                 std::int64_t columns = o.mesh.segments, rows = o.mesh.segments;
-                if (o.mesh.displaced) {  // about one vertex per texel of the material's transformed uv
+                if (o.mesh.displaced) {  // about vertices_per_texel per texel of the material's transformed uv
                     const std::size_t k = scene.material_index(o.material);
                     const ImageInfo field = k < traced.size() ? traced[k] : ImageInfo{4, 4};
                     const glm::dmat2 uv_matrix =
                         k < traced.size() ? scene.materials[k].uv.matrix<double>() : glm::dmat2(1.0);
                     // The grid make_displaced_plane builds, from sizes alone.
-                    const DisplacedGrid grid = displaced_plane_grid(field.width, field.height, uv_matrix);
+                    const DisplacedGrid grid =
+                        displaced_plane_grid(field.width, field.height, uv_matrix, o.mesh.vertices_per_texel);
                     columns = grid.columns;
                     rows = grid.rows;
                 }
@@ -170,7 +171,8 @@ Status check_scene_resources_with(const SceneDesc& scene, const TextureFileReade
                     const ImageInfo field = k < traced.size() ? traced[k] : ImageInfo{4, 4};
                     const glm::dmat2 uv_matrix =
                         k < traced.size() ? scene.materials[k].uv.matrix<double>() : glm::dmat2(1.0);
-                    const DisplacedGrid grid = displaced_curved_grid(o.mesh.kind, field.width, field.height, uv_matrix);
+                    const DisplacedGrid grid = displaced_curved_grid(o.mesh.kind, field.width, field.height, uv_matrix,
+                                                                     o.mesh.vertices_per_texel);
                     n = grid.vertex_count() + 2 * grid.columns;
                 }
                 break;
@@ -179,7 +181,13 @@ Status check_scene_resources_with(const SceneDesc& scene, const TextureFileReade
         if (vertices > kMaxSceneVertices)
             return make_error(index_path("objects", i) + ".mesh: the scene's meshes pass the limit of " +
                               count_text(kMaxSceneVertices) + " vertices in all (this one adds " + count_text(n) +
-                              (o.mesh.displaced ? ", about one per texel of its material's height field under the uv transform" : "") + ")");
+                              (!o.mesh.displaced ? std::string()
+                               : o.mesh.vertices_per_texel <= 1
+                                   ? ", about one per texel of its material's height field under the uv transform"
+                                   : ", about " + std::to_string(o.mesh.vertices_per_texel) +
+                                         " per texel along each side of its material's height field under the uv "
+                                         "transform (mesh.vertices_per_texel)") +
+                              ")");
     }
     return {};
 }

@@ -866,8 +866,16 @@ Mesh make_tile_walls(const Mesh& plane, float below, float above) {
     return walls;
 }
 
-DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix) {
-    DisplacedGrid grid = displaced_plane_grid(field_width, field_height, uv_matrix);
+namespace {
+// "one vertex per texel", "2 vertices per texel": for the budget's message.
+std::string per_texel_text(int per_texel) {
+    return per_texel <= 1 ? std::string("one vertex per texel") : std::to_string(per_texel) + " vertices per texel";
+}
+}  // namespace
+
+DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix,
+                                    int per_texel) {
+    DisplacedGrid grid = displaced_plane_grid(field_width, field_height, uv_matrix, per_texel);
     // At least the parallax mesh's own tessellation, so that the displaced
     // surface is never coarser than the polygon it is compared with.
     grid.columns = std::max<std::int64_t>(grid.columns, kind == MeshKind::torus ? 64 : 48);
@@ -877,21 +885,22 @@ DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_he
 
 Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, const HeightField& field,
                                    const glm::dmat2& uv_matrix, const glm::dvec2& uv_offset, float height_scale,
-                                   float polygon_height, float units_per_uv) {
+                                   float polygon_height, float units_per_uv, int per_texel) {
     counters::count(counters::Step::mesh_build);
     const char* name = mesh_kind_name(kind);
     if (kind != MeshKind::sphere && kind != MeshKind::torus && kind != MeshKind::cylinder)
         return make_error(std::string("displaced ") + name + ": only a sphere, torus or cylinder is curved here");
     if (field.width < 1 || field.height < 1) return make_error(std::string("displaced ") + name + ": the height field is empty");
-    const DisplacedGrid grid = displaced_curved_grid(kind, field.width, field.height, uv_matrix);
+    const DisplacedGrid grid = displaced_curved_grid(kind, field.width, field.height, uv_matrix, per_texel);
     const std::int64_t columns = grid.columns, rows = grid.rows;
     const std::int64_t vertex_count = grid.vertex_count() + 2 * columns;  // a sphere's poles: a row each
     if (vertex_count > kMaxSceneVertices)
         return make_error(std::string("displaced ") + name + ": a " + std::to_string(field.width) + "x" +
                           std::to_string(field.height) + " height field under this uv transform needs a " +
                           std::to_string(columns) + "x" + std::to_string(rows) +
-                          " grid (one vertex per texel of the transformed uv), " + std::to_string(vertex_count) +
-                          " vertices, over the limit of " + std::to_string(kMaxSceneVertices));
+                          " grid (" + per_texel_text(per_texel) + " of the transformed uv), " +
+                          std::to_string(vertex_count) + " vertices, over the limit of " +
+                          std::to_string(kMaxSceneVertices));
     const double area_scale = std::sqrt(std::fabs(glm::determinant(uv_matrix)));
     if (!(area_scale > 0.0) || !std::isfinite(area_scale))
         return make_error(std::string("displaced ") + name + ": the uv transform is singular");
@@ -911,7 +920,8 @@ Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, co
     return mesh;
 }
 
-DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix) {
+DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix, int per_texel) {
+    const double k = std::clamp(per_texel, 1, kMaxDisplacedVerticesPerTexel);
     // Texels crossed along a mesh edge: the edge's image in texel space. The
     // small slack keeps an exact count (512.0000000001 from a rotation's
     // rounding) from gaining a quad.
@@ -920,21 +930,22 @@ DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm:
         const double texels = glm::length(tiles * glm::dvec2(field_width, field_height));
         // Clamped before the conversion: a uv scale of 16384 on a 4096 field is
         // 2^26 quads a side, far over any budget, but must not overflow.
-        return static_cast<std::int64_t>(std::clamp(std::ceil(texels - 1e-6), 1.0, 1e9));
+        return static_cast<std::int64_t>(std::clamp(k * std::ceil(texels - 1e-6), 1.0, 1e9));
     };
     return DisplacedGrid{quads({1.0, 0.0}), quads({0.0, 1.0})};
 }
 
 Result<Mesh> make_displaced_plane(float size, const HeightField& field, const glm::dmat2& uv_matrix,
-                                  const glm::dvec2& uv_offset, float height_scale, float polygon_height) {
+                                  const glm::dvec2& uv_offset, float height_scale, float polygon_height,
+                                  int per_texel) {
     counters::count(counters::Step::mesh_build);
     if (field.width < 1 || field.height < 1) return make_error("displaced plane: the height field is empty");
-    const DisplacedGrid grid = displaced_plane_grid(field.width, field.height, uv_matrix);
+    const DisplacedGrid grid = displaced_plane_grid(field.width, field.height, uv_matrix, per_texel);
     const std::int64_t vertex_count = grid.vertex_count();
     if (vertex_count > kMaxSceneVertices)
         return make_error("displaced plane: a " + std::to_string(field.width) + "x" + std::to_string(field.height) +
                           " height field under this uv transform needs a " + std::to_string(grid.columns) + "x" +
-                          std::to_string(grid.rows) + " grid (one vertex per texel of the transformed uv), " +
+                          std::to_string(grid.rows) + " grid (" + per_texel_text(per_texel) + " of the transformed uv), " +
                           std::to_string(vertex_count) + " vertices, over the limit of " +
                           std::to_string(kMaxSceneVertices));
     const double area_scale = std::sqrt(std::fabs(glm::determinant(uv_matrix)));

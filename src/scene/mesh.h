@@ -87,17 +87,18 @@ Mesh make_uv_sphere(float radius = 1.0f, int slices = 48, int stacks = 24);
 Mesh make_torus(float ring_radius = 1.0f, float tube_radius = 0.35f, int ring_segments = 64,
                 int tube_segments = 32);
 
-// The grid of a displaced plane: about one vertex per texel of the
+// The grid of a displaced plane: about `per_texel` vertices per texel of the
 // material's uv' = uv_matrix * uv + offset along each side, i.e. quads
-// along u = ceil(|diag(width, height) * uv_matrix * (1, 0)|), at least 1
-// (width * |scale.x| without rotation), and likewise along v. Computed from
-// sizes alone, so the vertex budget is checked before anything is allocated.
+// along u = per_texel * ceil(|diag(width, height) * uv_matrix * (1, 0)|), at
+// least 1 (per_texel * width * |scale.x| without rotation), and likewise
+// along v. Computed from sizes alone, so the vertex budget is checked before
+// anything is allocated. `per_texel` is clamped to 1..8.
 struct DisplacedGrid {
     std::int64_t columns = 1;  // quads along u
     std::int64_t rows = 1;     // quads along v
     std::int64_t vertex_count() const { return (columns + 1) * (rows + 1); }
 };
-DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix);
+DisplacedGrid displaced_plane_grid(int field_width, int field_height, const glm::dmat2& uv_matrix, int per_texel = 1);
 
 // Open tube around the z axis, centred on the origin, `height` tall: u
 // around it (the u = 0 / 1 seam at +y, so u = 0.5 faces a camera on -y, as
@@ -129,7 +130,7 @@ Mesh make_tube_rim_caps(const Mesh& tube, float radius, float inner, float outer
 Mesh make_tile_walls(const Mesh& plane, float below, float above);
 
 // A sphere, torus or cylinder (`kind`, with the MeshDesc sizes given) as
-// real geometry: built at about one vertex per texel of the material's uv'
+// real geometry: built at about `per_texel` vertices per texel of the material's uv'
 // = uv_matrix * uv + uv_offset along u and v (displaced_plane_grid's
 // counts), every vertex moved along its normal by (h - polygon_height) *
 // height_scale * units_per_tile, h sampled bilinearly with repeat at its
@@ -147,14 +148,16 @@ struct CurvedMeshSize {
 };
 // The grid make_displaced_curved builds (quads around and along), from
 // sizes alone, and an upper bound on its vertices.
-DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix);
+DisplacedGrid displaced_curved_grid(MeshKind kind, int field_width, int field_height, const glm::dmat2& uv_matrix,
+                                    int per_texel = 1);
 Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, const HeightField& field,
                                    const glm::dmat2& uv_matrix, const glm::dvec2& uv_offset, float height_scale,
-                                   float polygon_height, float units_per_uv);
+                                   float polygon_height, float units_per_uv, int per_texel = 1);
 
 
 
-// A plane like make_plane(size) whose vertices (the grid above, at mesh uv
+// A plane like make_plane(size) whose vertices (the grid above, `per_texel`
+// vertices per texel along each side, at mesh uv
 // i/columns, j/rows) move along the normal to where the relief is: heights
 // sampled bilinearly with repeat at the material's uv' = uv_matrix * uv +
 // uv_offset (as the GPU samples the texture the shading reads), z = (h -
@@ -164,7 +167,8 @@ Result<Mesh> make_displaced_curved(MeshKind kind, const CurvedMeshSize& size, co
 // it, as with parallax. Errors: an empty field, a grid over kMaxSceneVertices
 // (checked before allocating).
 Result<Mesh> make_displaced_plane(float size, const HeightField& field, const glm::dmat2& uv_matrix,
-                                  const glm::dvec2& uv_offset, float height_scale, float polygon_height);
+                                  const glm::dvec2& uv_offset, float height_scale, float polygon_height,
+                                  int per_texel = 1);
 
 // Fits each vertex's `curvature` (Vertex) from the mesh itself, over the
 // vertex's neighbours (those it shares a triangle with, over every vertex at

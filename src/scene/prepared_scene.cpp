@@ -31,7 +31,7 @@ Result<std::shared_ptr<const PreparedObject>> prepare_object(const ObjectDesc& o
         Result<Mesh> displaced = make_displaced_curved(
             o.mesh.kind, CurvedMeshSize{o.mesh.radius, o.mesh.tube_radius, o.mesh.size}, material.images.traced,
             m.uv.matrix<double>(), glm::dvec2(m.uv.offset), m.height_scale, static_cast<float>(m.polygon_height()),
-            units_per_uv);
+            units_per_uv, o.mesh.vertices_per_texel);
         if (!displaced) return with_context("object '" + echo(o.name) + "'", displaced.error());
         prepared->mesh = std::move(*displaced);
     } else if (o.mesh.displaced) {
@@ -39,7 +39,7 @@ Result<std::shared_ptr<const PreparedObject>> prepare_object(const ObjectDesc& o
         // tile size / area_scale mesh units as the units_per_tile uniform says.
         Result<Mesh> displaced =
             make_displaced_plane(o.mesh.size, material.images.traced, m.uv.matrix<double>(), glm::dvec2(m.uv.offset),
-                                 m.height_scale, static_cast<float>(m.polygon_height()));
+                                 m.height_scale, static_cast<float>(m.polygon_height()), o.mesh.vertices_per_texel);
         if (!displaced) return with_context("object '" + echo(o.name) + "'", displaced.error());
         prepared->mesh = std::move(*displaced);
     } else {

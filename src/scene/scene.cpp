@@ -201,6 +201,12 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
     c.require(in_range(mesh.radius, kMinExtent, kMaxExtent), path + ".mesh.radius", extent + num(mesh.radius));
     c.require(!mesh.displaced || mesh.kind != MeshKind::cube, path + ".mesh.displaced",
               "a cube cannot be displaced (its faces would open at the edges); a plane, sphere, torus or cylinder can");
+    c.require(mesh.vertices_per_texel >= 1 && mesh.vertices_per_texel <= kMaxDisplacedVerticesPerTexel,
+              path + ".mesh.vertices_per_texel",
+              "must be within 1.." + std::to_string(kMaxDisplacedVerticesPerTexel) + ", got " +
+                  std::to_string(mesh.vertices_per_texel));
+    c.require(mesh.displaced || mesh.vertices_per_texel == 1, path + ".mesh.vertices_per_texel",
+              "only a displaced mesh (\"displaced\": true) has vertices per texel");
     c.require(in_range(mesh.tube_radius, kMinExtent, kMaxExtent), path + ".mesh.tube_radius",
               extent + num(mesh.tube_radius));
     // Any direction, zero and parallel ones included (surface.vert falls

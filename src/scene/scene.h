@@ -163,6 +163,14 @@ struct MeshDesc {
     // silhouettes' reference, make_displaced_curved). Drawn with the
     // material's shading. Not a cube.
     bool displaced = false;
+    // A displaced mesh's vertices per texel along u and v, 1 to 8 (1: the
+    // accuracy benchmark's baseline). One vertex per texel lands its
+    // vertices on texel corners, between the bilinear patches' corners
+    // (the texel centres), so its triangles cut across the patches; an
+    // even count puts a vertex on every texel centre and converges to the
+    // filtered relief (docs/silhouettes.md: 2 is what a contour reference
+    // at steep walls needs). Only with `displaced`.
+    int vertices_per_texel = 1;
     // plane only: the vertices' tangent and normal as authored, instead of
     // +u and +z (tangent w stays +1). Any value is accepted, zero and
     // parallel vectors included: the renderer falls back to a usable frame

@@ -587,6 +587,7 @@ void read_object(Reader& r, const json& j, const std::string& path, ObjectDesc& 
     mesh.read("radius", o.mesh.radius);
     mesh.read("tube_radius", o.mesh.tube_radius);
     mesh.read("displaced", o.mesh.displaced);
+    mesh.read("vertices_per_texel", o.mesh.vertices_per_texel);
     for (auto [key, out] : {std::pair{"tangent", &o.mesh.tangent}, std::pair{"normal", &o.mesh.normal}})
         if (mesh.has(key)) {
             glm::vec3 v(0.0f);
