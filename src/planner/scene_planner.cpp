@@ -1005,7 +1005,9 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
                                      mesh_kind_is_curved(object.mesh.kind) && !object.mesh.displaced &&
                                      m.scene.materials[mi].height_scale > 0.0f;
         bool silhouette = false;
-        if (asks_silhouette) {
+        const std::optional<double> folds =
+            asks_silhouette ? relief_folds_through(object.mesh, m.scene.materials[mi], m.units_per_uv[i]) : std::nullopt;
+        if (asks_silhouette && !folds) {
             const MaterialDesc& mat = m.scene.materials[mi];
             const glm::mat4 model = frame.models.empty() ? object.transform.matrix() : frame.models[i];
             const double depth = static_cast<double>(mat.height_scale) * m.units_per_uv[i] /
@@ -1022,8 +1024,9 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
             p->key.curved = silhouette && marches;
             p->key = with_curved_shape(p->key, object.mesh.kind);
             p->notes.push_back(
-                !silhouette ? "silhouette off: the object's contour is off screen (the relief fills the view, or the "
-                              "object is outside it), so nothing is discarded"
+                folds ? silhouette_folds_note(object.mesh, *folds)
+                : !silhouette ? "silhouette off: the object's contour is off screen (the relief fills the view, or the "
+                                "object is outside it), so nothing is discarded"
                 : marches   ? std::string("silhouette: the contour can be on screen; ") +
                                   (p->key.shape ? "the search traces the mesh's own shape and "
                                                 : "the search follows the surface's fitted bend and ") +

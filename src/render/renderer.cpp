@@ -117,9 +117,12 @@ void point_attributes() {
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what);
 
 // Whether an object draws its material's curved silhouette (PX_CURVED): a
-// parallax-drawn sphere, torus or cylinder whose material asks for it.
-bool curved_silhouette(const MaterialDesc& m, const ObjectDesc& o) {
-    return m.silhouette && mesh_kind_is_curved(o.mesh.kind) && !o.mesh.displaced;
+// parallax-drawn sphere, torus or cylinder (of `units_per_uv` mesh units
+// per uv) whose material asks for it, and whose relief does not reach
+// through its centre or axis (relief_folds_through).
+bool curved_silhouette(const MaterialDesc& m, const ObjectDesc& o, float units_per_uv) {
+    return m.silhouette && mesh_kind_is_curved(o.mesh.kind) && !o.mesh.displaced &&
+           !relief_folds_through(o.mesh, m, units_per_uv);
 }
 
 // The variant an object whose material names its technique draws: the
@@ -127,10 +130,10 @@ bool curved_silhouette(const MaterialDesc& m, const ObjectDesc& o) {
 // and curved as material and mesh say (the planner decides both itself, per
 // frame: scene_planner.cpp).
 VariantKey named_material_key(const VariantKey& planned, const TextureLayout& layout, const MaterialDesc& m,
-                              const ObjectDesc& o) {
+                              const ObjectDesc& o, float units_per_uv) {
     VariantKey key = planned.with_layout(layout);
     key.bounded = m.bounded;
-    key.curved = curved_silhouette(m, o);
+    key.curved = curved_silhouette(m, o, units_per_uv);
     return with_curved_shape(key, o.mesh.kind);
 }
 
@@ -149,7 +152,8 @@ float relief_depth(const MaterialDesc& m, float units_per_uv) {
 // the contour at 60 degrees, 18.6 % at 89); a cap fragment outside the
 // relief or in the hollow draws nothing (march.glsl).
 std::optional<Mesh> build_rim_caps(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared) {
-    if (!(m.bounded && curved_silhouette(m, o) && o.mesh.kind == MeshKind::cylinder)) return std::nullopt;
+    if (!(m.bounded && curved_silhouette(m, o, prepared.units_per_uv) && o.mesh.kind == MeshKind::cylinder))
+        return std::nullopt;
     const float depth = relief_depth(m, prepared.units_per_uv);
     if (!(std::isfinite(depth) && depth > 0.0f)) return std::nullopt;
     const float r = o.mesh.radius;
@@ -906,7 +910,7 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
         const GpuMaterial& material = gpu->materials[object.material];
         if (material.planned) continue;
         VariantKey key = named_material_key(material.plan.key, prepared->materials[object.material]->images.layout,
-                                            *material.desc, *object.desc);
+                                            *material.desc, *object.desc, gpu->meshes[object.mesh].units_per_uv);
         if (variant_transform_) key = variant_transform_(key).canonical();
         Result<const Program*> program = gpu->programs.get(key);
         if (!program) return with_context("material '" + echo(material.desc->name) + "'", program.error());
@@ -957,7 +961,7 @@ Status Renderer::replace_material(const MaterialDesc& material) {
             for (size_t i = 0; i < p.objects.size(); ++i) {
                 if (p.objects[i]->material != mi) continue;
                 VariantKey key = named_material_key(g->plan.key, p.materials[mi]->images.layout, p.desc.materials[mi],
-                                                    p.desc.objects[i]);
+                                                    p.desc.objects[i], p.objects[i]->mesh.units_per_uv);
                 if (variant_transform_) key = variant_transform_(key).canonical();
                 Result<const Program*> program = scene_->programs.get(key);
                 if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
@@ -1006,9 +1010,13 @@ Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const
         plan.object = object.desc->name;
         plan.material = material.desc->name;
         plan.options = material.desc->technique;
+        const float units_per_uv = scene_->meshes[object.mesh].units_per_uv;
         plan.key = named_material_key(material.plan.key, prepared_->materials[object.material]->images.layout,
-                                      *material.desc, *object.desc);
+                                      *material.desc, *object.desc, units_per_uv);
         plan.notes = material.plan.notes;
+        if (material.desc->silhouette && !object.desc->mesh.displaced)
+            if (std::optional<double> below = relief_folds_through(object.desc->mesh, *material.desc, units_per_uv))
+                plan.notes.push_back(silhouette_folds_note(object.desc->mesh, *below));
         plans.push_back(std::move(plan));
     }
     counters::count(counters::Step::object_plan, plans.size());

@@ -254,6 +254,26 @@ void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const
 
 }  // namespace
 
+std::optional<double> relief_folds_through(const MeshDesc& d, const MaterialDesc& m, double units_per_uv) {
+    if (!mesh_kind_is_curved(d.kind) || !(m.height_scale > 0.0f)) return std::nullopt;
+    const double area_scale = m.uv.area_scale<double>();
+    if (!(area_scale > 0.0)) return std::nullopt;
+    const double below = static_cast<double>(m.height_scale) * units_per_uv / area_scale * std::max(m.polygon_height(), 0.0);
+    const double radius = d.kind == MeshKind::torus ? d.tube_radius : d.radius;
+    if (!(below >= radius)) return std::nullopt;
+    return below;
+}
+
+std::string silhouette_folds_note(const MeshDesc& d, double below) {
+    const bool torus = d.kind == MeshKind::torus;
+    return "silhouette off: the relief reaches " + fixed_text(below, 3) + " mesh units below the polygon, through the " +
+           mesh_kind_name(d.kind) + (torus ? "'s tube (tube radius " : "'s centre (radius ") +
+           fixed_text(torus ? d.tube_radius : d.radius, 3) +
+           "), where the displaced surface folds over itself and has no outline to trace; the smooth outline is drawn "
+           "(a smaller height_scale, under " +
+           fixed_text(d.kind == MeshKind::torus ? d.tube_radius : d.radius, 3) + " units deep, keeps the silhouette)";
+}
+
 double bounded_margin(const MaterialDesc& m) {
     if (!m.bounded || !(m.height_scale > 0.0f)) return 0.0;
     const double area_scale = m.uv.area_scale<double>();

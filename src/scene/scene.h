@@ -144,6 +144,19 @@ struct MaterialDesc {
 // its side are traced up to that angle. At most 4; 0 when not bounded.
 double bounded_margin(const MaterialDesc& m);
 
+struct MeshDesc;
+// Where a curved silhouette has no outline to trace: the relief of `m` on
+// a sphere, torus or cylinder `d` (of `units_per_uv` mesh units per uv,
+// Mesh::units_per_uv) reaches as deep below the polygon as the shape's
+// smallest radius (a sphere's or cylinder's radius, a torus's tube
+// radius), so that the displaced surface would fold through the centre or
+// the axis. Returns the relief's depth below the polygon in mesh units
+// there, else nothing (also for other kinds, or no relief).
+std::optional<double> relief_folds_through(const MeshDesc& d, const MaterialDesc& m, double units_per_uv);
+// The plan's note for it: "silhouette off: the relief reaches 0.46 units
+// below the polygon, through the torus's tube (radius 0.4) ...".
+std::string silhouette_folds_note(const MeshDesc& d, double below);
+
 struct TransformDesc {
     glm::vec3 translate{0.0f};
     glm::vec3 rotate_deg{0.0f};  // applied x, then y, then z
