@@ -49,6 +49,13 @@ struct PlaneData {
     double half_size = 1.0;
     // The polygon as drawn: wider by bounded_margin for a bounded relief.
     double drawn_half_size = 1.0;
+    // A bounded relief's slab in mesh z (from -relief_below to
+    // +relief_above, 0 when not bounded): a ray that crosses it over the
+    // tile comes into the relief through the tile's side (the GPU's side
+    // walls, make_tile_walls) and is traced from where it crosses the
+    // polygon's plane, however far out that is.
+    double relief_below = 0.0;
+    double relief_above = 0.0;
     glm::dmat4 model{1.0};
     glm::dmat4 inverse_model{1.0};
     double winding_sign = 1.0;  // sign of det(model3): mirroring flips the bitangent
@@ -159,6 +166,27 @@ PixelRay pixel_ray(const Frame& f, double cx, double cy) {
     return r;
 }
 
+// Whether a ray (mesh space o + s d, d.z < 0) that crosses plane p's
+// plane at q is drawn there: q within the polygon as drawn, or for a
+// bounded relief the ray inside the relief's slab over the tile (through
+// its side), the exact form of the GPU's side walls.
+bool drawn_at(const PlaneData& p, const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& q) {
+    if (std::fabs(q.x) <= p.drawn_half_size && std::fabs(q.y) <= p.drawn_half_size) return true;
+    if (!(p.relief_below + p.relief_above > 0.0)) return false;
+    // The ray's s range in the slab, then in the square's x and y slabs.
+    double lo = (p.relief_above - o.z) / d.z, hi = (-p.relief_below - o.z) / d.z;
+    for (int axis = 0; axis < 2; ++axis) {
+        if (d[axis] == 0.0) {
+            if (std::fabs(o[axis]) > p.half_size) return false;
+            continue;
+        }
+        const double a = (-p.half_size - o[axis]) / d[axis], b = (p.half_size - o[axis]) / d[axis];
+        lo = std::max(lo, std::min(a, b));
+        hi = std::min(hi, std::max(a, b));
+    }
+    return lo <= hi && hi >= 0.0;
+}
+
 // Where the ray meets the front of plane p within its extent, s in [0, 1].
 bool meet_plane(const PlaneData& p, const PixelRay& r, double& s, glm::dvec2& mesh_uv) {
     const glm::dvec3 o = glm::dvec3(p.inverse_model * glm::dvec4(r.origin, 1.0));
@@ -169,7 +197,7 @@ bool meet_plane(const PlaneData& p, const PixelRay& r, double& s, glm::dvec2& me
     s = -o.z / d.z;
     if (s < 0.0 || s > 1.0) return false;
     const glm::dvec3 q = o + s * d;
-    if (std::fabs(q.x) > p.drawn_half_size || std::fabs(q.y) > p.drawn_half_size) return false;
+    if (!drawn_at(p, o, d, q)) return false;
     mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
     return true;
 }
@@ -426,7 +454,7 @@ void render_pixel(const Frame& f, int x, int y, const PixelOut& out, std::vector
                 const double s = -o.z / d.z;
                 if (s < 0.0 || s > 1.0 || !(s < nearest_s)) continue;  // strict: the first drawn wins ties (GL_LESS)
                 const glm::dvec3 q = o + s * d;
-                if (std::fabs(q.x) > p.drawn_half_size || std::fabs(q.y) > p.drawn_half_size) continue;
+                if (!drawn_at(p, o, d, q)) continue;
                 shown = &p;
                 nearest_s = s;
                 mesh_uv = glm::dvec2(q.x, q.y) / (2.0 * p.half_size) + 0.5;
@@ -551,6 +579,16 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         p.object = static_cast<int>(f.planes.size());
         p.half_size = 0.5 * static_cast<double>(o.mesh.size);
         p.drawn_half_size = p.half_size * drawn_length_scale(o.mesh, scene.materials[mi]);  // as build_widened_mesh
+        if (scene.materials[mi].bounded && scene.materials[mi].height_scale > 0.0f) {
+            // The relief's depth in mesh units, as the walls' (relief_depth in the renderer).
+            const double depth = static_cast<double>(scene.materials[mi].height_scale) *
+                                 static_cast<double>(o.mesh.size) / scene.materials[mi].uv.area_scale<double>();
+            const double polygon = scene.materials[mi].polygon_height();
+            if (std::isfinite(depth) && std::isfinite(polygon)) {
+                p.relief_below = std::max(polygon, 0.0) * depth;
+                p.relief_above = std::max(1.0 - polygon, 0.0) * depth;
+            }
+        }
         p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
         p.inverse_model = glm::inverse(p.model);
         const glm::dmat3 model3(p.model);
