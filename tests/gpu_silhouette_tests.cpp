@@ -714,5 +714,31 @@ TEST(Silhouettes, AReliefThroughTheAxisDrawsTheSmoothOutline) {
     }
 }
 
+// A tube with a silhouette but no bounds is drawn as a window into a
+// longer tube: its open ends keep the smooth rim's outline (108 to 233 % of
+// the contour against the displaced tube where they are in view, 0.4 to
+// 0.7 % bounded; docs/silhouettes.md), and the plan says so, named or
+// planned.
+TEST(Silhouettes, AnUnboundedTubeSaysItsEndsAreOpen) {
+    for (bool bounded : {false, true}) {
+        SCOPED_TRACE(bounded ? "bounded" : "not bounded");
+        SceneDesc s = curved_scene(MeshKind::cylinder, 60.0, Technique::pom, true);
+        s.materials[0].bounded = bounded;
+        auto renderer = Renderer::create();
+        ASSERT_TRUE(renderer.ok());
+        ASSERT_TRUE((*renderer)->load(s).ok());
+        auto plans = (*renderer)->plan_view(s.camera, kSize, kSize);
+        ASSERT_TRUE(plans.ok()) << plans.error().message;
+        EXPECT_TRUE(plans->at(0).key.curved) << plans->at(0).key.describe();
+        EXPECT_EQ(notes_of(plans->at(0)).find("open ends") != std::string::npos, !bounded) << notes_of(plans->at(0));
+        s.materials[0].effects.emplace().max_error_texels = 4.0f;
+        Result<std::unique_ptr<ScenePlanner>> planner = one_material_planner(s);
+        ASSERT_TRUE(planner.ok()) << planner.error().message;
+        auto plan = (*planner)->plan(s.camera, kSize, kSize);
+        ASSERT_TRUE(plan.ok()) << plan.error().message;
+        EXPECT_EQ(notes_of(plan->at(0)).find("open ends") != std::string::npos, !bounded) << notes_of(plan->at(0));
+    }
+}
+
 }  // namespace
 }  // namespace px::test

@@ -1033,6 +1033,9 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
                                   "rays that pass the relief are discarded"
                             : std::string("silhouette not drawn: ") + technique_name(p->key.technique) +
                                   " has no search to follow the bend");
+            if (p->key.curved)
+                if (std::optional<std::string> open = open_tube_ends_note(object.mesh, m.scene.materials[mi]))
+                    p->notes.push_back(*open);
         }
         if (mi < m.reliefs.size()) p->key = p->key.with_layout(m.reliefs[mi].layout);
         if (mi < m.scene.materials.size() && m.scene.materials[mi].bounded &&

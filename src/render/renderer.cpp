@@ -1017,6 +1017,9 @@ Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const
         if (material.desc->silhouette && !object.desc->mesh.displaced)
             if (std::optional<double> below = relief_folds_through(object.desc->mesh, *material.desc, units_per_uv))
                 plan.notes.push_back(silhouette_folds_note(object.desc->mesh, *below));
+        if (plan.key.curved)
+            if (std::optional<std::string> open = open_tube_ends_note(object.desc->mesh, *material.desc))
+                plan.notes.push_back(*open);
         plans.push_back(std::move(plan));
     }
     counters::count(counters::Step::object_plan, plans.size());

@@ -274,6 +274,13 @@ std::string silhouette_folds_note(const MeshDesc& d, double below) {
            fixed_text(d.kind == MeshKind::torus ? d.tube_radius : d.radius, 3) + " units deep, keeps the silhouette)";
 }
 
+std::optional<std::string> open_tube_ends_note(const MeshDesc& d, const MaterialDesc& m) {
+    if (d.kind != MeshKind::cylinder || !m.silhouette || m.bounded || d.displaced || !(m.height_scale > 0.0f))
+        return std::nullopt;
+    return std::string("open ends: the tube is not bounded, so its relief runs on past the rims and the ends keep the "
+                       "smooth rim's outline (\"bounded\": true traces them)");
+}
+
 double bounded_margin(const MaterialDesc& m) {
     if (!m.bounded || !(m.height_scale > 0.0f)) return 0.0;
     const double area_scale = m.uv.area_scale<double>();

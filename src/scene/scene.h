@@ -156,6 +156,10 @@ std::optional<double> relief_folds_through(const MeshDesc& d, const MaterialDesc
 // The plan's note for it: "silhouette off: the relief reaches 0.46 units
 // below the polygon, through the torus's tube (radius 0.4) ...".
 std::string silhouette_folds_note(const MeshDesc& d, double below);
+// A cylinder drawn with a silhouette but not bounded: its relief runs on
+// past the rims, so its open ends keep the smooth rim's outline. The
+// plan's note saying so, else nothing.
+std::optional<std::string> open_tube_ends_note(const MeshDesc& d, const MaterialDesc& m);
 
 struct TransformDesc {
     glm::vec3 translate{0.0f};
