@@ -664,6 +664,30 @@ TEST(Silhouettes, ThePlannerDrawsCurvedSilhouettesWhereTheContourIsOnScreen) {
 namespace px::test {
 namespace {
 
+// The first object's plan for `scene` at its camera: as the renderer draws
+// a material that names its technique, and (`planned`) as the planner
+// chooses for the same material asking for effects instead.
+ObjectPlan named_plan(const SceneDesc& scene) {
+    auto renderer = Renderer::create();
+    EXPECT_TRUE(renderer.ok());
+    if (!renderer.ok()) return {};
+    Status loaded = (*renderer)->load(scene);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().message;
+    auto plans = loaded.ok() ? (*renderer)->plan_view(scene.camera, kSize, kSize)
+                             : Result<std::vector<ObjectPlan>>(loaded.error());
+    EXPECT_TRUE(plans.ok() && !plans->empty());
+    return plans.ok() && !plans->empty() ? plans->at(0) : ObjectPlan{};
+}
+ObjectPlan planned_plan(SceneDesc scene) {
+    scene.materials[0].effects.emplace().max_error_texels = 4.0f;
+    Result<std::unique_ptr<ScenePlanner>> planner = one_material_planner(scene);
+    EXPECT_TRUE(planner.ok()) << planner.error().message;
+    if (!planner.ok()) return {};
+    auto plan = (*planner)->plan(scene.camera, kSize, kSize);
+    EXPECT_TRUE(plan.ok() && !plan->empty());
+    return plan.ok() && !plan->empty() ? plan->at(0) : ObjectPlan{};
+}
+
 // A relief as deep below the polygon as the shape's smallest radius (a
 // torus's tube, a sphere's centre) has no outline to trace: displaced, the
 // surface folds through the axis (relief_folds_through). The curved search
@@ -677,16 +701,11 @@ TEST(Silhouettes, AReliefThroughTheAxisDrawsTheSmoothOutline) {
         SceneDesc deep = curved_scene(kind, 30.0, Technique::pom, true);
         deep.materials[0].height_scale = kind == MeshKind::torus ? 0.5f : 2.0f;
         ASSERT_TRUE(validate_scene(deep).ok());
-        auto renderer = Renderer::create();
-        ASSERT_TRUE(renderer.ok());
-        ASSERT_TRUE((*renderer)->load(deep).ok());
-        auto plans = (*renderer)->plan_view(deep.camera, kSize, kSize);
-        ASSERT_TRUE(plans.ok()) << plans.error().message;
-        EXPECT_FALSE(plans->at(0).key.curved) << plans->at(0).key.describe();
-        const std::string notes = notes_of(plans->at(0));
-        EXPECT_NE(notes.find(kind == MeshKind::torus ? "through the torus's tube" : "through the sphere's centre"),
+        const ObjectPlan named = named_plan(deep);
+        EXPECT_FALSE(named.key.curved) << named.key.describe();
+        EXPECT_NE(notes_of(named).find(kind == MeshKind::torus ? "through the torus's tube" : "through the sphere's centre"),
                   std::string::npos)
-            << notes;
+            << notes_of(named);
         SceneDesc smooth = deep;
         smooth.materials[0].silhouette = false;
         const reference::ContourError e = contour(surfaces_of(deep), surfaces_of(smooth));
@@ -694,23 +713,15 @@ TEST(Silhouettes, AReliefThroughTheAxisDrawsTheSmoothOutline) {
         EXPECT_EQ(e.mismatched, 0);
 
         // Planned: the same decision, said the same way.
-        SceneDesc planned = deep;
-        planned.materials[0].effects.emplace().max_error_texels = 4.0f;
-        Result<std::unique_ptr<ScenePlanner>> planner = one_material_planner(planned);
-        ASSERT_TRUE(planner.ok()) << planner.error().message;
-        auto plan = (*planner)->plan(planned.camera, kSize, kSize);
-        ASSERT_TRUE(plan.ok()) << plan.error().message;
-        EXPECT_FALSE(plan->at(0).key.curved) << plan->at(0).key.describe();
-        EXPECT_NE(notes_of(plan->at(0)).find("silhouette off: the relief reaches"), std::string::npos)
-            << notes_of(plan->at(0));
+        const ObjectPlan planned = planned_plan(deep);
+        EXPECT_FALSE(planned.key.curved) << planned.key.describe();
+        EXPECT_NE(notes_of(planned).find("silhouette off: the relief reaches"), std::string::npos) << notes_of(planned);
 
         // Shallower than the radius, the silhouette is drawn.
         SceneDesc shallow = deep;
         shallow.materials[0].height_scale = kind == MeshKind::torus ? 0.2f : 0.4f;
-        ASSERT_TRUE((*renderer)->load(shallow).ok());
-        auto kept = (*renderer)->plan_view(shallow.camera, kSize, kSize);
-        ASSERT_TRUE(kept.ok()) << kept.error().message;
-        EXPECT_TRUE(kept->at(0).key.curved) << kept->at(0).key.describe();
+        EXPECT_TRUE(named_plan(shallow).key.curved);
+        EXPECT_TRUE(planned_plan(shallow).key.curved);
     }
 }
 
@@ -724,19 +735,11 @@ TEST(Silhouettes, AnUnboundedTubeSaysItsEndsAreOpen) {
         SCOPED_TRACE(bounded ? "bounded" : "not bounded");
         SceneDesc s = curved_scene(MeshKind::cylinder, 60.0, Technique::pom, true);
         s.materials[0].bounded = bounded;
-        auto renderer = Renderer::create();
-        ASSERT_TRUE(renderer.ok());
-        ASSERT_TRUE((*renderer)->load(s).ok());
-        auto plans = (*renderer)->plan_view(s.camera, kSize, kSize);
-        ASSERT_TRUE(plans.ok()) << plans.error().message;
-        EXPECT_TRUE(plans->at(0).key.curved) << plans->at(0).key.describe();
-        EXPECT_EQ(notes_of(plans->at(0)).find("open ends") != std::string::npos, !bounded) << notes_of(plans->at(0));
-        s.materials[0].effects.emplace().max_error_texels = 4.0f;
-        Result<std::unique_ptr<ScenePlanner>> planner = one_material_planner(s);
-        ASSERT_TRUE(planner.ok()) << planner.error().message;
-        auto plan = (*planner)->plan(s.camera, kSize, kSize);
-        ASSERT_TRUE(plan.ok()) << plan.error().message;
-        EXPECT_EQ(notes_of(plan->at(0)).find("open ends") != std::string::npos, !bounded) << notes_of(plan->at(0));
+        const ObjectPlan named = named_plan(s);
+        EXPECT_TRUE(named.key.curved) << named.key.describe();
+        EXPECT_EQ(notes_of(named).find("open ends") != std::string::npos, !bounded) << notes_of(named);
+        const ObjectPlan planned = planned_plan(s);
+        EXPECT_EQ(notes_of(planned).find("open ends") != std::string::npos, !bounded) << notes_of(planned);
     }
 }
 
