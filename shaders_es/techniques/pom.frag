@@ -26,6 +26,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
 #else
     hit.height = mix(m.ray_above, m.ray_below, t);
     hit.uv = uv + (hit.height - u_polygon_height) * parallax;
+    if (m.ray_below == m.ray_above) hit.uv = px_search_start_uv(uv, parallax);  // hit where it starts
 #endif
     return hit;
 }

@@ -44,6 +44,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     PxHit hit;
     hit.height = below;
     hit.uv = uv + (below - u_polygon_height) * parallax;
+    if (m.ray_below == m.ray_above) hit.uv = px_search_start_uv(uv, parallax);  // hit where it starts
     return hit;
 #endif
 }

@@ -24,6 +24,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     // moves that f2f16 up through the loop's phis, so m.uv_below came back in
     // fp16 (0.5-tile steps at uv 1000: the relief gone).
     hit.uv = uv + (hit.height - u_polygon_height) * parallax;
+    if (m.ray_below == m.ray_above) hit.uv = px_search_start_uv(uv, parallax);  // hit where it starts
     return hit;
 #endif
 }
