@@ -1050,10 +1050,13 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
                                  std::max(1e-12, mat.uv.area_scale<double>());
             p->key.bounded = o.mesh.kind != MeshKind::plane ||
                              bounded_outline_on_screen(model, o.mesh.size, depth, frame.view, frame.projection);
-            p->notes.push_back(p->key.bounded
+            p->notes.push_back(!p->key.bounded
+                                   ? "bounded, silhouette off: every ray on screen stays inside the tile's bounds, so "
+                                     "nothing is discarded"
+                               : o.mesh.kind == MeshKind::plane
                                    ? "bounded: the tile's outline can be on screen; rays that leave its bounds are discarded"
-                                   : "bounded, silhouette off: every ray on screen stays inside the tile's bounds, so "
-                                     "nothing is discarded");
+                                   : "bounded: the relief ends at the mesh's uv edges (a tube's rims); rays that leave "
+                                     "its bounds are discarded");
         }
         plans.push_back(std::move(*p));
     }
