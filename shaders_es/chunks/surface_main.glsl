@@ -47,7 +47,7 @@ uniform PX_HIGHP vec2 u_bounds_offset;
 // and meets a brick's face there hits exactly on the edge, where the
 // rounding of its uv (the wall's interpolated height, a rotated or scaled
 // uv transform's products) put every other pixel outside: a speckled band
-// of discarded pixels along the near edge, 32 to 160 % of the contour
+// of discarded pixels along the near edge, 32 to 191 % of the contour
 // (2026-12-05). 2^-14 of the tile: 0.03 texel of a 256-texel map at uv
 // scale 2.
 #define PX_TILE_SLACK (1.0 / 16384.0)
