@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "parallaxes/profiling/measurement/bench.h"
+#include "parallaxes/profiling/measurement/stability.h"
 #include "parallaxes/profiling/measurement/work.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
@@ -727,6 +728,44 @@ TEST(ExactTracing, TheWalkIsExactOnTheRayItIsHanded) {
         ASSERT_TRUE(misread.ok());
         EXPECT_GT(reference::nearest_rank_p95(*misread), 1.0) << scene_name;
     }
+}
+
+// The stability catalogue holds the exact tracer to its bound on the rays it
+// was handed, where they read back (StabilityRow::own_error_mean): a GPU's
+// rasteriser hands it inputs further off the camera's ray than the bound's
+// fp32 terms allow (docs/exact_tracing.md). The other techniques, and
+// maxmip without a float read-back, stay judged on the camera's rays.
+TEST(ExactTracing, TheStabilityCatalogueJudgesTheWalkOnItsOwnRays) {
+    if (test_es_major() < 3) GTEST_SKIP() << "ES 2.0 has no float read-back for the captured rays";
+    auto catalogue = profiling::parse_catalogue(profiling::embedded_catalogue_text(), "catalogue");
+    ASSERT_TRUE(catalogue.ok()) << catalogue.error().message;
+    profiling::StabilityOptions options;
+    options.cases_pattern = "grazing_text";
+    options.image_size = 128;
+    options.renderer_options = [](const std::string& precision, int) -> Result<RendererOptions> {
+        if (precision != "native") return make_error("native only here");
+        RendererOptions o;
+        o.get_proc_address = platform::HeadlessContext::proc_loader();
+        o.effect_planner = effect_planner;
+        return o;
+    };
+    auto rows = profiling::run_stability(*catalogue, options, nullptr);
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    bool saw_maxmip = false;
+    for (const profiling::StabilityRow& r : *rows) {
+        if (r.technique != "maxmip") {
+            EXPECT_LT(r.own_error_mean, 0.0) << r.technique;
+            continue;
+        }
+        saw_maxmip = true;
+        ASSERT_GT(r.pixels, 300);
+        ASSERT_GE(r.own_error_mean, 0.0);
+        // Its own rays' traces are closer to its hits than the camera's are.
+        EXPECT_LT(r.own_error_mean, 0.5 * r.error_mean);
+        EXPECT_LT(r.own_error_max, 2e-3);
+        EXPECT_EQ(r.verdict, "pass") << r.reasons;
+    }
+    EXPECT_TRUE(saw_maxmip);
 }
 
 }  // namespace

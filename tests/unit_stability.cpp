@@ -158,6 +158,46 @@ TEST(StabilityJudge, VerdictsFollowTheBounds) {
     EXPECT_EQ(empty.verdict, "n/a");
 }
 
+
+// The exact tracer where its rays were read back: judged on them, the
+// camera-ray figures shown, and a camera-ray miss named as the inputs'.
+TEST(StabilityJudge, TheExactTracerIsJudgedOnTheRaysItWasHanded) {
+    CatalogueBounds bounds;
+    StabilityCase c;
+    // As a GPU measured it (docs/exact_tracing.md: `far` on an H200): the
+    // camera's rays 17.5 % past the bound, the walk exact on its own.
+    StabilityRow gpu = measured();
+    gpu.technique = "maxmip";
+    gpu.error_bound_mean = gpu.nominal_bound_mean = 0.05;
+    gpu.error_mean = 0.038;
+    gpu.error_violations = gpu.nominal_violations = 0.175;
+    gpu.own_error_mean = 5e-6;
+    gpu.own_error_max = 1e-5;
+    judge(gpu, bounds, c);
+    EXPECT_EQ(gpu.verdict, "pass") << gpu.reasons;
+    EXPECT_TRUE(contains(gpu.reasons, "judged on its own rays")) << gpu.reasons;
+    EXPECT_TRUE(contains(gpu.reasons, "17.5 % past: the rasteriser's inputs")) << gpu.reasons;
+
+    // Past the bound on its own rays: the walk's own error, a failure
+    // however good the camera-ray figures look.
+    StabilityRow wrong = measured();
+    wrong.technique = "maxmip";
+    wrong.error_bound_mean = wrong.nominal_bound_mean = 0.05;
+    wrong.error_mean = 0.01;
+    wrong.own_error_mean = 0.2;
+    wrong.own_violations = wrong.own_nominal_violations = 0.6;
+    judge(wrong, bounds, c);
+    EXPECT_EQ(wrong.verdict, "fail");
+    EXPECT_TRUE(contains(wrong.reasons, "mean error on its own rays 0.2 past its bound")) << wrong.reasons;
+    EXPECT_TRUE(contains(wrong.reasons, "60 % of pixels past their error bound on its own rays")) << wrong.reasons;
+
+    // Both within: no note.
+    StabilityRow quiet = measured();
+    quiet.own_error_mean = 0.01;
+    judge(quiet, bounds, c);
+    EXPECT_EQ(quiet.verdict, "pass");
+    EXPECT_TRUE(quiet.reasons.empty()) << quiet.reasons;
+}
 TEST(StabilityCatalogue, CasePatterns) {
     EXPECT_TRUE(glob_match("grazing", "sweep_grazing"));
     EXPECT_TRUE(glob_match("grazing*", "grazing_bricks"));

@@ -319,6 +319,10 @@ struct Accumulator {
     long non_finite = 0;
     double error_sum = 0.0, error_max = 0.0, bound_sum = 0.0, nominal_sum = 0.0;
     long error_violations = 0, nominal_violations = 0;
+    // On the rays the pixels were handed (measure_frame's `own`), where read back.
+    long own_pixels = 0;
+    double own_sum = 0.0, own_max = 0.0;
+    long own_violations = 0, own_nominal_violations = 0;
     double offset_ratio_max = 0.0;
     long offset_violations = 0;
     double dark_max = -1.0;
@@ -351,10 +355,17 @@ double error_bound(BoundKind kind, const PixelTerms& t, double polygon_height, i
     return b + rounding_ray + rounding_uv + slack;
 }
 
+// The rays a frame's pixels were handed (RendererOptions::capture_ray) and
+// the field the technique traced: for the exact tracer, judged on them.
+struct OwnRays {
+    const SurfaceImage* rays = nullptr;
+    const HeightField* field = nullptr;
+};
+
 void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const reference::ReferenceImage& ref,
                    const std::vector<SearchBound>& search, const TechniqueBounds& tb, const StabilityCase& c,
                    const CatalogueBounds& bounds, Accumulator& acc, bool lod, std::vector<double>* per_pixel_bound,
-                   const std::string& precision) {
+                   const std::string& precision, const OwnRays& own) {
     const int tw = ref.texture_width, th = ref.texture_height;
     const double s = ref.height_scale, p = ref.polygon_height;
     const BoundKind error_kind = lod ? BoundKind::parallax : tb.error;  // past the LOD threshold: normal mapping
@@ -382,6 +393,26 @@ void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const ref
         acc.nominal_sum += nominal;
         if (error > bound) ++acc.error_violations;
         if (error > nominal) ++acc.nominal_violations;
+        if (own.rays) {
+            // The exact trace of this pixel's own fp32 ray, against the same
+            // bound (its terms are the camera ray's: the two differ by far
+            // less than they change). A pixel the capture misses counts as
+            // its camera-ray error.
+            double own_error = error;
+            const SurfaceSample& ray = own.rays->samples[i];
+            if (ray.covered && std::isfinite(ray.uv.x) && std::isfinite(ray.uv.y) && std::isfinite(ray.height) &&
+                std::isfinite(ray.visibility)) {
+                // height and visibility carry the parallax vector (uv per unit of height).
+                const reference::ReliefHit exact = reference::trace_view(
+                    *own.field, ray.uv, glm::dvec3(ray.height, ray.visibility, 1.0), 1.0, ref.polygon_height);
+                own_error = glm::length(wrapped_texels(g.uv - exact.uv, tw, th));
+            }
+            ++acc.own_pixels;
+            acc.own_sum += own_error;
+            acc.own_max = std::max(acc.own_max, own_error);
+            if (own_error > bound) ++acc.own_violations;
+            if (own_error > nominal) ++acc.own_nominal_violations;
+        }
         if (entry && entry->samples[i].covered && finite(entry->samples[i])) {
             const double offset = glm::length(wrapped_texels(g.uv - entry->samples[i].uv, tw, th));
             const double ob = bound_value(tb.offset, terms, p, true, c.samples, c.refine_steps);
@@ -508,6 +539,8 @@ struct CaseReferences {
     std::vector<std::optional<reference::ReferenceImage>> resampled_refs;
     std::vector<std::vector<SearchBound>> resampled_searches;
     std::string resampled_note;
+    // The fields the references trace (the same for every frame).
+    HeightField field, resampled_field;
 
     Result<reference::ReferenceImage> trace(const std::string& technique, size_t fi, std::vector<SearchBound>& search,
                                             std::string* note) {
@@ -528,6 +561,7 @@ struct CaseReferences {
             return with_context("case '" + c.name + "' reference" + (note ? " of the resampled height" : ""), ref.error());
         search = search_bounds(*ref, images->traced, c.samples);
         filtered_bounds(*ref, images->traced, search);
+        (note ? resampled_field : field) = images->traced;
         return ref;
     }
 
@@ -565,6 +599,13 @@ struct CaseReferences {
         ref = &*resampled_refs[fi];
         search = &resampled_searches[fi];
         return {};
+    }
+
+    // The field behind `ref` (reference_for's).
+    const HeightField& field_of(const reference::ReferenceImage* ref) const {
+        for (const auto& r : resampled_refs)
+            if (r && &*r == ref) return resampled_field;
+        return field;
     }
 };
 
@@ -624,6 +665,12 @@ void fill_row(StabilityRow& row, const Accumulator& acc) {
     row.offset_ratio_max = acc.offset_ratio_max;
     row.offset_violations = acc.offset_violations;
     row.dark_max = acc.dark_max;
+    if (acc.own_pixels > 0 && acc.own_pixels == acc.pixels) {
+        row.own_error_mean = mean(acc.own_sum);
+        row.own_error_max = acc.own_max;
+        row.own_violations = share(acc.own_violations);
+        row.own_nominal_violations = share(acc.own_nominal_violations);
+    }
 }
 
 // Everything one technique's row needs besides the case.
@@ -635,6 +682,7 @@ struct RowJob {
     Renderer& renderer;
     const Run& run;
     std::vector<SurfaceImage>& entries;  // the normal-mapping pass per frame: each pixel's own uv
+    Renderer* ray_renderer;              // capture_ray, where the context reads floats back; else null
     const std::function<void(const std::string&)>& tick;
 };
 
@@ -685,9 +733,24 @@ Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
         if (!own) return own.error();
         if (ref != &job.cr.refs[fi] && drawn_note.empty())
             drawn_note = "against the reference of its own resampled height: " + job.cr.resampled_note;
+        // The exact tracer is judged on the rays it was handed (StabilityRow::own_error_mean).
+        const TechniqueBounds& tb = job.catalogue.bounds.techniques.at(drawn_name);
+        std::optional<SurfaceImage> rays;
+        if (job.ray_renderer && tb.error == BoundKind::exact && !c.lod) {
+            Result<SceneDesc> scene = stability_scene(c, drawn_name, f.angle, f.distance, job.cr.height_image);
+            if (!scene) return scene.error();
+            Status loaded = job.ray_renderer->load(*scene);
+            if (!loaded) return with_context("case '" + job.w.label + "' " + drawn_name + " (capturing rays)", loaded.error());
+            Result<SurfaceImage> captured = capture_surfaces(*job.ray_renderer, size, size);
+            if (!captured) return with_context("case '" + job.w.label + "' " + drawn_name + " (capturing rays)", captured.error());
+            if (captured->samples.size() != gpu->samples.size())
+                return make_error("case '" + job.w.label + "': the captured rays and the hits differ in size");
+            rays = std::move(*captured);
+        }
+        const OwnRays own_rays{rays ? &*rays : nullptr, &job.cr.field_of(ref)};
         frame_bounds.emplace_back(gpu->samples.size(), 0.0);
-        measure_frame(*gpu, &job.entries[fi], *ref, *search, job.catalogue.bounds.techniques.at(drawn_name), c,
-                      job.catalogue.bounds, acc, c.lod, &frame_bounds.back(), job.run.precision);
+        measure_frame(*gpu, &job.entries[fi], *ref, *search, tb, c, job.catalogue.bounds, acc, c.lod,
+                      &frame_bounds.back(), job.run.precision, own_rays);
         if (!job.options.image_dir.empty()) {
             Status written = write_error_image(job.options.image_dir + "/" + job.w.label + "_" + t.name + "_" +
                                                    row.context + "_" + job.run.precision + "_" + std::to_string(fi) + ".png",
@@ -728,8 +791,8 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
     };
 
     std::map<std::string, std::unique_ptr<Renderer>> renderers;  // per run: programs stay cached
-    auto renderer_for = [&](const Run& run) -> Result<Renderer*> {
-        const std::string key = run.precision + "/" + std::to_string(run.variant_es);
+    auto renderer_for = [&](const Run& run, bool capture_ray) -> Result<Renderer*> {
+        const std::string key = run.precision + "/" + std::to_string(run.variant_es) + (capture_ray ? "/rays" : "");
         auto it = renderers.find(key);
         if (it != renderers.end()) return it->second.get();
         RendererOptions ro;
@@ -742,6 +805,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
         } else if (run.precision != "native") {
             return make_error("stability: no shader transform for precision '" + run.precision + "'");
         }
+        ro.capture_ray = capture_ray;
         Result<std::unique_ptr<Renderer>> r = Renderer::create(ro);
         if (!r) return r.error();
         Renderer* raw = r->get();
@@ -755,10 +819,18 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
         Status made = cr.make(w, options);
         if (!made) return made.error();
         for (const Run& run : *runs) {
-            Result<Renderer*> renderer = renderer_for(run);
+            Result<Renderer*> renderer = renderer_for(run, false);
             if (!renderer) return renderer.error();
+            // Rays read back only as the shaders ship (an emulated profile's
+            // rewritten variant has no capture) and where floats come back.
+            Renderer* rays = nullptr;
+            if (run.precision == "native" && run.variant_es >= 3 && captures_floats((*renderer)->caps())) {
+                Result<Renderer*> r = renderer_for(run, true);
+                if (!r) return r.error();
+                rays = *r;
+            }
             std::vector<SurfaceImage> entries(w.frames.size());
-            RowJob job{catalogue, options, w, cr, **renderer, run, entries, tick};
+            RowJob job{catalogue, options, w, cr, **renderer, run, entries, rays, tick};
             for (const TechniqueInfo* t : techniques_of(*w.c)) {
                 if (t->min_es_major > run.variant_es) continue;
                 Result<StabilityRow> row = stability_row(job, *t);

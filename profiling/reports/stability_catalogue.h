@@ -115,6 +115,18 @@ struct StabilityRow {
     double continuity_violations = 0.0;        // share of compared pixels past their continuity bound
     long crest_flips = 0;                      // sweep pixels left out: the reference itself jumps there
     double dark_max = -1.0;                    // expect_dark: max visibility seen; -1: not asked
+    // The exact tracer where the context reads floats back (ES 3.0, native):
+    // its hit error against the exact trace of the ray each pixel was handed
+    // (the fragment's fp32 uv and parallax vector, read back), judged in
+    // place of the camera-ray figures above, which stay what is shown. The
+    // bound's fp32 terms assume the rasteriser's inputs are a few ulps off
+    // the camera's exact ray; a GPU's are further off (a fraction of a
+    // pixel's footprint), and a ray running along a ridge turns that into
+    // texels of hit (docs/exact_tracing.md). The walk's promise is about the
+    // ray it is handed. own_error_mean -1: not measured, judged on the
+    // camera's rays.
+    double own_error_mean = -1.0, own_error_max = 0.0;
+    double own_violations = 0.0, own_nominal_violations = 0.0;
     std::string verdict;                       // "pass", "fail", "limit" (a documented limit showed), "n/a"
     std::string reasons;                       // why it failed, or the limit
 };
