@@ -3,10 +3,14 @@
 
 #include "parallaxes/core/siphash.h"
 
+#include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -114,6 +118,52 @@ TEST_F(OutputFile, ReplacesASymlinkInsteadOfWritingThroughIt) {
     EXPECT_EQ(read(victim), "precious");
     EXPECT_FALSE(fs::is_symlink(out));
     EXPECT_EQ(read(out), "image");
+}
+
+// `-o /dev/null`, `-o /dev/stdout`, a named pipe: streams are written
+// into, never renamed over (as root that put a regular file where
+// /dev/null was, 2026-12-05). Through a link here, so that a regression
+// replaces the link, not the system's /dev/null.
+TEST_F(OutputFile, WritesIntoDevicesAndPipesInsteadOfReplacingThem) {
+    const fs::path null_link = dir_ / "discard.png";
+    fs::create_symlink("/dev/null", null_link);
+    ASSERT_TRUE(write_file_atomically(null_link.string(), std::string("image")).ok());
+    EXPECT_TRUE(fs::is_symlink(null_link)) << "the link to /dev/null was replaced";
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+    EXPECT_EQ(entries(), 1) << "a temporary file was left behind";
+
+    // A named pipe with a reader gets the bytes; it stays a pipe.
+    const fs::path fifo = dir_ / "pipe";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+    ASSERT_GE(reader, 0);
+    ASSERT_TRUE(write_file_atomically(fifo.string(), std::string("through the pipe")).ok());
+    char got[64] = {};
+    EXPECT_EQ(::read(reader, got, sizeof got), 16);
+    EXPECT_EQ(std::string(got), "through the pipe");
+    ::close(reader);
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    // Without a reader: refused at once (no wait), still a pipe.
+    Status lonely = write_file_atomically(fifo.string(), std::string("x"));
+    ASSERT_FALSE(lonely.ok());
+    EXPECT_NE(lonely.error().message.find("no reader"), std::string::npos) << lonely.error().message;
+    EXPECT_TRUE(fs::is_fifo(fifo));
+
+    // A socket is not an output file, nor replaced by one.
+    const fs::path sock = dir_ / "sock";
+    const int sd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    ASSERT_GE(sd, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    ASSERT_LT(sock.string().size(), sizeof addr.sun_path);
+    std::strcpy(addr.sun_path, sock.c_str());
+    ASSERT_EQ(::bind(sd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    Status socket_out = write_file_atomically(sock.string(), std::string("x"));
+    ::close(sd);
+    ASSERT_FALSE(socket_out.ok());
+    EXPECT_NE(socket_out.error().message.find("socket"), std::string::npos) << socket_out.error().message;
+    EXPECT_TRUE(fs::is_socket(sock));
+    EXPECT_EQ(entries(), 3);
 }
 
 // A write-protected file (no write bit for anyone) is refused, even for

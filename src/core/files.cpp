@@ -47,13 +47,64 @@ Status open_regular(const std::string& path, const std::string& name, const std:
     return {};
 }
 
+// Writes every byte to `fd`; 0 or the errno.
+int write_all(int fd, const void* bytes, std::size_t size) {
+    const char* p = static_cast<const char*>(bytes);
+    std::size_t left = size;
+    while (left > 0) {
+        const ssize_t n = ::write(fd, p, left);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return errno;
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    return 0;
+}
+
+// `-o /dev/null`, `-o /dev/stdout`, a named pipe: a character device or a
+// FIFO (directly, or where a symlink leads) is written into as it is, never
+// renamed over (which would put a regular file where /dev/null was). It is
+// opened without creating or following anything new and checked on the
+// open descriptor, so what is written to is what was checked. Not a stream
+// (a regular file, a missing name, a dangling link): false, and the caller
+// writes atomically. A FIFO without a reader is an error, not a wait.
+bool write_into_stream(const std::string& path, const void* bytes, std::size_t size, Status& result) {
+    struct stat target {};
+    if (::stat(path.c_str(), &target) != 0 || !(S_ISCHR(target.st_mode) || S_ISFIFO(target.st_mode))) return false;
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        const int err = errno;
+        result = make_error(path + ": cannot write: " +
+                            (err == ENXIO ? std::string("a named pipe with no reader") : reason(err)));
+        return true;
+    }
+    struct stat opened {};
+    int error = ::fstat(fd, &opened) == 0 ? 0 : errno;
+    if (error == 0 && !(S_ISCHR(opened.st_mode) || S_ISFIFO(opened.st_mode))) error = EINVAL;
+    if (error == 0) {
+        const int flags = ::fcntl(fd, F_GETFL);
+        if (flags >= 0) (void)::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+        error = write_all(fd, bytes, size);
+    }
+    if (::close(fd) != 0 && error == 0) error = errno;
+    result = error == 0 ? Status{} : make_error(path + ": cannot write: " + reason(error));
+    return true;
+}
+
 }  // namespace
 
 Status write_file_atomically(const std::string& path, const void* bytes, std::size_t size) {
     if (path.empty()) return make_error("cannot write a file with an empty path");
+    if (Status streamed; write_into_stream(path, bytes, size, streamed)) return streamed;
     struct stat existing {};
     if (::lstat(path.c_str(), &existing) == 0) {
         if (S_ISDIR(existing.st_mode)) return make_error(path + ": cannot write: it is a folder");
+        // A block device or a socket is not an output file, nor to be replaced by one.
+        if (S_ISBLK(existing.st_mode) || S_ISSOCK(existing.st_mode))
+            return make_error(path + ": cannot write: it is a " +
+                              (S_ISBLK(existing.st_mode) ? "block device" : "socket") + ", not a file");
         // No write bit for anyone counts as protected even for root, whom
         // access() would let through.
         if (S_ISREG(existing.st_mode) && ((existing.st_mode & 0222) == 0 || ::access(path.c_str(), W_OK) != 0))
@@ -76,18 +127,7 @@ Status write_file_atomically(const std::string& path, const void* bytes, std::si
         mode = 0666 & ~mask;
     }
     int error = ::fchmod(fd, mode) == 0 ? 0 : errno;
-    const char* p = static_cast<const char*>(bytes);
-    std::size_t left = size;
-    while (error == 0 && left > 0) {
-        const ssize_t n = ::write(fd, p, left);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            error = errno;
-            break;
-        }
-        p += n;
-        left -= static_cast<std::size_t>(n);
-    }
+    if (error == 0) error = write_all(fd, bytes, size);
     if (::close(fd) != 0 && error == 0) error = errno;  // a delayed write error (disk full) shows here
     if (error == 0 && std::rename(tmp.c_str(), path.c_str()) != 0) error = errno;
     if (error != 0) {

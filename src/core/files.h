@@ -3,7 +3,9 @@
 // exclusively beside the target (never one that exists, a planted symlink
 // included), which is then renamed over it. Readers never see a partial
 // file, and a failure leaves the previous file intact and removes the
-// temporary.
+// temporary. A character device or named pipe (`-o /dev/null`, `-o
+// /dev/stdout`, a FIFO), directly or where a link leads, is written into
+// as it is instead; a block device or socket is refused.
 #pragma once
 
 #include <cstddef>
