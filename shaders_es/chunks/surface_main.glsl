@@ -85,6 +85,34 @@ PX_HIGHP vec3 px_shading_vector(PX_HIGHP vec3 v) {
 #endif
 }
 
+#ifdef PX_SHADE_LOD_BIAS
+// GLSL ES 1.00 reads the shading textures with texture2D, whose mip level
+// comes from the derivatives of the uv it is given: at the hit, those jump
+// wherever the relief occludes itself (a brick's edge, a hemisphere's rim),
+// and the pixels there read a blurred mip (4.9 % of a hemispheres view more
+// than 8 levels off its GLSL ES 3.00 image, which reads with textureGrad at
+// the unshifted uv's gradients). This bias, added to that implicit level,
+// makes it the unshifted uv's: both levels as GL computes them, rho the
+// larger screen derivative in texels (the traced height's size standing for
+// every map's aspect). Texels / 64, so that fp16 squares (no fragment highp)
+// neither overflow below about 16,000 texels a pixel nor matter where they
+// underflow (magnified: the base level either way).
+mediump float px_shade_bias = 0.0;
+mediump float px_level_bias(PX_HIGHP vec2 uv, PX_HIGHP vec2 hit_uv) {
+    PX_HIGHP vec2 s = u_texture_size * (1.0 / 64.0);
+    PX_HIGHP vec2 ax = dFdx(uv) * s;
+    PX_HIGHP vec2 ay = dFdy(uv) * s;
+    PX_HIGHP vec2 bx = dFdx(hit_uv) * s;
+    PX_HIGHP vec2 by = dFdy(hit_uv) * s;
+    PX_HIGHP float a = clamp(max(dot(ax, ax), dot(ay, ay)), 1e-6, 65000.0);
+    PX_HIGHP float b = clamp(max(dot(bx, bx), dot(by, by)), 1e-6, 65000.0);
+    return clamp(0.5 * (log2(a) - log2(b)), -16.0, 16.0);
+}
+#define PX_SHADE_BIAS , px_shade_bias
+#else
+#define PX_SHADE_BIAS
+#endif
+
 mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 view_dir PX_TRACE_GRADIENTS) {
     // The two dependent reads issued back to back, before any arithmetic on
     // them (PowerVR whitepaper 3.2.1: one wait instead of two).
@@ -94,9 +122,9 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     mediump vec4 normal_texel = textureGrad(u_normal_map, PX_NORMAL_UV(uv), PX_NORMAL_D(uv_dx), PX_NORMAL_D(uv_dy));
 #endif
 #else
-    lowp vec4 albedo = texture2D(u_albedo_map, PX_ALBEDO_UV(uv));
+    lowp vec4 albedo = texture2D(u_albedo_map, PX_ALBEDO_UV(uv) PX_SHADE_BIAS);
 #ifdef PX_NORMAL_MAP
-    mediump vec4 normal_texel = texture2D(u_normal_map, PX_NORMAL_UV(uv));
+    mediump vec4 normal_texel = texture2D(u_normal_map, PX_NORMAL_UV(uv) PX_SHADE_BIAS);
 #endif
 #endif
 #if defined(PX_NORMAL_MAP) && defined(PX_NORMAL_RG)
@@ -234,9 +262,15 @@ void main() {
     // only, so its hit is there.)
     if (!px_on_tile(hit.uv)) discard;
 #endif
+#ifdef PX_SHADE_LOD_BIAS
+    px_shade_bias = px_level_bias(uv, hit.uv);  // here, in uniform control flow
+#endif
     mediump vec3 color = px_shade(hit.uv, hit.height, view_dir PX_TRACE_GRADIENT_ARGS);
 #if defined(PX_HAS_TRACE) && defined(PX_LOD)
     if (lod_blend > 0.0) {
+#ifdef PX_SHADE_LOD_BIAS
+        px_shade_bias = 0.0;  // the polygon's own uv
+#endif
         color = mix(color, px_shade(surface.uv, surface.height, view_dir PX_TRACE_GRADIENT_ARGS), lod_blend);
     }
 #endif

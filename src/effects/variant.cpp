@@ -56,6 +56,8 @@ VariantKey VariantKey::canonical() const {
         k.shape = 0;
         k.capture_ray = false;  // the ladder's shaders have no capture
     }
+    // Only GLSL ES 1.00 shading at a moved uv reads with texture2D's bias.
+    if (k.es_major >= 3 || !has_option(k.technique, kOptHeight) || k.ladder_step) k.no_derivatives = false;
     return k;
 }
 
@@ -84,6 +86,7 @@ std::uint64_t VariantKey::bits() const {
     b |= static_cast<std::uint64_t>(k.capture_ray) << 59;
     b |= static_cast<std::uint64_t>(k.curved) << 60;
     b |= static_cast<std::uint64_t>(k.shape & 0x3) << 61;  // 2 bits
+    b |= static_cast<std::uint64_t>(k.no_derivatives) << 63;
     return b;
 }
 
@@ -114,6 +117,7 @@ std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
     k.capture_ray = (b >> 59) & 1;
     k.curved = (b >> 60) & 1;
     k.shape = static_cast<std::uint8_t>((b >> 61) & 0x3);
+    k.no_derivatives = (b >> 63) & 1;
     if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
     return k;
 }
@@ -150,7 +154,13 @@ std::vector<ShaderDefine> VariantKey::defines() const {
     if (k.flip_v & kFlipAlbedo) d.push_back({"PX_FLIP_ALBEDO_V", ""});
     if (k.flip_v & kFlipNormal) d.push_back({"PX_FLIP_NORMAL_V", ""});
     if (k.flip_v & kFlipHeight) d.push_back({"PX_FLIP_HEIGHT_V", ""});
+    if (k.shade_lod_bias()) d.push_back({"PX_SHADE_LOD_BIAS", ""});
     return d;
+}
+
+bool VariantKey::shade_lod_bias() const {
+    const VariantKey k = canonical();
+    return k.es_major < 3 && has_option(k.technique, kOptHeight) && !k.ladder_step && !k.no_derivatives;
 }
 
 std::vector<std::string> VariantKey::extensions(ShaderStage stage) const {
@@ -158,7 +168,7 @@ std::vector<std::string> VariantKey::extensions(ShaderStage stage) const {
     std::vector<std::string> e;
     if (k.es_major >= 3 || stage != ShaderStage::fragment) return e;
     if (k.depth_write) e.push_back("GL_EXT_frag_depth");
-    if (k.lod) e.push_back("GL_OES_standard_derivatives");
+    if (k.lod || k.shade_lod_bias()) e.push_back("GL_OES_standard_derivatives");
     return e;
 }
 
@@ -186,6 +196,7 @@ std::string VariantKey::describe() const {
     if (k.flip_v & kFlipAlbedo) s << " flip-albedo";
     if (k.flip_v & kFlipNormal) s << " flip-normal";
     if (k.flip_v & kFlipHeight) s << " flip-height";
+    if (k.no_derivatives) s << " no-derivatives";
     return s.str();
 }
 
@@ -236,6 +247,7 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
         else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
         else if (word == "flip-normal") k.flip_v |= kFlipNormal;
         else if (word == "flip-height") k.flip_v |= kFlipHeight;
+        else if (word == "no-derivatives") k.no_derivatives = true;
         else if (word.rfind("ladder", 0) == 0 && number(word.substr(6), kLadderSteps, n) && n >= 1)
             k.ladder_step = static_cast<std::uint8_t>(n);
         else return make_error("variant '" + name + "': unknown word '" + word + "'");
@@ -356,6 +368,12 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
             if (es_major < 3) {
                 k.no_fragment_highp = true;
                 add(k);
+                // A context without GL_OES_standard_derivatives (no LOD there).
+                k.no_derivatives = true;
+                k.lod = false;
+                add(k);
+                k.no_derivatives = false;
+                k.lod = true;
                 k.bounded = false;
                 k.shape = kShapeTorus;
                 add(k);

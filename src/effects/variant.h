@@ -92,6 +92,15 @@ struct VariantKey {
     // files stored top row first, uploaded without decoding
     // (PX_FLIP_ALBEDO_V, PX_FLIP_NORMAL_V, PX_FLIP_HEIGHT_V).
     std::uint8_t flip_v = 0;
+    // GLSL ES 1.00 only: the context lacks GL_OES_standard_derivatives. With
+    // them (the default), a technique that moves the uv shades at the hit
+    // with the mip level of the unshifted uv: texture2D's implicit level
+    // comes from the hit uv's derivatives, which jump where the relief
+    // occludes itself (a brick's edge, a hemisphere's rim), so those pixels
+    // read a blurred mip (PX_SHADE_LOD_BIAS cancels the difference through
+    // texture2D's bias; GLSL ES 3.00 reads with textureGrad). Without them
+    // the implicit level stays (no-derivatives).
+    bool no_derivatives = false;
 
     // The same variant with every field the technique does not use zeroed,
     // so that equal programs have equal keys.
@@ -105,6 +114,8 @@ struct VariantKey {
 
     std::vector<ShaderDefine> defines() const;
     std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
+    // PX_SHADE_LOD_BIAS: GLSL ES 1.00, a uv-moving technique, derivatives (no_derivatives).
+    bool shade_lod_bias() const;
     std::string describe() const;  // "pom es3 samples<=32 shadow=softx16 depth exact-view packed"
     // The key a describe() string names (any variant, enumerated or not);
     // an error names the word it does not know.

@@ -144,6 +144,7 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
     k.technique = o.technique;
     k.es_major = static_cast<std::uint8_t>(caps.es_major);
     k.no_fragment_highp = caps.es_major < 3 && !caps.fragment_highp;
+    k.no_derivatives = !caps.derivatives();
 
     const TechniqueInfo& asked = technique_info(o.technique);
     const std::string why_not = why_technique_cannot_run(o.technique, caps, traced_width, traced_height);

@@ -1108,6 +1108,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     VariantKey& key = plan.key;
     key.es_major = static_cast<std::uint8_t>(caps.es_major);
     key.no_fragment_highp = caps.es_major < 3 && !caps.fragment_highp;
+    key.no_derivatives = !caps.derivatives();
     key.packed_height = material.pack_height_in_normal_alpha;
     key.technique = Technique::normal;
     TechniqueOptions& options = plan.options;

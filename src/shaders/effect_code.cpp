@@ -13,6 +13,8 @@ bool hard_shadows(const VariantKey& k) { return k.shadow == ShadowMode::hard; }
 bool soft_shadows(const VariantKey& k) { return k.shadow == ShadowMode::soft; }
 bool depth_write(const VariantKey& k) { return k.depth_write; }
 bool lod(const VariantKey& k) { return k.lod; }
+bool derivatives(const VariantKey& k) { return k.lod || k.shade_lod_bias(); }
+bool shade_lod_bias(const VariantKey& k) { return k.shade_lod_bias(); }
 bool reads_height(const VariantKey& k) { return has(k, kOptHeight); }
 bool normal_map(const VariantKey& k) { return has(k, kOptNormals); }
 bool separate_height(const VariantKey& k) { return has(k, kOptHeight) && (!k.packed_height || k.es_major < 3); }
@@ -72,8 +74,11 @@ const std::vector<EffectMarker> kMarkers = {
     {"lod", "u_lod_range", lod},
     // main()'s blend toward normal mapping.
     {"lod", "lod_blend", lod},
-    // The extension line of GLSL ES 1.00 LOD variants (dFdx, dFdy).
-    {"lod", "GL_OES_standard_derivatives", lod},
+    // The extension line of GLSL ES 1.00 LOD and shading-bias variants (dFdx, dFdy).
+    {"derivatives", "GL_OES_standard_derivatives", derivatives},
+    // surface_main.glsl: GLSL ES 1.00 shading at the hit with the unshifted uv's mip level.
+    {"shading lod bias", "px_shade_bias", shade_lod_bias},
+    {"shading lod bias", "PX_SHADE_LOD_BIAS", shade_lod_bias},
     // The switch: no #ifdef PX_LOD is left.
     {"lod", "PX_LOD", lod},
     // The technique's trace function (techniques/*.frag, called from surface_main.glsl).
