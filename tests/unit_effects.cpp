@@ -112,6 +112,7 @@ TEST(Planner, KeepsWhatTheContextCanDo) {
     EXPECT_TRUE(plan->key.depth_write);
     EXPECT_TRUE(plan->key.lod);
     EXPECT_EQ(plan->key.shadow, ShadowMode::soft);
+    EXPECT_TRUE(plan->key.shade_lod_bias());  // the hit shaded at the unshifted uv's mip level
     EXPECT_TRUE(plan->notes.empty());
 }
 
@@ -125,9 +126,18 @@ TEST(Planner, DropsWhatAnEs2ContextLacksAndSaysWhy) {
     ASSERT_TRUE(plan.ok());
     EXPECT_FALSE(plan->key.depth_write);
     EXPECT_FALSE(plan->key.lod);
-    ASSERT_EQ(plan->notes.size(), 2u);
+    // Without derivatives the hit is shaded at texture2D's own level.
+    EXPECT_TRUE(plan->key.no_derivatives);
+    EXPECT_FALSE(plan->key.shade_lod_bias());
+    ASSERT_EQ(plan->notes.size(), 3u);
     EXPECT_NE(plan->notes[0].find("GL_EXT_frag_depth"), std::string::npos);
     EXPECT_NE(plan->notes[1].find("GL_OES_standard_derivatives"), std::string::npos);
+    EXPECT_NE(plan->notes[2].find("blurred mip"), std::string::npos) << plan->notes[2];
+    // Normal mapping shades the polygon's own uv: nothing to say.
+    Result<VariantPlan> flat = plan_variant(material(Technique::normal), bare);
+    ASSERT_TRUE(flat.ok());
+    EXPECT_FALSE(flat->key.no_derivatives);
+    EXPECT_TRUE(flat->notes.empty());
 }
 
 TEST(Planner, ZeroReliefFallsBackToNormalMapping) {

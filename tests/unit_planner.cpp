@@ -402,7 +402,7 @@ TEST(Planner, ExplicitTechniquesKeepTheirOwnPlan) {
 // field that is not a power of two each way, or an atlas too wide, gets the
 // fallback, and the note says which.
 TEST(Planner, MaxmipRunsOnEsTwoWhereItsAtlasFits) {
-    Caps es2 = es2_caps(false, false);
+    Caps es2 = es2_caps(false, true);
     es2.max_texture_size = 2048;
     EXPECT_EQ(why_technique_cannot_run(Technique::maxmip, es2, 1024, 1024), "");
     EXPECT_EQ(why_technique_cannot_run(Technique::maxmip, es2, 0, 0), "");

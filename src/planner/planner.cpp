@@ -117,6 +117,12 @@ bool curved_outline_on_screen(const glm::mat4& model, MeshKind kind, float radiu
     return false;
 }
 
+std::string no_derivatives_note(const VariantKey& key) {
+    if (!key.canonical().no_derivatives) return {};
+    return "shading at the hit at texture2D's own mip level: this OpenGL ES 2.0 context lacks "
+           "GL_OES_standard_derivatives, so along the relief's rims the albedo and normal map read a blurred mip";
+}
+
 std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width, int traced_height) {
     const TechniqueInfo& info = technique_info(t);
     if (info.min_es_major > caps.es_major)
@@ -210,6 +216,7 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
         }
     }
     plan.key = k.canonical();
+    if (std::string note = no_derivatives_note(plan.key); !note.empty()) plan.notes.push_back(note);
     return plan;
 }
 

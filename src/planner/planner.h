@@ -56,6 +56,11 @@ Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps,
 // than its fallback on every hard case: docs/stability.md.)
 std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_width = 0, int traced_height = 0);
 
+// The plan's note for a variant that shades its hit at texture2D's own mip
+// level (VariantKey::no_derivatives: GLSL ES 1.00 without
+// GL_OES_standard_derivatives); "" for any other.
+std::string no_derivatives_note(const VariantKey& key);
+
 // Whether a bounded relief on a plane of side `size` (mesh units, model
 // transform `model`) can show its outline in a `width` x `height` image of
 // this view and projection: false only where every pixel's ray meets the

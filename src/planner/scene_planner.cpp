@@ -1688,6 +1688,7 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
         plan.notes.push_back(std::string("depth correction dropped: ") + info.name + " finds no hit depth");
     }
     key = key.canonical();
+    if (std::string note = no_derivatives_note(key); !note.empty()) plan.notes.push_back(note);
     return plan;
 }
 
