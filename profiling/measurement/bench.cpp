@@ -179,22 +179,26 @@ Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& ma
     return s;
 }
 
+double own_ray_error(const HeightField& field, const glm::dvec2& hit_uv, const SurfaceSample& ray,
+                     double polygon_height) {
+    const glm::dvec2 size(field.width, field.height);
+    // height and visibility carry the parallax vector (uv shift per unit of
+    // normalised height): view_ray's with a height scale of 1.
+    const reference::ReliefHit exact =
+        reference::trace_view(field, ray.uv, glm::dvec3(ray.height, ray.visibility, 1.0), 1.0, polygon_height);
+    const glm::dvec2 d = (hit_uv - exact.uv) * size;
+    return glm::length(d - glm::floor(d / size + 0.5) * size);  // modulo the tile, as compare_surfaces
+}
+
 Result<std::vector<double>> own_ray_errors(const HeightField& field, const SurfaceImage& hits, const SurfaceImage& rays,
                                            double polygon_height) {
     if (hits.width != rays.width || hits.height != rays.height || hits.samples.size() != rays.samples.size())
         return make_error("own_ray_errors: the hits and the rays are images of different sizes");
-    const glm::dvec2 size(field.width, field.height);
     std::vector<double> errors;
     for (size_t i = 0; i < hits.samples.size(); ++i) {
         const SurfaceSample& hit = hits.samples[i];
         const SurfaceSample& ray = rays.samples[i];
-        if (!hit.covered || !ray.covered) continue;
-        // height and visibility carry the parallax vector (uv shift per unit
-        // of normalised height): view_ray's with a height scale of 1.
-        const reference::ReliefHit exact =
-            reference::trace_view(field, ray.uv, glm::dvec3(ray.height, ray.visibility, 1.0), 1.0, polygon_height);
-        const glm::dvec2 d = (hit.uv - exact.uv) * size;
-        errors.push_back(glm::length(d - glm::floor(d / size + 0.5) * size));  // modulo the tile, as compare_surfaces
+        if (hit.covered && ray.covered) errors.push_back(own_ray_error(field, hit.uv, ray, polygon_height));
     }
     return errors;
 }

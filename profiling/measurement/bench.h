@@ -45,6 +45,10 @@ Result<SceneDesc> bench_scene_of(const std::string& name, const MaterialDesc& ma
 // of different sizes.
 Result<std::vector<double>> own_ray_errors(const HeightField& field, const SurfaceImage& hits, const SurfaceImage& rays,
                                            double polygon_height);
+// One pixel's: its hit uv against the exact trace of its captured ray
+// (`ray`: uv, and the parallax vector in height and visibility).
+double own_ray_error(const HeightField& field, const glm::dvec2& hit_uv, const SurfaceSample& ray,
+                     double polygon_height);
 
 // A material to bench beside the built-in bench scenes.
 struct BenchMaterial {

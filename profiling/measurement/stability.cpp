@@ -398,15 +398,10 @@ void measure_frame(const SurfaceImage& gpu, const SurfaceImage* entry, const ref
             // bound (its terms are the camera ray's: the two differ by far
             // less than they change). A pixel the capture misses counts as
             // its camera-ray error.
-            double own_error = error;
             const SurfaceSample& ray = own.rays->samples[i];
-            if (ray.covered && std::isfinite(ray.uv.x) && std::isfinite(ray.uv.y) && std::isfinite(ray.height) &&
-                std::isfinite(ray.visibility)) {
-                // height and visibility carry the parallax vector (uv per unit of height).
-                const reference::ReliefHit exact = reference::trace_view(
-                    *own.field, ray.uv, glm::dvec3(ray.height, ray.visibility, 1.0), 1.0, ref.polygon_height);
-                own_error = glm::length(wrapped_texels(g.uv - exact.uv, tw, th));
-            }
+            const bool traceable = ray.covered && std::isfinite(ray.uv.x) && std::isfinite(ray.uv.y) &&
+                                   std::isfinite(ray.height) && std::isfinite(ray.visibility);
+            const double own_error = traceable ? own_ray_error(*own.field, g.uv, ray, ref.polygon_height) : error;
             ++acc.own_pixels;
             acc.own_sum += own_error;
             acc.own_max = std::max(acc.own_max, own_error);
@@ -584,10 +579,12 @@ struct CaseReferences {
         return {};
     }
 
+    // `field`: the height field `ref` traces.
     Status reference_for(const TechniqueInfo& t, size_t fi, const reference::ReferenceImage*& ref,
-                         const std::vector<SearchBound>*& search) {
+                         const std::vector<SearchBound>*& search, const HeightField*& traced) {
         ref = &refs[fi];
         search = &searches[fi];
+        traced = &field;
         if (t.id != Technique::maxmip || !w->c->image_width) return {};
         if (!resampled_refs[fi]) {
             std::string note;
@@ -598,14 +595,8 @@ struct CaseReferences {
         }
         ref = &*resampled_refs[fi];
         search = &resampled_searches[fi];
+        traced = &resampled_field;
         return {};
-    }
-
-    // The field behind `ref` (reference_for's).
-    const HeightField& field_of(const reference::ReferenceImage* ref) const {
-        for (const auto& r : resampled_refs)
-            if (r && &*r == ref) return resampled_field;
-        return field;
     }
 };
 
@@ -729,7 +720,8 @@ Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
         }
         const reference::ReferenceImage* ref = nullptr;
         const std::vector<SearchBound>* search = nullptr;
-        Status own = job.cr.reference_for(t, fi, ref, search);
+        const HeightField* traced = nullptr;
+        Status own = job.cr.reference_for(t, fi, ref, search, traced);
         if (!own) return own.error();
         if (ref != &job.cr.refs[fi] && drawn_note.empty())
             drawn_note = "against the reference of its own resampled height: " + job.cr.resampled_note;
@@ -747,7 +739,7 @@ Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
                 return make_error("case '" + job.w.label + "': the captured rays and the hits differ in size");
             rays = std::move(*captured);
         }
-        const OwnRays own_rays{rays ? &*rays : nullptr, &job.cr.field_of(ref)};
+        const OwnRays own_rays{rays ? &*rays : nullptr, traced};
         frame_bounds.emplace_back(gpu->samples.size(), 0.0);
         measure_frame(*gpu, &job.entries[fi], *ref, *search, tb, c, job.catalogue.bounds, acc, c.lod,
                       &frame_bounds.back(), job.run.precision, own_rays);
