@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <set>
 
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/offscreen_target.h"
@@ -781,6 +782,84 @@ TEST(ShaderInterface, EveryVariantBuildsWithItsInterface) {
         ++built;
     }
     EXPECT_GT(built, 100);
+}
+
+}  // namespace
+}  // namespace px::test
+
+namespace px::test {
+namespace {
+
+std::string joined_notes(const DrawReport& r) {
+    std::string out;
+    for (const std::string& n : r.notes) out += n + "\n";
+    return out;
+}
+
+// `parallax render default --technique T` refused every technique but the
+// linear searches ("materials[2].silhouette: a curved silhouette is drawn by
+// the linear searches ..."): the first scene a newcomer sees. An override
+// draws every material with its technique, and the plan says what it
+// dropped (the dome's curved silhouette, the panel's bounded outline, the
+// shadows), whichever planner the renderer has (the effect planner, or none:
+// the named-technique planner). A material that names such a technique
+// itself is still refused, naming the field.
+TEST(Overrides, EveryTechniqueDrawsTheDefaultSceneAndSaysWhatItDropped) {
+    Result<SceneDesc> scene = builtin_scene("default");
+    ASSERT_TRUE(scene.ok());
+    for (const bool with_effect_planner : {false, true}) {
+        for (const TechniqueInfo& info : technique_table()) {
+            SCOPED_TRACE(std::string(info.name) + (with_effect_planner ? ", effect planner" : ", named planner"));
+            SceneDesc s = *scene;
+            (void)force_technique(s, info.id);
+            ASSERT_TRUE(validate_scene(s).ok()) << validate_scene(s).error().message;
+            RendererOptions options;
+            options.effect_planner = with_effect_planner ? effect_planner : nullptr;
+            auto renderer = Renderer::create(options);
+            ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+            auto target = OffscreenTarget::create(64, 64);
+            ASSERT_TRUE(target.ok());
+            Status loaded = (*renderer)->load(s);
+            ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+            Status drawn = (*renderer)->draw(target->target());
+            ASSERT_TRUE(drawn.ok()) << drawn.error().message;
+            const std::vector<DrawReport>& reports = (*renderer)->reports();
+            ASSERT_EQ(reports.size(), s.objects.size());
+            const bool searches = (info.options & kOptSamples) != 0;
+            const bool traces = (info.options & kOptHeight) != 0;
+            for (const DrawReport& r : reports) {
+                const std::string notes = joined_notes(r);
+                if (r.object == "dome") {
+                    EXPECT_EQ(r.variant.curved, searches) << r.variant.describe();
+                    EXPECT_EQ(notes.find("silhouette not drawn: " + std::string(info.name)) != std::string::npos,
+                              !searches)
+                        << notes;
+                    if (info.id == Technique::maxmip) EXPECT_NE(notes.find("does not yet"), std::string::npos) << notes;
+                }
+                if (r.object == "panel") {
+                    EXPECT_EQ(notes.find("bounded outline not drawn") != std::string::npos, !traces) << notes;
+                    if (!traces) EXPECT_FALSE(r.variant.bounded) << r.variant.describe();
+                }
+                if (!(info.options & kOptShadow))
+                    EXPECT_NE(notes.find("shadow=soft ignored"), std::string::npos) << notes;
+            }
+            // Something was drawn: a textured scene, not a cleared target.
+            auto image = target->read_pixels();
+            ASSERT_TRUE(image.ok());
+            std::set<std::uint32_t> colours;
+            for (size_t p = 0; p + 2 < image->pixels.size(); p += static_cast<size_t>(image->channels))
+                colours.insert(std::uint32_t{image->pixels[p]} << 16 | std::uint32_t{image->pixels[p + 1]} << 8 |
+                               image->pixels[p + 2]);
+            EXPECT_GT(colours.size(), 100u);
+        }
+    }
+    // Authored, not forced: still refused, naming the field.
+    SceneDesc authored = *scene;
+    for (MaterialDesc& m : authored.materials)
+        if (m.silhouette) m.technique.technique = Technique::normal;
+    Status refused = validate_scene(authored);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find(".silhouette"), std::string::npos) << refused.error().message;
 }
 
 }  // namespace

@@ -22,6 +22,10 @@ for scene in default showcase "$(dirname "$0")/../examples/scenes/cones.json"; d
     check "mesh builds" "$(number 'mesh build')" "$objects"
     check "object plans" "$(number 'object plan')" "$objects"
     check "programs built" "$(number 'program\(s\) built')" "$drawn"
+    # plan_variant once per material that names its technique (the planner
+    # is made once per load; frames reuse its plans).
+    named_materials=$(grep '^object ' <<<"$out" | { grep -v 'effects' || true; } | sed -E 's/.* material +([^ ]+) .*/\1/' | sort -u | wc -l)
+    check "named material plans" "$(number 'named material plan')" "$named_materials"
     [ $status -eq 0 ] && echo "ok: $scene: $stats"
 done
 exit $status

@@ -189,10 +189,11 @@ int run(BenchArgs a) {
     if (a.stats) {
         const PipelineCounters c = pipeline_counters() - counters_before;
         std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
-                    "%llu object plan(s), %llu program(s) built, for %zu setting(s)\n",
+                    "%llu object plan(s), %llu program(s) built, %llu named material plan(s), for %zu setting(s)\n",
                     static_cast<unsigned long long>(c.validations), static_cast<unsigned long long>(c.image_builds),
                     static_cast<unsigned long long>(c.mesh_builds), static_cast<unsigned long long>(c.object_plans),
-                    static_cast<unsigned long long>(c.programs_built), result->rows.size());
+                    static_cast<unsigned long long>(c.programs_built), static_cast<unsigned long long>(c.material_plans),
+                    result->rows.size());
     }
     return 0;
 }

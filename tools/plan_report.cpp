@@ -262,9 +262,8 @@ Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& sc
         for (int n : sampled ? counts : std::vector<int>{0}) {
             if (sampled && n > info.max_samples_limit) continue;
             MaterialDesc named = *m;
-            named.effects.reset();
             named.technique = plan.options;
-            named.technique.technique = t;
+            (void)force_technique(named, t);  // what t cannot draw is dropped, not refused
             if (sampled) named.technique.min_samples = named.technique.max_samples = n;
             if (!(info.options & kOptShadow)) named.technique.shadow = ShadowMode::none;
             if (!(info.options & kOptDepth)) named.technique.depth_write = false;

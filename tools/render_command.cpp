@@ -249,7 +249,7 @@ RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir
 // The scene to draw: loaded (validated once, by prepare_scene, unless the
 // asset step converts its textures first: it needs a valid scene), with
 // --technique's technique for every material.
-Result<SceneDesc> render_scene(const RenderArgs& a) {
+Result<SceneDesc> render_scene(const RenderArgs& a, std::vector<std::string>& override_notes) {
     if (!a.camera_path.empty() && a.camera_path != "orbit" && a.camera_path != "dolly")
         return make_error("--camera-path must be orbit or dolly, got '" + a.camera_path + "'");
     const SceneChecks checks = a.textures.empty() ? SceneChecks::syntax_only : SceneChecks::validate;
@@ -258,11 +258,9 @@ Result<SceneDesc> render_scene(const RenderArgs& a) {
     if (!a.technique.empty()) {
         Result<Technique> t = parse_technique(a.technique);
         if (!t) return make_error("--technique: " + t.error().message);
-        // An explicit technique for every material: effect requests give way.
-        for (MaterialDesc& m : scene->materials) {
-            m.technique.technique = *t;
-            m.effects.reset();
-        }
+        // An explicit technique for every material: effect requests give
+        // way, and what it cannot draw is dropped with a note in the plan.
+        override_notes = force_technique(*scene, *t);
     }
     return scene;
 }
@@ -284,10 +282,12 @@ Result<std::string> write_render(const RenderArgs& a, const Image& image) {
 
 void print_pipeline_stats(const PipelineCounters& c, const Renderer& renderer) {
     std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
-                "%llu object plan(s) over %llu frame(s) drawn, %llu program(s) built\n",
+                "%llu object plan(s) over %llu frame(s) drawn, %llu program(s) built, "
+                "%llu named material plan(s)\n",
                 static_cast<unsigned long long>(c.validations), static_cast<unsigned long long>(c.image_builds),
                 static_cast<unsigned long long>(c.mesh_builds), static_cast<unsigned long long>(c.object_plans),
-                static_cast<unsigned long long>(renderer.stats().frames), static_cast<unsigned long long>(c.programs_built));
+                static_cast<unsigned long long>(renderer.stats().frames), static_cast<unsigned long long>(c.programs_built),
+                static_cast<unsigned long long>(c.material_plans));
 }
 
 int run_render(const RenderArgs& a, std::optional<int>& compared) {
@@ -302,7 +302,8 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     if (a.no_fragment_highp && a.es >= 3)
         return fail("--no-fragment-highp is for --es 2: OpenGL ES 3.0 guarantees fragment highp");
     const PipelineCounters counters_before = pipeline_counters();
-    Result<SceneDesc> scene = render_scene(a);
+    std::vector<std::string> override_notes;
+    Result<SceneDesc> scene = render_scene(a, override_notes);
     if (!scene) return fail(scene.error().message);
     std::optional<TempFolder> texture_folder;
     if (const int status = convert_textures(a, *scene, texture_folder); status != 0) return status;
@@ -331,6 +332,7 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     if (a.stats) print_pipeline_stats(pipeline_counters() - counters_before, **renderer);
     const Caps& caps = (*renderer)->caps();
     std::printf("scene      %s%s\n", scene->name.c_str(), a.technique.empty() ? "" : (" (every material: " + a.technique + ")").c_str());
+    for (const std::string& note : override_notes) std::printf("             note: %s\n", note.c_str());
     std::printf("context    %s | %s | %s\n", caps.version.c_str(), caps.renderer.c_str(),
                 (*context)->display_description().c_str());
     // What the driver says its fragment floats are (glGetShaderPrecisionFormat):

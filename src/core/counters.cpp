@@ -5,7 +5,7 @@
 namespace px {
 
 namespace {
-std::atomic<std::uint64_t> g_counts[5];
+std::atomic<std::uint64_t> g_counts[6];
 }
 
 PipelineCounters pipeline_counters() {
@@ -15,6 +15,7 @@ PipelineCounters pipeline_counters() {
     c.mesh_builds = g_counts[2].load(std::memory_order_relaxed);
     c.object_plans = g_counts[3].load(std::memory_order_relaxed);
     c.programs_built = g_counts[4].load(std::memory_order_relaxed);
+    c.material_plans = g_counts[5].load(std::memory_order_relaxed);
     return c;
 }
 

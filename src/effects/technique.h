@@ -73,6 +73,12 @@ struct TechniqueOptions {
     bool lod = false;
     float lod_threshold = 3.0f;
     float lod_band = 1.0f;
+    // The technique was imposed on the material (scene.h force_technique:
+    // `parallax render --technique`, a benchmark's setting, a host's
+    // override), not named by its author: what it cannot draw (a curved
+    // silhouette, a bounded outline, a shadow) is dropped with a note in the
+    // plan, never refused.
+    bool forced = false;
 };
 
 // Option flags, as a bitmask in TechniqueInfo::options.

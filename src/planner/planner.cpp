@@ -1,5 +1,7 @@
 #include "parallaxes/planner/planner.h"
 
+#include "parallaxes/core/counters.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -144,6 +146,7 @@ std::string why_technique_cannot_run(Technique t, const Caps& caps, int traced_w
 
 Result<VariantPlan> plan_variant(const MaterialDesc& material, const Caps& caps, int traced_width,
                                  int traced_height) {
+    counters::count(counters::Step::material_plan);
     const TechniqueOptions& o = material.technique;
     VariantPlan plan;
     VariantKey& k = plan.key;

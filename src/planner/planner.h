@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "parallaxes/core/caps.h"
@@ -192,6 +193,15 @@ public:
     virtual Result<std::vector<ObjectPlan>> plan(const PlanView& view) const = 0;
     // The relief measured for each material, in scene order.
     virtual const std::vector<MaterialRelief>& reliefs() const = 0;
+    // For material `i` when it names its technique: its plan on this
+    // context (plan_variant, run once, when the planner was made); null for
+    // a material that declares effects (its variant is chosen per frame).
+    virtual const VariantPlan* material_plan(size_t i) const = 0;
+    // Each object whose material names its technique, with the variant it
+    // draws wherever its outline is on screen (planner/object_plan.h
+    // named_object_key): what load builds, so that a shader error surfaces
+    // there rather than in a frame.
+    virtual std::vector<std::pair<size_t, VariantKey>> named_variants() const = 0;
 };
 
 // Makes the effect planner of a prepared scene. `reliefs`: one per
@@ -230,6 +240,8 @@ public:
     // The relief measured for each material, in scene order (to build a
     // planner again with one material replaced).
     const std::vector<MaterialRelief>& reliefs() const override;
+    const VariantPlan* material_plan(size_t i) const override;
+    std::vector<std::pair<size_t, VariantKey>> named_variants() const override;
 
     struct Impl;
     // For the factories in scene_planner.cpp.

@@ -13,6 +13,7 @@
 // (the error in texels of the level sampled); the object's prediction is
 // the 95th percentile of that over its pixels.
 #include "parallaxes/planner/planner.h"
+#include "parallaxes/planner/object_plan.h"
 
 #include <algorithm>
 #include <cmath>
@@ -455,6 +456,9 @@ struct ScenePlanner::Impl {
     std::vector<std::string> calibration_notes;  // per material: why its calibration file was not used
     std::vector<ObjectSurvey> surveys;
     std::vector<float> units_per_uv;  // per object: world units per mesh uv unit
+    // Per material that names its technique: plan_variant, run once here.
+    std::vector<std::optional<VariantPlan>> named_plans;
+    std::vector<OutlineRequest> outlines;  // per object
     // Per material with a search model: its curves as a one-relief table
     // (errors simulated with the margin, costs from the generic table).
     std::vector<std::optional<CostTable>> model_tables;
@@ -656,6 +660,21 @@ Result<std::unique_ptr<ScenePlanner>> make_planner(const SceneDesc& scene, const
         const Mesh mesh = build_object_mesh(scene.objects[i].mesh);
         m.units_per_uv.push_back(mesh.units_per_uv);
         m.surveys.push_back(survey_mesh(mesh));
+    }
+    for (size_t mi = 0; mi < scene.materials.size(); ++mi) {
+        const MaterialDesc& material = scene.materials[mi];
+        m.named_plans.emplace_back();
+        if (material.effects) continue;
+        Result<VariantPlan> named =
+            plan_variant(material, caps, m.reliefs[mi].traced_width, m.reliefs[mi].traced_height);
+        if (!named) return with_context("material '" + echo(material.name) + "'", named.error());
+        m.named_plans.back() = std::move(*named);
+    }
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const size_t mi = scene.material_index(scene.objects[i].material);
+        m.outlines.push_back(mi < scene.materials.size()
+                                 ? outline_request(scene.objects[i], scene.materials[mi], m.units_per_uv[i])
+                                 : OutlineRequest{});
     }
     return p;
 }
@@ -960,33 +979,9 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const CameraDesc& camera, int
     return plan(PlanView::from_camera(camera, width, height));
 }
 
-namespace {
-
-bool finite(const glm::mat4& m) {
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(m[c][r])) return false;
-    return true;
-}
-
-}  // namespace
-
 Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const {
-    const int width = frame.width, height = frame.height;
-    if (width < 1 || height < 1)
-        return make_error("planner: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
     const Impl& m = *impl_;
-    if (!frame.models.empty() && frame.models.size() != m.scene.objects.size())
-        return make_error("planner: " + std::to_string(frame.models.size()) + " model transforms for " +
-                          std::to_string(m.scene.objects.size()) + " objects");
-    if (!finite(frame.view) || !finite(frame.projection))
-        return make_error("planner: the view or projection matrix has a NaN or infinite entry");
-    for (size_t i = 0; i < frame.models.size(); ++i)
-        if (!finite(frame.models[i]))
-            return make_error("planner: the model transform of object '" + echo(m.scene.objects[i].name) +
-                              "' has a NaN or infinite entry");
-    if (!(std::fabs(frame.projection[1][1]) > 0.0f) || glm::determinant(frame.view) == 0.0f)
-        return make_error("planner: the projection or view matrix is degenerate (no finite pixel size)");
+    if (Status s = check_plan_view(frame, m.scene); !s) return s.error();
     const size_t n = m.scene.objects.size();
     std::vector<ObjectView> views(n);
     std::vector<std::vector<PointView>> points(n);
@@ -997,70 +992,35 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
     std::vector<ObjectPlan> plans;
     plans.reserve(n);
     for (size_t i = 0; i < n; ++i) {
-        // A curved silhouette (MaterialDesc::silhouette on a sphere, torus
-        // or cylinder) only where the object's contour can be on screen.
-        const size_t mi = m.scene.material_index(m.scene.objects[i].material);
         const ObjectDesc& object = m.scene.objects[i];
-        const bool asks_silhouette = mi < m.scene.materials.size() && m.scene.materials[mi].silhouette &&
-                                     mesh_kind_is_curved(object.mesh.kind) && !object.mesh.displaced &&
-                                     m.scene.materials[mi].height_scale > 0.0f;
-        bool silhouette = false;
-        const std::optional<double> folds =
-            asks_silhouette ? relief_folds_through(object.mesh, m.scene.materials[mi], m.units_per_uv[i]) : std::nullopt;
-        if (asks_silhouette && !folds) {
-            const MaterialDesc& mat = m.scene.materials[mi];
-            const glm::mat4 model = frame.models.empty() ? object.transform.matrix() : frame.models[i];
-            const double depth = static_cast<double>(mat.height_scale) * m.units_per_uv[i] /
-                                 std::max(1e-12, mat.uv.area_scale<double>());
-            // A bounded cylinder is drawn longer at each end (build_widened_mesh).
-            const float length = object.mesh.size * static_cast<float>(drawn_length_scale(object.mesh, mat));
-            silhouette = curved_outline_on_screen(model, object.mesh.kind, object.mesh.radius, object.mesh.tube_radius,
-                                                  length, depth, frame.view, frame.projection);
-        }
+        const size_t mi = m.scene.material_index(object.material);
+        if (mi >= m.scene.materials.size())
+            return make_error("object '" + echo(object.name) + "': unknown material '" + echo(object.material) + "'");
+        const MaterialDesc& material = m.scene.materials[mi];
+        const glm::mat4 model = object_model(frame, m.scene, i);
+        // A curved silhouette only where the object's contour can be on screen.
+        const bool silhouette = silhouette_on_screen(m.outlines[i], object, material, model, frame);
         Result<ObjectPlan> p = m.plan_object(i, views, points, screen_boxes, world_boxes, silhouette);
         if (!p) return p.error();
-        if (asks_silhouette) {
-            const bool marches = (technique_info(p->key.technique).options & kOptSamples) != 0;
-            p->key.curved = silhouette && marches;
-            p->key = with_curved_shape(p->key, object.mesh.kind);
-            p->notes.push_back(
-                folds ? silhouette_folds_note(object.mesh, *folds)
-                : !silhouette ? "silhouette off: the object's contour is off screen (the relief fills the view, or the "
-                                "object is outside it), so nothing is discarded"
-                : marches   ? std::string("silhouette: the contour can be on screen; ") +
-                                  (p->key.shape ? "the search traces the mesh's own shape and "
-                                                : "the search follows the surface's fitted bend and ") +
-                                  "rays that pass the relief are discarded"
-                            : std::string("silhouette not drawn: ") + technique_name(p->key.technique) +
-                                  " has no search to follow the bend");
-            if (p->key.curved)
-                if (std::optional<std::string> open = open_tube_ends_note(object.mesh, m.scene.materials[mi]))
-                    p->notes.push_back(*open);
-        }
-        if (mi < m.reliefs.size()) p->key = p->key.with_layout(m.reliefs[mi].layout);
-        if (mi < m.scene.materials.size() && m.scene.materials[mi].bounded &&
-            (technique_info(p->key.technique).options & kOptHeight)) {
-            // A bounded relief's discard only where its outline can be on
-            // screen (bounded_outline_on_screen): a tile that fills the view
-            // keeps what a discard costs a tile-based GPU.
-            const ObjectDesc& o = m.scene.objects[i];
-            const MaterialDesc& mat = m.scene.materials[mi];
-            const glm::mat4 model = frame.models.empty() ? o.transform.matrix() : frame.models[i];
-            const double depth = static_cast<double>(mat.height_scale) * m.units_per_uv[i] /
-                                 std::max(1e-12, mat.uv.area_scale<double>());
-            p->key.bounded = o.mesh.kind != MeshKind::plane ||
-                             bounded_outline_on_screen(model, o.mesh.size, depth, frame.view, frame.projection);
-            p->notes.push_back(!p->key.bounded
-                                   ? "bounded, silhouette off: every ray on screen stays inside the tile's bounds, so "
-                                     "nothing is discarded"
-                               : o.mesh.kind == MeshKind::plane
-                                   ? "bounded: the tile's outline can be on screen; rays that leave its bounds are discarded"
-                                   : "bounded: the relief ends at the mesh's uv edges (a tube's rims); rays that leave "
-                                     "its bounds are discarded");
-        }
+        plan_outlines(*p, m.outlines[i], object, material, m.reliefs[mi].layout, model, frame, silhouette);
         plans.push_back(std::move(*p));
     }
     return plans;
+}
+
+const VariantPlan* ScenePlanner::material_plan(size_t i) const {
+    return i < impl_->named_plans.size() && impl_->named_plans[i] ? &*impl_->named_plans[i] : nullptr;
+}
+
+std::vector<std::pair<size_t, VariantKey>> ScenePlanner::named_variants() const {
+    const Impl& m = *impl_;
+    std::vector<std::pair<size_t, VariantKey>> out;
+    for (size_t i = 0; i < m.scene.objects.size(); ++i) {
+        const size_t mi = m.scene.material_index(m.scene.objects[i].material);
+        if (mi >= m.named_plans.size() || !m.named_plans[mi]) continue;
+        out.emplace_back(i, named_object_key(*m.named_plans[mi], m.outlines[i], m.scene.objects[i], m.reliefs[mi].layout));
+    }
+    return out;
 }
 
 namespace {
@@ -1093,11 +1053,10 @@ Result<ObjectPlan> ScenePlanner::Impl::plan_object(size_t oi, const std::vector<
     plan.material = material.name;
     plan.view = views[oi];
     plan.options = material.technique;
-    if (!material.effects) {
-        Result<VariantPlan> explicit_plan = plan_variant(material, caps, relief.traced_width, relief.traced_height);
-        if (!explicit_plan) return with_context(who, explicit_plan.error());
-        plan.key = explicit_plan->key;
-        plan.notes = explicit_plan->notes;
+    if (!material.effects) {  // its plan_variant, made with the planner
+        if (mi >= named_plans.size() || !named_plans[mi]) return make_error(who + ": the material was not planned");
+        plan.key = named_plans[mi]->key;
+        plan.notes = named_plans[mi]->notes;
         return plan;
     }
 

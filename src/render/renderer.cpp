@@ -1,4 +1,6 @@
 #include "parallaxes/render/renderer.h"
+
+#include "parallaxes/planner/object_plan.h"
 #include "parallaxes/core/text.h"
 
 #include <algorithm>
@@ -78,7 +80,6 @@ struct GpuMaterial {
     // Texels of the texture the trace reads (u_texture_size): the height map
     // where there is one, which need not be the normal map's size.
     glm::vec2 traced_size{0.0f};
-    VariantPlan plan;   // a material that names its technique: what the context draws of it
     bool planned = false;  // declares effects: each object's plan picks the variant
 };
 
@@ -123,18 +124,6 @@ Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::strin
 bool curved_silhouette(const MaterialDesc& m, const ObjectDesc& o, float units_per_uv) {
     return m.silhouette && mesh_kind_is_curved(o.mesh.kind) && !o.mesh.displaced &&
            !relief_folds_through(o.mesh, m, units_per_uv);
-}
-
-// The variant an object whose material names its technique draws: the
-// material's plan's key with the layout its textures were built in, bounded
-// and curved as material and mesh say (the planner decides both itself, per
-// frame: scene_planner.cpp).
-VariantKey named_material_key(const VariantKey& planned, const TextureLayout& layout, const MaterialDesc& m,
-                              const ObjectDesc& o, float units_per_uv) {
-    VariantKey key = planned.with_layout(layout);
-    key.bounded = m.bounded;
-    key.curved = curved_silhouette(m, o, units_per_uv);
-    return with_curved_shape(key, o.mesh.kind);
 }
 
 // The relief's depth in mesh units over a mesh of `units_per_uv`.
@@ -446,7 +435,7 @@ struct Renderer::GpuScene {
     std::vector<GpuMaterial> materials;
     std::vector<GpuObject> objects;
     ProgramCache programs;
-    std::unique_ptr<FramePlanner> planner;  // null: every material names its technique
+    std::unique_ptr<FramePlanner> planner;  // the effect planner, or the named-technique one
     CameraDesc camera;     // draw(target)'s camera (set_view)
     PlanView planned_for;  // the frame the objects' plans are for
     bool planned = false;  // whether they are planned at all
@@ -624,10 +613,11 @@ Status upload_pyramid(GpuMaterial& g, const HeightField& field, bool height_11bi
     return {};
 }
 
-// A material's textures on the GPU, and for a material that names its
-// technique, the variant the context draws of it.
+// A material's textures on the GPU: what its planned variants read, or
+// for a material that names its technique (`named`: the planner's plan of
+// it on this context), what that variant reads.
 Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages& images, const Caps& caps,
-                                    bool force_decode, std::vector<TextureUpload>& uploads,
+                                    const VariantPlan* named, bool force_decode, std::vector<TextureUpload>& uploads,
                                     std::vector<std::string>& notes, const TextureFileSupport* files) {
     GpuMaterial g;
     g.desc = &m;
@@ -644,12 +634,10 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         // each way; on ES 2.0 an atlas within GL_MAX_TEXTURE_SIZE).
         pyramid = traced && why_technique_cannot_run(Technique::maxmip, caps, field.width, field.height).empty();
     } else {
-        Result<VariantPlan> plan = plan_variant(m, caps, images.field.width, images.field.height);
-        if (!plan) return with_context(what, plan.error());
-        g.plan = std::move(*plan);
-        traced = (technique_info(g.plan.key.technique).options & kOptHeight) != 0;
+        if (!named) return make_error(what + ": the planner has no plan for it");
+        traced = (technique_info(named->key.technique).options & kOptHeight) != 0;
         // The techniques with an exact walk's budget (kOptSteps) walk a max pyramid.
-        pyramid = (technique_info(g.plan.key.technique).options & kOptSteps) != 0;
+        pyramid = (technique_info(named->key.technique).options & kOptSteps) != 0;
     }
     const FileUpload file_upload{files, images.decode};
     Result<Texture> albedo = upload_slot(images.albedo_texture, images.albedo,
@@ -870,25 +858,20 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     gpu->programs = ProgramCache(shader_transform_, program_binaries_, binary_support_);
     const SceneDesc& desc = prepared->desc;
 
-    if (!effect_planner_)  // refused before anything is uploaded
-        for (size_t i = 0; i < desc.materials.size(); ++i)
-            if (desc.materials[i].effects)
-                return make_error("material '" + echo(desc.materials[i].name) + "' (materials[" + std::to_string(i) +
-                                  "].effects) declares effects, and this renderer has no effect planner: link "
-                                  "ParallaxES::planner and set RendererOptions::effect_planner = px::effect_planner, "
-                                  "or name a technique");
+    // The planner first: it refuses a scene it cannot plan before anything
+    // is uploaded, and says what each named material draws (plan_variant,
+    // once per material).
+    Result<std::unique_ptr<FramePlanner>> planner = make_planner(*prepared, {});
+    if (!planner) return planner.error();
+    gpu->planner = std::move(*planner);
     std::vector<TextureUpload> uploads;
     std::vector<std::string> notes;
     for (size_t i = 0; i < desc.materials.size(); ++i) {
         Result<GpuMaterial> g = upload_material(desc.materials[i], prepared->materials[i]->images, caps_,
-                                                force_texture_decode_, uploads, notes, texture_files_);
+                                                gpu->planner->material_plan(i), force_texture_decode_, uploads, notes,
+                                                texture_files_);
         if (!g) return g.error();
         gpu->materials.push_back(std::move(*g));
-    }
-    if (effect_planner_) {
-        Result<std::unique_ptr<FramePlanner>> planner = effect_planner_(*prepared, caps_, planner_options_, {});
-        if (!planner) return planner.error();
-        gpu->planner = std::move(*planner);
     }
     gpu->camera = desc.camera;
     for (size_t i = 0; i < desc.objects.size(); ++i) {
@@ -906,14 +889,12 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     // The variants of materials that name their technique do not depend on
     // the frame: build them now, so that a shader error surfaces at load.
     // Those the planner picks per frame are built by the frame that draws them.
-    for (const GpuObject& object : gpu->objects) {
-        const GpuMaterial& material = gpu->materials[object.material];
-        if (material.planned) continue;
-        VariantKey key = named_material_key(material.plan.key, prepared->materials[object.material]->images.layout,
-                                            *material.desc, *object.desc, gpu->meshes[object.mesh].units_per_uv);
-        if (variant_transform_) key = variant_transform_(key).canonical();
+    for (auto [object, named] : gpu->planner->named_variants()) {
+        VariantKey key = variant_transform_ ? variant_transform_(named).canonical() : named;
         Result<const Program*> program = gpu->programs.get(key);
-        if (!program) return with_context("material '" + echo(material.desc->name) + "'", program.error());
+        if (!program)
+            return with_context("material '" + echo(gpu->materials[gpu->objects[object].material].desc->name) + "'",
+                                program.error());
     }
     scene_ = std::move(gpu);
     prepared_ = std::move(prepared);
@@ -935,10 +916,18 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         std::optional<SavedGlState> saved;
         if (preserve_host_state_) saved.emplace(caps_);
         set_unpack_defaults(caps_);
+        // The planner of the new scene first (the other materials' reliefs
+        // as measured at load): it refuses what it cannot plan, and plans
+        // the new material if it names its technique.
+        std::vector<MaterialRelief> reliefs = scene_->planner->reliefs();
+        reliefs[mi] = MaterialRelief{};  // measured again by the factory
+        Result<std::unique_ptr<FramePlanner>> planner = make_planner(p, std::move(reliefs));
+        if (!planner) return planner.error();
         std::vector<TextureUpload> uploads;
         std::vector<std::string> notes;
         Result<GpuMaterial> g = upload_material(p.desc.materials[mi], p.materials[mi]->images, caps_,
-                                                force_texture_decode_, uploads, notes, texture_files_);
+                                                (*planner)->material_plan(mi), force_texture_decode_, uploads, notes,
+                                                texture_files_);
         if (!g) return g.error();
         // Meshes displaced from the new relief, before anything is replaced.
         std::vector<std::pair<size_t, GpuMesh>> meshes;
@@ -957,35 +946,18 @@ Status Renderer::replace_material(const MaterialDesc& material) {
             if (!m) return m.error();
             meshes.emplace_back(scene_->objects[i].mesh, std::move(*m));
         }
-        if (!g->planned) {
-            for (size_t i = 0; i < p.objects.size(); ++i) {
-                if (p.objects[i]->material != mi) continue;
-                VariantKey key = named_material_key(g->plan.key, p.materials[mi]->images.layout, p.desc.materials[mi],
-                                                    p.desc.objects[i], p.objects[i]->mesh.units_per_uv);
-                if (variant_transform_) key = variant_transform_(key).canonical();
-                Result<const Program*> program = scene_->programs.get(key);
-                if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
-            }
-        }
-        // The other materials' reliefs as measured at load.
-        std::unique_ptr<FramePlanner> planner;
-        if (scene_->planner) {
-            std::vector<MaterialRelief> reliefs = scene_->planner->reliefs();
-            reliefs[mi] = MaterialRelief{};  // measured again by the factory
-            Result<std::unique_ptr<FramePlanner>> made = effect_planner_(p, caps_, planner_options_, std::move(reliefs));
-            if (!made) return made.error();
-            planner = std::move(*made);
-        } else if (material.effects) {
-            return make_error("replace_material: material '" + echo(material.name) +
-                              "' declares effects, and this renderer has no effect planner "
-                              "(RendererOptions::effect_planner)");
+        for (auto [object, named] : (*planner)->named_variants()) {
+            if (p.objects[object]->material != mi) continue;
+            VariantKey key = variant_transform_ ? variant_transform_(named).canonical() : named;
+            Result<const Program*> program = scene_->programs.get(key);
+            if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
         }
         // Nothing can fail from here: swap it all in.
         scene_->materials[mi] = std::move(*g);
         for (auto& [index, mesh] : meshes) scene_->meshes[index] = std::move(mesh);
         for (size_t i = 0; i < scene_->materials.size(); ++i) scene_->materials[i].desc = &p.desc.materials[i];
         for (size_t i = 0; i < scene_->objects.size(); ++i) scene_->objects[i].desc = &p.desc.objects[i];
-        scene_->planner = std::move(planner);
+        scene_->planner = std::move(*planner);
         scene_->planned = false;
         prepared_ = std::move(*next);
         texture_uploads_.insert(texture_uploads_.end(), uploads.begin(), uploads.end());
@@ -996,39 +968,18 @@ Status Renderer::replace_material(const MaterialDesc& material) {
 Result<std::vector<ObjectPlan>> Renderer::plan_view(const CameraDesc& camera, int width, int height) const {
     if (!scene_) return make_error("plan: no scene loaded");
     if (width < 1 || height < 1) return make_error("plan: image size " + size_text(width, height) + " is empty");
-    return plan_frame(PlanView::from_camera(camera, width, height));
+    return scene_->planner->plan(PlanView::from_camera(camera, width, height));
 }
 
-Result<std::vector<ObjectPlan>> Renderer::plan_frame(const PlanView& view) const {
-    if (scene_->planner) return scene_->planner->plan(view);
-    // Every material names its technique: the variant does not depend on
-    // the frame (plan_variant at load), only the options travel with it.
-    std::vector<ObjectPlan> plans;
-    for (const GpuObject& object : scene_->objects) {
-        const GpuMaterial& material = scene_->materials[object.material];
-        ObjectPlan plan;
-        plan.object = object.desc->name;
-        plan.material = material.desc->name;
-        plan.options = material.desc->technique;
-        const float units_per_uv = scene_->meshes[object.mesh].units_per_uv;
-        plan.key = named_material_key(material.plan.key, prepared_->materials[object.material]->images.layout,
-                                      *material.desc, *object.desc, units_per_uv);
-        plan.notes = material.plan.notes;
-        if (material.desc->silhouette && !object.desc->mesh.displaced)
-            if (std::optional<double> below = relief_folds_through(object.desc->mesh, *material.desc, units_per_uv))
-                plan.notes.push_back(silhouette_folds_note(object.desc->mesh, *below));
-        if (plan.key.curved)
-            if (std::optional<std::string> open = open_tube_ends_note(object.desc->mesh, *material.desc))
-                plan.notes.push_back(*open);
-        plans.push_back(std::move(plan));
-    }
-    counters::count(counters::Step::object_plan, plans.size());
-    return plans;
+Result<std::unique_ptr<FramePlanner>> Renderer::make_planner(const PreparedScene& scene,
+                                                             std::vector<MaterialRelief> reliefs) const {
+    if (effect_planner_) return effect_planner_(scene, caps_, planner_options_, std::move(reliefs));
+    return named_planner(scene, caps_);
 }
 
 Result<int> Renderer::apply_plans(const PlanView& view) {
     if (scene_->planned && same_plan_view(view, scene_->planned_for)) return 0;
-    Result<std::vector<ObjectPlan>> plans = plan_frame(view);
+    Result<std::vector<ObjectPlan>> plans = scene_->planner->plan(view);
     if (!plans) return plans.error();
     int changed = 0;
     std::vector<DrawReport> reports;

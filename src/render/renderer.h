@@ -253,7 +253,10 @@ public:
 private:
     Status load_checked(std::shared_ptr<const PreparedScene> scene);
     Result<int> apply_plans(const PlanView& view);
-    Result<std::vector<ObjectPlan>> plan_frame(const PlanView& view) const;
+    // The effect planner where the renderer has one, else the named-technique
+    // planner (planner/object_plan.h): the one place an object is planned.
+    Result<std::unique_ptr<FramePlanner>> make_planner(const PreparedScene& scene,
+                                                       std::vector<MaterialRelief> reliefs) const;
     Status check_context(const char* what) const;
     Status draw_checked(const HostFrame& frame);
     Renderer() = default;

@@ -186,7 +186,8 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
     if (m.effects) c.require(validate_effect_request(*m.effects, path + ".effects"));
     // A named technique must be one whose search can follow the bend (a
     // planned material gets one from the planner).
-    c.require(!m.silhouette || m.effects || (technique_info(m.technique.technique).options & kOptSamples) != 0,
+    c.require(!m.silhouette || m.effects || m.technique.forced ||
+                  (technique_info(m.technique.technique).options & kOptSamples) != 0,
               path + ".silhouette",
               std::string("a curved silhouette is drawn by the linear searches (steep, pom, relief), not by '") +
                   technique_name(m.technique.technique) + "'");
@@ -279,6 +280,43 @@ std::optional<std::string> open_tube_ends_note(const MeshDesc& d, const Material
         return std::nullopt;
     return std::string("open ends: the tube is not bounded, so its relief runs on past the rims and the ends keep the "
                        "smooth rim's outline (\"bounded\": true traces them)");
+}
+
+std::vector<std::string> force_technique(MaterialDesc& m, Technique t) {
+    std::vector<std::string> notes;
+    const TechniqueInfo& info = technique_info(t);
+    const std::string who = "material '" + echo(m.name) + "': ";
+    if (m.effects) notes.push_back(who + "its effect request gives way to " + info.name);
+    m.effects.reset();
+    TechniqueOptions& o = m.technique;
+    o.technique = t;
+    o.forced = true;
+    const int limit = info.max_samples_limit;
+    if (info.options & kOptSamples) {
+        const int min = std::clamp(o.min_samples, 1, limit), max = std::clamp(o.max_samples, min, limit);
+        if (min != o.min_samples || max != o.max_samples)
+            notes.push_back(who + "samples " + std::to_string(o.min_samples) + ".." + std::to_string(o.max_samples) +
+                            " -> " + std::to_string(min) + ".." + std::to_string(max) + " (" + info.name +
+                            "'s range is 1.." + std::to_string(limit) + ")");
+        o.min_samples = min;
+        o.max_samples = max;
+    }
+    if ((info.options & kOptSteps) && (o.max_steps < 1 || o.max_steps > limit)) {
+        notes.push_back(who + "max_steps " + std::to_string(o.max_steps) + " -> " +
+                        std::to_string(std::clamp(o.max_steps, 1, limit)) + " (" + info.name + "'s range is 1.." +
+                        std::to_string(limit) + ")");
+        o.max_steps = std::clamp(o.max_steps, 1, limit);
+    }
+    return notes;
+}
+
+std::vector<std::string> force_technique(SceneDesc& scene, Technique t) {
+    std::vector<std::string> notes;
+    for (MaterialDesc& m : scene.materials) {
+        std::vector<std::string> n = force_technique(m, t);
+        notes.insert(notes.end(), n.begin(), n.end());
+    }
+    return notes;
 }
 
 double bounded_margin(const MaterialDesc& m) {

@@ -256,4 +256,13 @@ Result<SceneDesc> load_scene(const std::string& name_or_path, SceneChecks checks
 // Checks cross references (object -> material) and value ranges.
 Status validate_scene(const SceneDesc& scene);
 
+// Draws material `m` (or every material of `scene`) with technique `t`, as
+// an override does: effect requests give way, the options are kept where
+// `t` has them (a sample count past its limit is clamped), and the
+// technique is marked forced (TechniqueOptions::forced), so that what `t`
+// cannot draw is dropped with a note in the plan instead of refused.
+// Returns a note for each option changed to fit `t`.
+std::vector<std::string> force_technique(MaterialDesc& m, Technique t);
+std::vector<std::string> force_technique(SceneDesc& scene, Technique t);
+
 }  // namespace px
