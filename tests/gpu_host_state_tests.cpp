@@ -1,8 +1,8 @@
 // The host's GL state survives the renderer, on ES 2.0 and ES 3.0: the test
-// sets every piece of state the library touches (and the state that would
-// change what it draws) to a value other than GL's default, loads a scene,
-// draws it, reads its debug outputs and reads a target back, then checks
-// every piece again with plain glGet calls of its own.
+// sets every row of the state table (gl/state.h: what the renderer saves,
+// restores and sets aside for its draws) to a value other than GL's
+// default, then checks every row after each call of the library: create,
+// load, replace_material, draw, debug captures, read-back and destroy.
 #include "gpu_fixture.h"
 
 #include <algorithm>
@@ -10,116 +10,12 @@
 #include <utility>
 #include <vector>
 
+#include "parallaxes/gl/caps.h"
 #include "parallaxes/gl/state.h"
 #include "parallaxes/render/surface_capture.h"
 
 namespace px::test {
 namespace {
-
-using StateList = std::vector<std::pair<std::string, double>>;
-
-// Everything the test sets, read with the raw API (not gl/state.h's code).
-StateList read_state(bool es3) {
-    StateList s;
-    auto integer = [&s](const std::string& name, GLenum pname, int count = 1) {
-        GLint v[4] = {0, 0, 0, 0};
-        glGetIntegerv(pname, v);
-        for (int i = 0; i < count; ++i) s.emplace_back(name + (count > 1 ? "[" + std::to_string(i) + "]" : ""), v[i]);
-    };
-    auto real = [&s](const std::string& name, GLenum pname, int count = 1) {
-        GLfloat v[4] = {0, 0, 0, 0};
-        glGetFloatv(pname, v);
-        for (int i = 0; i < count; ++i) s.emplace_back(name + (count > 1 ? "[" + std::to_string(i) + "]" : ""), v[i]);
-    };
-    auto enabled = [&s](const std::string& name, GLenum cap) { s.emplace_back(name, glIsEnabled(cap) ? 1.0 : 0.0); };
-    if (es3) {
-        integer("draw framebuffer", GL_DRAW_FRAMEBUFFER_BINDING);
-        integer("read framebuffer", GL_READ_FRAMEBUFFER_BINDING);
-        integer("vertex array", GL_VERTEX_ARRAY_BINDING);
-        integer("pixel pack buffer", GL_PIXEL_PACK_BUFFER_BINDING);
-        integer("pixel unpack buffer", GL_PIXEL_UNPACK_BUFFER_BINDING);
-        integer("unpack row length", GL_UNPACK_ROW_LENGTH);
-        integer("unpack skip rows", GL_UNPACK_SKIP_ROWS);
-        integer("unpack skip pixels", GL_UNPACK_SKIP_PIXELS);
-        integer("unpack image height", GL_UNPACK_IMAGE_HEIGHT);
-        integer("pack row length", GL_PACK_ROW_LENGTH);
-        integer("pack skip rows", GL_PACK_SKIP_ROWS);
-        enabled("primitive restart", GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    } else {
-        integer("framebuffer", GL_FRAMEBUFFER_BINDING);
-    }
-    integer("renderbuffer", GL_RENDERBUFFER_BINDING);
-    integer("program", GL_CURRENT_PROGRAM);
-    integer("array buffer", GL_ARRAY_BUFFER_BINDING);
-    integer("element array buffer", GL_ELEMENT_ARRAY_BUFFER_BINDING);
-    integer("active texture", GL_ACTIVE_TEXTURE);
-    GLint active = 0;
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
-    for (int unit = 0; unit < 4; ++unit) {
-        glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
-        integer("texture unit " + std::to_string(unit), GL_TEXTURE_BINDING_2D);
-        if (es3) integer("sampler unit " + std::to_string(unit), GL_SAMPLER_BINDING);
-    }
-    glActiveTexture(static_cast<GLenum>(active));
-    integer("pack alignment", GL_PACK_ALIGNMENT);
-    integer("unpack alignment", GL_UNPACK_ALIGNMENT);
-    integer("viewport", GL_VIEWPORT, 4);
-    enabled("scissor test", GL_SCISSOR_TEST);
-    integer("scissor box", GL_SCISSOR_BOX, 4);
-    enabled("cull face", GL_CULL_FACE);
-    integer("cull face mode", GL_CULL_FACE_MODE);
-    integer("front face", GL_FRONT_FACE);
-    enabled("polygon offset fill", GL_POLYGON_OFFSET_FILL);
-    enabled("depth test", GL_DEPTH_TEST);
-    integer("depth func", GL_DEPTH_FUNC);
-    integer("depth write mask", GL_DEPTH_WRITEMASK);
-    real("depth range", GL_DEPTH_RANGE, 2);
-    real("depth clear value", GL_DEPTH_CLEAR_VALUE);
-    enabled("blend", GL_BLEND);
-    integer("blend src rgb", GL_BLEND_SRC_RGB);
-    integer("blend dst rgb", GL_BLEND_DST_RGB);
-    integer("blend src alpha", GL_BLEND_SRC_ALPHA);
-    integer("blend dst alpha", GL_BLEND_DST_ALPHA);
-    integer("blend equation rgb", GL_BLEND_EQUATION_RGB);
-    integer("blend equation alpha", GL_BLEND_EQUATION_ALPHA);
-    real("blend color", GL_BLEND_COLOR, 4);
-    integer("color write mask", GL_COLOR_WRITEMASK, 4);
-    real("color clear value", GL_COLOR_CLEAR_VALUE, 4);
-    enabled("stencil test", GL_STENCIL_TEST);
-    integer("stencil func", GL_STENCIL_FUNC);
-    integer("stencil ref", GL_STENCIL_REF);
-    integer("stencil value mask", GL_STENCIL_VALUE_MASK);
-    integer("stencil fail", GL_STENCIL_FAIL);
-    integer("stencil pass depth fail", GL_STENCIL_PASS_DEPTH_FAIL);
-    integer("stencil pass depth pass", GL_STENCIL_PASS_DEPTH_PASS);
-    integer("stencil write mask", GL_STENCIL_WRITEMASK);
-    integer("stencil back func", GL_STENCIL_BACK_FUNC);
-    integer("stencil back write mask", GL_STENCIL_BACK_WRITEMASK);
-    enabled("dither", GL_DITHER);
-    enabled("sample coverage", GL_SAMPLE_COVERAGE);
-    enabled("sample alpha to coverage", GL_SAMPLE_ALPHA_TO_COVERAGE);
-    // The vertex attributes of the bound VAO (ES 3.0: the host's own) or of
-    // the context (ES 2.0).
-    // Every slot the library may point (kLibraryAttributeSlots, the ES 2.0
-    // minimum of 8): until 2026-12-05 the guard saved 4, while the library
-    // enabled 6, then 8, on every ES 2.0 draw.
-    for (GLuint a = 0; a < static_cast<GLuint>(kLibraryAttributeSlots); ++a) {
-        const std::string name = "attribute " + std::to_string(a);
-        GLint v = 0;
-        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &v);
-        s.emplace_back(name + " enabled", v);
-        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_SIZE, &v);
-        s.emplace_back(name + " size", v);
-        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_STRIDE, &v);
-        s.emplace_back(name + " stride", v);
-        glGetVertexAttribiv(a, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &v);
-        s.emplace_back(name + " buffer", v);
-        void* pointer = nullptr;
-        glGetVertexAttribPointerv(a, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
-        s.emplace_back(name + " pointer", static_cast<double>(reinterpret_cast<std::uintptr_t>(pointer)));
-    }
-    return s;
-}
 
 GLuint host_program(bool es3) {
     const char* vs = es3 ? "#version 300 es\nin vec4 p;\nvoid main() { gl_Position = p; }\n"
@@ -138,137 +34,87 @@ GLuint host_program(bool es3) {
     return program;
 }
 
-// Sets every entry of read_state to a value other than GL's default.
+// The objects the host's state binds.
 struct HostObjects {
-    GLuint program = 0, vertex_array = 0, buffers[4] = {0, 0, 0, 0}, textures[4] = {0, 0, 0, 0},
-           samplers[4] = {0, 0, 0, 0}, renderbuffer = 0;
+    GlStateProbe probe;
+    bool es3 = false;
 };
 
-HostObjects set_host_state(bool es3, GLuint draw_framebuffer, GLuint read_framebuffer) {
+HostObjects make_host_objects(bool es3, GLuint draw_framebuffer, GLuint read_framebuffer) {
     HostObjects h;
-    h.program = host_program(es3);
-    glGenBuffers(4, h.buffers);
-    for (GLuint b : h.buffers) {
+    h.es3 = es3;
+    GlStateProbe& p = h.probe;
+    p.program = host_program(es3);
+    glGenBuffers(5, p.buffers);
+    for (GLuint b : p.buffers) {
         glBindBuffer(GL_ARRAY_BUFFER, b);
         glBufferData(GL_ARRAY_BUFFER, 1024, nullptr, GL_STATIC_DRAW);
     }
-    glGenTextures(4, h.textures);
-    glGenRenderbuffers(1, &h.renderbuffer);
-    glBindRenderbuffer(GL_RENDERBUFFER, h.renderbuffer);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glGenTextures(static_cast<GLsizei>(GlStateProbe::kTextures), p.textures);
+    glGenRenderbuffers(1, &p.renderbuffer);
+    p.draw_framebuffer = draw_framebuffer;
+    p.read_framebuffer = es3 ? read_framebuffer : draw_framebuffer;
     if (es3) {
-        glGenVertexArrays(1, &h.vertex_array);
-        glBindVertexArray(h.vertex_array);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, draw_framebuffer);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, read_framebuffer);
-        // A pixel buffer bound for unpacking: an upload that did not unbind
-        // it would read the host's buffer instead of the image.
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, h.buffers[2]);
-        glBindBuffer(GL_PIXEL_PACK_BUFFER, h.buffers[3]);
-        glPixelStorei(GL_UNPACK_ROW_LENGTH, 7);
-        glPixelStorei(GL_UNPACK_SKIP_ROWS, 1);
-        glPixelStorei(GL_UNPACK_SKIP_PIXELS, 2);
-        glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, 3);
-        glPixelStorei(GL_PACK_ROW_LENGTH, 5);
-        glPixelStorei(GL_PACK_SKIP_ROWS, 1);
-        glEnable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-        glGenSamplers(4, h.samplers);
-    } else {
-        glBindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer);
+        glGenVertexArrays(1, &p.vertex_array);
+        glGenSamplers(static_cast<GLsizei>(GlStateProbe::kSamplers), p.samplers);
     }
-    glUseProgram(h.program);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, h.buffers[1]);  // into the host's VAO on ES 3.0
-    glBindBuffer(GL_ARRAY_BUFFER, h.buffers[0]);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 12, reinterpret_cast<void*>(4));
-    glEnableVertexAttribArray(2);
-    glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, 20, reinterpret_cast<void*>(8));
-    glEnableVertexAttribArray(4);
-    glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, 24, reinterpret_cast<void*>(12));
-    glEnableVertexAttribArray(6);
-    glVertexAttribPointer(6, 1, GL_FLOAT, GL_FALSE, 28, reinterpret_cast<void*>(16));
-    glBindBuffer(GL_ARRAY_BUFFER, h.buffers[1]);
-    for (int unit = 0; unit < 4; ++unit) {
-        glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
-        glBindTexture(GL_TEXTURE_2D, h.textures[unit]);
-        // A sampler object overrides the texture's own filtering and wrapping.
-        if (es3) glBindSampler(static_cast<GLuint>(unit), h.samplers[unit]);
-    }
-    glActiveTexture(GL_TEXTURE5);
-    glPixelStorei(GL_PACK_ALIGNMENT, 2);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 8);
-    glViewport(3, 5, 7, 9);  // not HostIntegration's (1, 2, 3, 4), which an earlier test leaves
-    // Scissor, stencil and the colour mask would each stop the draw: it must
-    // set them aside and give them back.
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(5, 6, 7, 8);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_FRONT);
-    glFrontFace(GL_CW);
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glDepthMask(GL_FALSE);
-    glDepthRangef(0.25f, 0.75f);
-    glClearDepthf(0.5f);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_DST_COLOR, GL_ONE_MINUS_DST_ALPHA);
-    glBlendEquationSeparate(GL_FUNC_SUBTRACT, GL_FUNC_REVERSE_SUBTRACT);
-    glBlendColor(0.125f, 0.25f, 0.5f, 0.75f);
-    glColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE);
-    glClearColor(0.125f, 0.25f, 0.375f, 0.5f);
-    glEnable(GL_STENCIL_TEST);
-    glStencilFuncSeparate(GL_FRONT, GL_NEVER, 3, 0x0F);
-    glStencilFuncSeparate(GL_BACK, GL_LESS, 1, 0x07);
-    glStencilOpSeparate(GL_FRONT, GL_INCR, GL_DECR, GL_INVERT);
-    glStencilMaskSeparate(GL_FRONT, 0x55);
-    glStencilMaskSeparate(GL_BACK, 0x33);
-    glDisable(GL_DITHER);
-    glEnable(GL_SAMPLE_COVERAGE);
-    glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     return h;
 }
 
-void delete_host_objects(HostObjects& h, bool es3) {
+void delete_host_objects(HostObjects& h) {
+    GlStateProbe& p = h.probe;
     glUseProgram(0);
-    glDeleteProgram(h.program);
-    glDeleteBuffers(4, h.buffers);
-    glDeleteTextures(4, h.textures);
-    glDeleteRenderbuffers(1, &h.renderbuffer);
-    if (es3) {
+    glDeleteProgram(p.program);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glDeleteBuffers(5, p.buffers);
+    glDeleteTextures(static_cast<GLsizei>(GlStateProbe::kTextures), p.textures);
+    glDeleteRenderbuffers(1, &p.renderbuffer);
+    if (h.es3) {
         glBindVertexArray(0);
-        glDeleteVertexArrays(1, &h.vertex_array);
-        glDeleteSamplers(4, h.samplers);
+        glDeleteVertexArrays(1, &p.vertex_array);
+        glDeleteSamplers(static_cast<GLsizei>(GlStateProbe::kSamplers), p.samplers);
     }
 }
 
-// Every entry the test sets differs from what the context had before (GL's
-// defaults: every earlier test gives the state back), so that the check
-// afterwards would see a change to it.
-void expect_all_changed(const StateList& initial, const StateList& host) {
-    ASSERT_EQ(initial.size(), host.size());
-    // Entries that keep their default on purpose: attribute slots 1, 3, 5
-    // and 7 (left disabled, so both kinds are covered), two colour channels.
-    for (size_t i = 0; i < host.size(); ++i) {
-        const std::string& name = host[i].first;
-        if (name.rfind("attribute 1 ", 0) == 0 || name.rfind("attribute 3 ", 0) == 0 ||
-            name.rfind("attribute 5 ", 0) == 0 || name.rfind("attribute 7 ", 0) == 0)
-            continue;
-        if (name == "color write mask[0]" || name == "color write mask[2]") continue;  // left on
-        if (name == "scissor box[2]" || name == "scissor box[3]") continue;  // default is the first surface's size
-        // The reference value reads back clamped to the bound framebuffer's
-        // stencil bits, and the targets here have none.
-        if (name == "stencil ref") continue;
-        EXPECT_NE(initial[i].second, host[i].second) << name << " is still at its default: the test does not set it";
+std::string row_name(const GlStateValue& v) {
+    return v.name + (v.index >= 0 ? " " + std::to_string(v.index) : std::string());
+}
+
+// Every row the probe sets differs from what the context had before (GL's
+// defaults: every earlier test gives the state back), so that the checks
+// afterwards would see a change to it. Rows are matched by name and unit:
+// the host's active unit adds one.
+void expect_all_changed(const std::vector<GlStateValue>& initial, const std::vector<GlStateValue>& host) {
+    ASSERT_GE(host.size(), initial.size());
+    for (const GlStateValue& h : host) {
+        // Odd attribute slots stay disabled on purpose: both kinds covered.
+        if (h.name == "attribute" && h.index % 2) continue;
+        const auto before = std::find_if(initial.begin(), initial.end(), [&](const GlStateValue& i) {
+            return i.name == h.name && i.index == h.index;
+        });
+        // A unit only the host's active one reaches: its texture was unbound.
+        const GlStateValue::Values unbound{};
+        const GlStateValue::Values& was = before == initial.end() ? unbound : before->values;
+        EXPECT_NE(was, h.values) << row_name(h) << " is still at its default: the probe does not set it";
     }
 }
 
-TEST(HostState, EveryPieceSurvivesLoadDrawCaptureAndReadBack) {
+void expect_state(const Caps& caps, const std::vector<GlStateValue>& expected, const char* after) {
+    const std::vector<GlStateValue> now = read_gl_state(caps);
+    ASSERT_EQ(now.size(), expected.size()) << after;
+    for (size_t i = 0; i < now.size(); ++i)
+        EXPECT_EQ(now[i].values, expected[i].values) << row_name(expected[i]) << " changed by " << after;
+}
+
+TEST(HostState, EveryRowOfTheStateTableSurvivesEveryCall) {
     const bool es3 = test_es_major() >= 3;
     auto host_target = OffscreenTarget::create(64, 64);  // stands in for the app's own framebuffer
     ASSERT_TRUE(host_target.ok()) << host_target.error().message;
     auto other = OffscreenTarget::create(32, 32);
     auto third = OffscreenTarget::create(16, 16);
     ASSERT_TRUE(other.ok() && third.ok());
+    const Caps caps = query_caps();
 
     // The image this scene gives with GL's default state around it.
     PlaneScene p;
@@ -279,36 +125,101 @@ TEST(HostState, EveryPieceSurvivesLoadDrawCaptureAndReadBack) {
     const SceneDesc scene = p.build();
     const Image expected = render(scene, 64).image;
 
-    const StateList initial = read_state(es3);
-    HostObjects host = set_host_state(es3, other->target().framebuffer, third->target().framebuffer);
-    const StateList before = read_state(es3);
+    const std::vector<GlStateValue> initial = read_gl_state(caps);
+    // GL's defaults come back however the test ends (an ASSERT included):
+    // the tests after it expect them.
+    SavedGlState defaults(caps);
+    HostObjects host = make_host_objects(es3, other->target().framebuffer, third->target().framebuffer);
+    set_gl_state_probe(caps, host.probe);
+    const std::vector<GlStateValue> before = read_gl_state(caps);
     expect_all_changed(initial, before);
+    // The host's active unit is past the units the library binds: the table
+    // covers it (an upload binds there).
+    ASSERT_GE(GlStateProbe::kActiveUnit, kLibraryTextureUnits);
+    EXPECT_TRUE(std::any_of(before.begin(), before.end(), [](const GlStateValue& v) {
+        return v.name == "texture 2d" && v.index == GlStateProbe::kActiveUnit;
+    }));
 
-    auto renderer = Renderer::create();
+    auto renderer = Renderer::create(reading_files());
     ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+    expect_state(caps, before, "create");
     Status loaded = (*renderer)->load(scene);
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    EXPECT_EQ(read_state(es3), before) << "after load";
+    expect_state(caps, before, "load");
+    MaterialDesc replaced = scene.materials[0];
+    replaced.height_scale *= 0.5f;
+    replaced.albedo.low = glm::vec3(0.25f, 0.5f, 0.75f);
+    Status swapped = (*renderer)->replace_material(replaced);
+    ASSERT_TRUE(swapped.ok()) << swapped.error().message;
+    expect_state(caps, before, "replace_material");
+    swapped = (*renderer)->replace_material(scene.materials[0]);
+    ASSERT_TRUE(swapped.ok()) << swapped.error().message;
     Status drawn = (*renderer)->draw(host_target->target());
     ASSERT_TRUE(drawn.ok()) << drawn.error().message;
-    const StateList after_draw = read_state(es3);
+    expect_state(caps, before, "draw");
     Result<SurfaceImage> surfaces = capture_surfaces(**renderer, 32, 32);
     ASSERT_TRUE(surfaces.ok()) << surfaces.error().message;
-    const StateList after_capture = read_state(es3);
+    expect_state(caps, before, "capture_surfaces");
     Result<Image> image = host_target->read_pixels();
     ASSERT_TRUE(image.ok()) << image.error().message;
-    const StateList after_read = read_state(es3);
-    delete_host_objects(host, es3);
+    expect_state(caps, before, "read_pixels");
+    renderer->reset();
+    expect_state(caps, before, "destroy");
+    delete_host_objects(host);
 
-    for (size_t i = 0; i < before.size(); ++i) {
-        EXPECT_EQ(after_draw[i].second, before[i].second) << before[i].first << " changed by draw";
-        EXPECT_EQ(after_capture[i].second, before[i].second) << before[i].first << " changed by capture_surfaces";
-        EXPECT_EQ(after_read[i].second, before[i].second) << before[i].first << " changed by read_pixels";
-    }
-    // The host's scissor, stencil, blend, colour mask, depth state and (ES
-    // 3.0) sampler objects and unpack buffer did not reach the image.
+    // The host's scissor, stencil, blend, colour mask, depth state, (ES 3.0)
+    // sampler objects, unpack buffer and rasterizer discard did not reach the image.
     const ImageDiff d = compare(*image, expected);
     EXPECT_EQ(d.max, 0) << "mean " << d.mean;
+}
+
+// KHR_debug: the context holds one callback. A host's own (and its user
+// parameter) is never replaced; where the host has none, the renderer's
+// collects the driver's messages and goes with the renderer.
+TEST(HostState, TheHostsDebugCallbackIsLeftAlone) {
+    const GetProcAddress get_proc = platform::HeadlessContext::proc_loader();
+    const Caps caps = query_caps();
+    if (!caps.khr_debug()) GTEST_SKIP() << "the context has no GL_KHR_debug";
+    auto set_callback = reinterpret_cast<PFNGLDEBUGMESSAGECALLBACKKHRPROC>(get_proc("glDebugMessageCallbackKHR"));
+    auto get_pointer = reinterpret_cast<PFNGLGETPOINTERVKHRPROC>(get_proc("glGetPointervKHR"));
+    ASSERT_TRUE(set_callback && get_pointer);
+    auto callback_now = [&] {
+        std::pair<void*, void*> c{nullptr, nullptr};
+        get_pointer(GL_DEBUG_CALLBACK_FUNCTION_KHR, &c.first);
+        get_pointer(GL_DEBUG_CALLBACK_USER_PARAM_KHR, &c.second);
+        return c;
+    };
+    static int host_messages = 0;
+    int user = 7;
+    const GLDEBUGPROCKHR host = [](GLenum, GLenum, GLuint, GLenum, GLsizei, const GLchar*, const void* param) {
+        host_messages += *static_cast<const int*>(param) == 7 ? 1 : 0;
+    };
+    set_callback(host, &user);
+    const std::pair<void*, void*> hosts{reinterpret_cast<void*>(host), &user};
+    {
+        RendererOptions options;
+        options.get_proc_address = get_proc;
+        auto renderer = Renderer::create(options);
+        ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+        EXPECT_EQ(callback_now(), hosts) << "after create";
+        PlaneScene p;
+        ASSERT_TRUE((*renderer)->load(p.build()).ok());
+        auto target = OffscreenTarget::create(32, 32);
+        ASSERT_TRUE(target.ok());
+        ASSERT_TRUE((*renderer)->draw(target->target()).ok());
+        EXPECT_EQ(callback_now(), hosts) << "after draw";
+    }
+    EXPECT_EQ(callback_now(), hosts) << "after destroy";
+    set_callback(nullptr, nullptr);
+    {
+        // No host callback: the renderer's, until it is destroyed.
+        RendererOptions options;
+        options.get_proc_address = get_proc;
+        auto renderer = Renderer::create(options);
+        ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+        EXPECT_NE(callback_now().first, nullptr) << "the renderer collects the driver's messages";
+    }
+    EXPECT_EQ(callback_now().first, nullptr) << "after destroy";
 }
 
 }  // namespace

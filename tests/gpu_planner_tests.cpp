@@ -106,10 +106,10 @@ TEST(PlannerSources, EveryPlannedVariantCarriesNoCodeOfAnEffectItDoesNotUse) {
     scenes.push_back(*showcase);
     for (const profiling::StabilityCase& c : catalogue->cases)
         for (SceneDesc& s : hard_case_scenes(c)) scenes.push_back(std::move(s));
-    std::map<std::uint64_t, VariantKey> keys;
+    std::map<std::string, VariantKey> keys;
     for (const Caps& caps : {hand_caps(3, false), hand_caps(2, true), hand_caps(2, false)})
         for (const SceneDesc& s : scenes)
-            for (const VariantKey& k : planned_keys(s, caps)) keys.emplace(k.bits(), k);
+            for (const VariantKey& k : planned_keys(s, caps)) keys.emplace(k.id(), k);
     // The showcase's plan alone needs several distinct variants; with the
     // hard cases, dozens.
     EXPECT_GT(keys.size(), 30u);
@@ -158,7 +158,7 @@ TEST(PlannerRender, PlansFollowTheCameraAndPreparedPathsDrawAtOnce) {
     // Every variant of the path was built by prepare: none at the draw.
     EXPECT_EQ((*renderer)->program_count(), programs);
     for (size_t i = 0; i < scene->objects.size(); ++i)
-        EXPECT_EQ((*renderer)->reports()[i].variant.bits(), (*far_plans)[i].key.bits()) << scene->objects[i].name;
+        EXPECT_EQ((*renderer)->reports()[i].variant.id(), (*far_plans)[i].key.id()) << scene->objects[i].name;
 }
 
 // The planner's promise, measured: at a size the cost table was not made

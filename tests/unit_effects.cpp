@@ -48,9 +48,9 @@ TEST(Catalogue, OptionRangesAreChecked) {
 
 TEST(VariantKey, EveryEnumeratedVariantHasItsOwnKey) {
     for (int es : {2, 3}) {
-        std::set<std::uint64_t> keys;
+        std::set<std::string> keys;
         const std::vector<VariantKey> variants = enumerate_variants(es);
-        for (const VariantKey& k : variants) EXPECT_TRUE(keys.insert(k.bits()).second) << k.describe();
+        for (const VariantKey& k : variants) EXPECT_TRUE(keys.insert(k.id()).second) << k.describe();
         EXPECT_GT(variants.size(), 50u);
     }
 }
@@ -62,9 +62,9 @@ TEST(VariantKey, OptionsATechniqueLacksDoNotChangeTheKey) {
     b.shadow = ShadowMode::soft;
     b.max_samples = 64;
     b.depth_write = true;
-    EXPECT_EQ(a.bits(), b.bits());
+    EXPECT_EQ(a.id(), b.id());
     a.technique = b.technique = Technique::pom;
-    EXPECT_NE(a.bits(), b.bits());
+    EXPECT_NE(a.id(), b.id());
 }
 
 // The curved search's shape (PX_SHAPE) is part of a curved variant only
@@ -76,23 +76,20 @@ TEST(VariantKey, TheCurvedShapeNeedsACurvedSearch) {
     k.shape = kShapeTorus;
     VariantKey none = k;
     none.shape = 0;
-    EXPECT_EQ(k.bits(), none.bits()) << "not curved: no shape";
+    EXPECT_EQ(k.id(), none.id()) << "not curved: no shape";
     k.curved = none.curved = true;
-    EXPECT_NE(k.bits(), none.bits());
+    EXPECT_NE(k.id(), none.id());
     EXPECT_EQ(k.describe(), "pom es3 samples<=32 packed curved shape=torus");
     Result<VariantKey> parsed = VariantKey::parse(k.describe());
     ASSERT_TRUE(parsed.ok()) << parsed.error().message;
     EXPECT_EQ(parsed->shape, kShapeTorus);
-    std::optional<VariantKey> back = VariantKey::from_bits(k.bits());
-    ASSERT_TRUE(back.has_value());
-    EXPECT_EQ(back->shape, kShapeTorus);
     k.es_major = none.es_major = 2;
     k.no_fragment_highp = none.no_fragment_highp = true;
-    EXPECT_NE(k.bits(), none.bits()) << "no fragment highp: still the shape search";
+    EXPECT_NE(k.id(), none.id()) << "no fragment highp: still the shape search";
     EXPECT_EQ(k.describe(), "pom es2 samples<=32 packed curved shape=torus no-fragment-highp");
     k.technique = none.technique = Technique::maxmip;  // no linear search: not curved at all
     k.no_fragment_highp = none.no_fragment_highp = false;
-    EXPECT_EQ(k.bits(), none.bits());
+    EXPECT_EQ(k.id(), none.id());
 }
 
 MaterialDesc material(Technique t) {
@@ -342,18 +339,70 @@ TEST(ShaderInterface, EveryVariantsDeclarationsAreInTheTable) {
 namespace px {
 namespace {
 
-// Every variant's name and bits name it again (parallax profile takes names;
-// its NIR child process takes bits).
-TEST(VariantNames, ParseAndFromBitsRoundTrip) {
+// A variant field is one row of one table (effects/variant.cpp): a field
+// added at run time reaches the description, the parser, the defines and
+// the identity the program cache keys on. The key once held 64 bits and
+// every one was in use; here seventy flags each make a variant of their own
+// on top of a key that sets every built-in field.
+TEST(VariantKey, AFieldAddedToTheTableReachesEveryUseOfTheKey) {
+    ASSERT_TRUE(add_variant_field({"test-grain", "PX_TEST_GRAIN", 9, kOptSamples}).ok());
+    EXPECT_FALSE(add_variant_field({"test-grain", "PX_TEST_GRAIN", 9, 0}).ok()) << "twice";
+    EXPECT_FALSE(add_variant_field({"depth", "PX_DEPTH_AGAIN", 1, 0}).ok()) << "a built-in field's word";
+    EXPECT_FALSE(add_variant_field({"bad word", "PX_BAD", 1, 0}).ok());
+    EXPECT_FALSE(add_variant_field({"lowercase-define", "px_bad", 1, 0}).ok());
+
+    VariantKey k;
+    k.technique = Technique::pom;
+    k.max_samples = 32;
+    k.shadow = ShadowMode::soft;
+    k.shadow_samples = 16;
+    k.depth_write = k.lod = k.exact_view = true;
+    VariantKey grained = k;
+    grained.added["test-grain"] = 5;
+    EXPECT_EQ(grained.describe(), k.describe() + " test-grain=5");
+    EXPECT_NE(grained.id(), k.id());
+    EXPECT_FALSE(grained == k);
+    bool defined = false;
+    for (const ShaderDefine& d : grained.defines()) defined = defined || (d.name == "PX_TEST_GRAIN" && d.value == "5");
+    EXPECT_TRUE(defined);
+    Result<VariantKey> parsed = VariantKey::parse(grained.describe());
+    ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+    EXPECT_EQ(parsed->added.at("test-grain"), 5u);
+    EXPECT_TRUE(*parsed == grained);
+    EXPECT_FALSE(VariantKey::parse(k.describe() + " test-grain=10").ok()) << "past its range";
+    // A technique without the field's options does not carry it.
+    VariantKey normal = grained;
+    normal.technique = Technique::normal;
+    EXPECT_EQ(normal.canonical().added.count("test-grain"), 0u);
+
+    // Past 64 bits: every built-in field set, and seventy more flags.
+    std::set<std::string> ids{grained.id()};
+    for (int i = 0; i < 70; ++i) {
+        std::string word = "test-flag-";
+        for (int n = i; n >= 0; n = n / 26 - 1) word += static_cast<char>('a' + n % 26);
+        std::string define = "PX_TEST_FLAG_";
+        for (char c : word.substr(10)) define += static_cast<char>(c - 'a' + 'A');
+        ASSERT_TRUE(add_variant_field({word, define, 1, 0}).ok()) << word;
+        VariantKey flagged = grained;
+        flagged.added[word] = 1;
+        EXPECT_TRUE(ids.insert(flagged.id()).second) << flagged.id();
+        Result<VariantKey> back = VariantKey::parse(flagged.describe());
+        ASSERT_TRUE(back.ok()) << back.error().message;
+        EXPECT_TRUE(*back == flagged);
+    }
+    EXPECT_EQ(ids.size(), 71u);
+}
+
+// Every variant's name names it again (parallax profile takes names, and
+// its NIR child process is handed ids, which are names).
+TEST(VariantNames, ParseRoundTrips) {
     int checked = 0;
     for (int es : {2, 3})
         for (const VariantKey& k : enumerate_variants(es)) {
             Result<VariantKey> parsed = VariantKey::parse(k.describe());
             ASSERT_TRUE(parsed) << k.describe() << ": " << parsed.error().message;
-            EXPECT_EQ(parsed->bits(), k.bits()) << k.describe();
-            const std::optional<VariantKey> back = VariantKey::from_bits(k.bits());
-            ASSERT_TRUE(back) << k.describe();
-            EXPECT_EQ(back->describe(), k.describe());
+            EXPECT_EQ(parsed->id(), k.id()) << k.describe();
+            EXPECT_EQ(parsed->defines().size(), k.defines().size()) << k.describe();
             ++checked;
         }
     EXPECT_GT(checked, 400);
@@ -367,9 +416,6 @@ TEST(VariantNames, ParseAndFromBitsRoundTrip) {
     // An option the technique lacks is not silently dropped.
     EXPECT_FALSE(VariantKey::parse("normal es3 samples<=32"));
     EXPECT_FALSE(VariantKey::parse("pom es3 samples<=9999999"));
-    // Bits no key has.
-    EXPECT_FALSE(VariantKey::from_bits(~std::uint64_t{0}));
-    EXPECT_FALSE(VariantKey::from_bits(std::uint64_t{1} << 60));
 }
 
 }  // namespace

@@ -207,7 +207,7 @@ TEST(TextureFilesInMaterials, LayoutAndElevenBitHeights) {
     VariantKey k;
     k.technique = Technique::maxmip;
     const VariantKey laid = k.with_layout(images->layout);
-    EXPECT_NE(laid.bits(), k.bits());
+    EXPECT_NE(laid.id(), k.id());
     bool rg = false, eleven = false;
     for (const ShaderDefine& d : laid.defines()) {
         rg |= d.name == "PX_NORMAL_RG";

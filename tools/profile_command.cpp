@@ -54,7 +54,7 @@ struct ProfileArgs {
     int frames = 5;
     std::string doc;        // write docs/profiling.md from this run
     double vendor_timeout = 120.0;  // seconds for all vendor compiler runs together
-    std::string nir_child;  // internal: the child that prints NIR for these variants (hex bits, comma-separated)
+    std::string nir_child;  // internal: the child that prints NIR for these variants (ids, ';'-separated)
     std::string command;
     bool calibrate = false;    // the model against a real compiler (profile_calibration.h)
     CalibrationArgs calibration;
@@ -135,15 +135,9 @@ int run_nir_child(const ProfileArgs& a) {
     if (!context) return fail(context.error().message);
     std::stringstream list(a.nir_child);
     std::string item;
-    while (std::getline(list, item, ',')) {
-        std::uint64_t bits = 0;
-        try {
-            bits = std::stoull(item, nullptr, 16);
-        } catch (...) {
-            return fail("--nir-child: '" + item + "' is not a variant");
-        }
-        const std::optional<VariantKey> key = VariantKey::from_bits(bits);
-        if (!key) return fail("--nir-child: '" + item + "' is not a variant");
+    while (std::getline(list, item, ';')) {
+        const Result<VariantKey> key = VariantKey::parse(item);
+        if (!key) return fail("--nir-child: " + key.error().message);
         Result<VariantSources> sources = assemble_variant(*key);
         if (!sources) return fail(sources.error().message);
         std::fprintf(stderr, "%s%s\n", kNirMarker, item.c_str());
@@ -158,11 +152,7 @@ int run_nir_child(const ProfileArgs& a) {
 Status capture_nir(std::vector<profiling::VariantProfile>& profiles, int es) {
     if (profiles.empty()) return {};
     std::string list;
-    for (const profiling::VariantProfile& p : profiles) {
-        char hex[32];
-        std::snprintf(hex, sizeof hex, "%llx", static_cast<unsigned long long>(p.key.bits()));
-        list += (list.empty() ? "" : ",") + std::string(hex);
-    }
+    for (const profiling::VariantProfile& p : profiles) list += (list.empty() ? "" : ";") + p.key.id();
     std::error_code ec;
     const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();
     if (ec) return make_error("cannot find this program's path for the NIR capture: " + ec.message());
@@ -195,9 +185,7 @@ Status capture_nir(std::vector<profiling::VariantProfile>& profiles, int es) {
         at = next;
     }
     for (profiling::VariantProfile& p : profiles) {
-        char hex[32];
-        std::snprintf(hex, sizeof hex, "%llx", static_cast<unsigned long long>(p.key.bits()));
-        const auto found = sections.find(hex);
+        const auto found = sections.find(p.key.id());
         if (found == sections.end()) {
             p.nir_note = "Mesa printed no NIR for this variant";
             continue;

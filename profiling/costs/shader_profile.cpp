@@ -180,7 +180,7 @@ nlohmann::json nir_json(const NirCost& n) {
 
 nlohmann::json profile_json(const VariantProfile& p) {
     nlohmann::json j = {{"variant", p.name},
-                        {"key_bits", p.key.bits()},
+                        {"key_hash", p.key.hash()},
                         {"fragment", stage_json(p.fragment)},
                         {"vertex", stage_json(p.vertex)},
                         {"estimate", {{"fragment_shortest", cycles_json(p.fragment_shortest)},

@@ -1,6 +1,10 @@
 #include "parallaxes/effects/variant.h"
 
 #include <algorithm>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
 
 #include "parallaxes/core/limits.h"
@@ -10,6 +14,14 @@ namespace px {
 namespace {
 
 bool has_option(Technique t, OptionFlag flag) { return (technique_info(t).options & flag) != 0; }
+
+std::recursive_mutex g_fields_mutex;  // the field table, which add_variant_field extends
+
+// Fields added at run time (add_variant_field): which techniques have each.
+std::map<std::string, std::uint32_t>& added_field_options() {
+    static std::map<std::string, std::uint32_t> options;
+    return options;
+}
 
 }  // namespace
 
@@ -58,103 +70,314 @@ VariantKey VariantKey::canonical() const {
     }
     // Only GLSL ES 1.00 shading at a moved uv reads with texture2D's bias.
     if (k.es_major >= 3 || !has_option(k.technique, kOptHeight) || k.ladder_step) k.no_derivatives = false;
+    // Fields added at run time: only for techniques with their options,
+    // and a zero is no entry (so that equal programs have equal keys).
+    if (!k.added.empty()) {
+        std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+        for (auto it = k.added.begin(); it != k.added.end();) {
+            const auto options = added_field_options().find(it->first);
+            const bool kept = it->second != 0 && options != added_field_options().end() &&
+                              (technique_info(k.technique).options & options->second) == options->second;
+            it = kept ? std::next(it) : k.added.erase(it);
+        }
+    }
     return k;
 }
 
-std::uint64_t VariantKey::bits() const {
+namespace {
+
+// A non-negative decimal of at most 6 digits, at most `limit`.
+bool read_number(const std::string& text, long limit, long& out) {
+    if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos) return false;
+    out = std::stol(text);
+    return out <= limit;
+}
+
+// `word` is `prefix` followed by a number within [low, limit].
+bool prefixed_number(const std::string& word, const char* prefix, long low, long limit, long& out) {
+    const std::string p(prefix);
+    return word.rfind(p, 0) == 0 && read_number(word.substr(p.size()), limit, out) && out >= low;
+}
+
+// A flag field: one word in the description, one bare define, one member.
+template <bool VariantKey::*member>
+VariantField flag(const char* word, const char* define) {
+    VariantField f;
+    f.name = word;
+    f.describe = [word](const VariantKey& k, std::string& out) {
+        if (k.*member) out += std::string(" ") + word;
+    };
+    f.parse = [word](const std::string& w, VariantKey& k) {
+        if (w != word) return false;
+        k.*member = true;
+        return true;
+    };
+    f.defines = [define](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.*member) out.push_back({define, ""});
+    };
+    return f;
+}
+
+// One bit of VariantKey::flip_v.
+VariantField flip(const char* word, const char* define, std::uint8_t bit) {
+    VariantField f;
+    f.name = word;
+    f.describe = [word, bit](const VariantKey& k, std::string& out) {
+        if (k.flip_v & bit) out += std::string(" ") + word;
+    };
+    f.parse = [word, bit](const std::string& w, VariantKey& k) {
+        if (w != word) return false;
+        k.flip_v = static_cast<std::uint8_t>(k.flip_v | bit);
+        return true;
+    };
+    f.defines = [define, bit](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.flip_v & bit) out.push_back({define, ""});
+    };
+    return f;
+}
+
+const char* shape_name(std::uint8_t shape) {
+    return shape == kShapeSphere ? "sphere" : shape == kShapeCylinder ? "cylinder" : "torus";
+}
+
+// Every field of a variant, in the order of its description (describe()
+// and parse() read this table, defines() emits in its order, the identity
+// and the program cache's key come from the description): adding a field is
+// one row here, a member in VariantKey and its rule in canonical().
+std::vector<VariantField> builtin_fields() {
+    std::vector<VariantField> t;
+    VariantField f;
+    // The technique: the description's first word (parse reads it apart).
+    f.name = "technique";
+    f.describe = [](const VariantKey& k, std::string& out) { out += technique_name(k.technique); };
+    f.parse = [](const std::string&, VariantKey&) { return false; };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        const TechniqueInfo& info = technique_info(k.technique);
+        out.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
+        out.push_back({info.define, ""});
+        if (info.options & kOptNormals) out.push_back({"PX_NORMAL_MAP", ""});
+        if (info.options & kOptHeight) out.push_back({"PX_READS_HEIGHT", ""});
+    };
+    t.push_back(f);
+    f.name = "es";
+    f.describe = [](const VariantKey& k, std::string& out) { out += " es" + std::to_string(int(k.es_major)); };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        long n = 0;
+        if (!prefixed_number(w, "es", 2, 3, n)) return false;
+        k.es_major = static_cast<std::uint8_t>(n);
+        return true;
+    };
+    f.defines = [](const VariantKey&, std::vector<ShaderDefine>&) {};  // the preamble's #version
+    t.push_back(f);
+    // The loop bound: samples of a linear search, or steps of an exact walk.
+    f.name = "max_samples";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (k.max_samples)
+            out += (has_option(k.technique, kOptSteps) ? " steps<=" : " samples<=") + std::to_string(k.max_samples);
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        long n = 0;
+        if (!prefixed_number(w, "samples<=", 0, 65535, n) && !prefixed_number(w, "steps<=", 0, 65535, n)) return false;
+        k.max_samples = static_cast<std::uint16_t>(n);
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps))
+            out.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
+    };
+    t.push_back(f);
+    f.name = "refine_steps";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (has_option(k.technique, kOptRefine)) out += " refine=" + std::to_string(int(k.refine_steps));
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        long n = 0;
+        if (!prefixed_number(w, "refine=", 0, 255, n)) return false;
+        k.refine_steps = static_cast<std::uint8_t>(n);
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (has_option(k.technique, kOptRefine)) out.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
+    };
+    t.push_back(f);
+    f.name = "shadow";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (k.shadow != ShadowMode::none)
+            out += std::string(" shadow=") + shadow_mode_name(k.shadow) + "x" + std::to_string(int(k.shadow_samples));
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        const size_t x = w.find('x');
+        long n = 0;
+        if (w.rfind("shadow=", 0) != 0 || x == std::string::npos || !read_number(w.substr(x + 1), 255, n)) return false;
+        const std::string mode = w.substr(7, x - 7);
+        if (mode != "hard" && mode != "soft") return false;
+        k.shadow = mode == "hard" ? ShadowMode::hard : ShadowMode::soft;
+        k.shadow_samples = static_cast<std::uint8_t>(n);
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.shadow == ShadowMode::none) return;
+        out.push_back({"PX_SHADOW", k.shadow == ShadowMode::hard ? "1" : "2"});
+        out.push_back({"PX_SHADOW_SAMPLES", std::to_string(k.shadow_samples)});
+    };
+    t.push_back(f);
+    t.push_back(flag<&VariantKey::depth_write>("depth", "PX_DEPTH_WRITE"));
+    t.push_back(flag<&VariantKey::lod>("lod", "PX_LOD"));
+    t.push_back(flag<&VariantKey::exact_view>("exact-view", "PX_EXACT_VIEW"));
+    f.name = "packed_height";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (has_option(k.technique, kOptHeight)) out += k.packed_height ? " packed" : " separate-height";
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        if (w != "packed" && w != "separate-height") return false;
+        k.packed_height = w == "packed";
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.packed_height) out.push_back({"PX_PACKED_HEIGHT", ""});
+    };
+    t.push_back(f);
+    t.push_back(flag<&VariantKey::normal_rg>("normal-rg", "PX_NORMAL_RG"));
+    t.push_back(flag<&VariantKey::height_11bit>("height-11bit", "PX_HEIGHT_11BIT"));
+    f.name = "debug_output";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (k.debug_output) out += " debug" + std::to_string(int(k.debug_output));
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        long n = 0;
+        if (!prefixed_number(w, "debug", 1, 4, n)) return false;
+        k.debug_output = static_cast<std::uint8_t>(n);
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.debug_output) out.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
+    };
+    t.push_back(f);
+    t.push_back(flag<&VariantKey::count_work>("count-work", "PX_COUNT_WORK"));
+    t.push_back(flag<&VariantKey::capture_ray>("capture-ray", "PX_CAPTURE_RAY"));
+    t.push_back(flag<&VariantKey::bounded>("bounded", "PX_BOUNDED"));
+    t.push_back(flag<&VariantKey::curved>("curved", "PX_CURVED"));
+    f.name = "shape";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (k.shape) out += std::string(" shape=") + shape_name(k.shape);
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        for (std::uint8_t shape : {kShapeSphere, kShapeCylinder, kShapeTorus})
+            if (w == std::string("shape=") + shape_name(shape)) {
+                k.shape = shape;
+                return true;
+            }
+        return false;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.shape) out.push_back({"PX_SHAPE", std::to_string(k.shape)});
+    };
+    t.push_back(f);
+    t.push_back(flag<&VariantKey::no_fragment_highp>("no-fragment-highp", "PX_NO_FRAGMENT_HIGHP"));
+    f.name = "ladder_step";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (k.ladder_step) out += " ladder" + std::to_string(int(k.ladder_step));
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        long n = 0;
+        if (!prefixed_number(w, "ladder", 1, kLadderSteps, n)) return false;
+        k.ladder_step = static_cast<std::uint8_t>(n);
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.ladder_step) out.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
+    };
+    t.push_back(f);
+    t.push_back(flip("flip-albedo", "PX_FLIP_ALBEDO_V", kFlipAlbedo));
+    t.push_back(flip("flip-normal", "PX_FLIP_NORMAL_V", kFlipNormal));
+    t.push_back(flip("flip-height", "PX_FLIP_HEIGHT_V", kFlipHeight));
+    f.name = "no_derivatives";
+    f.describe = [](const VariantKey& k, std::string& out) {
+        if (k.no_derivatives) out += " no-derivatives";
+    };
+    f.parse = [](const std::string& w, VariantKey& k) {
+        if (w != "no-derivatives") return false;
+        k.no_derivatives = true;
+        return true;
+    };
+    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        if (k.shade_lod_bias()) out.push_back({"PX_SHADE_LOD_BIAS", ""});
+    };
+    t.push_back(f);
+    return t;
+}
+
+std::vector<VariantField>& field_table() {
+    static std::vector<VariantField> table = builtin_fields();
+    return table;
+}
+
+}  // namespace
+
+std::vector<VariantField> variant_fields() {
+    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+    return field_table();
+}
+
+Status add_variant_field(const AddedVariantField& field) {
+    if (field.word.empty() || field.word.find_first_of(" =<0123456789") != std::string::npos)
+        return make_error("variant field '" + field.word + "': a word of letters and '-', without digits or '='");
+    if (field.define.rfind("PX_", 0) != 0 || field.define.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") !=
+                                                 std::string::npos)
+        return make_error("variant field '" + field.word + "': its define must be PX_ and capitals, got '" +
+                          field.define + "'");
+    if (field.max_value < 1) return make_error("variant field '" + field.word + "': max_value must be at least 1");
+    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+    for (const VariantField& f : field_table()) {
+        VariantKey probe;
+        if (f.name == field.word || f.parse(field.word, probe) || f.parse(field.word + "=1", probe))
+            return make_error("variant field '" + field.word + "' is already a field");
+    }
+    const std::string word = field.word, define = field.define;
+    const std::uint32_t max = field.max_value;
+    VariantField f;
+    f.name = word;
+    f.describe = [word, max](const VariantKey& k, std::string& out) {
+        const auto it = k.added.find(word);
+        if (it == k.added.end() || it->second == 0) return;
+        out += " " + word + (max == 1 ? std::string() : "=" + std::to_string(it->second));
+    };
+    f.parse = [word, max](const std::string& w, VariantKey& k) {
+        long n = 1;
+        if (max == 1 ? w != word : !prefixed_number(w, (word + "=").c_str(), 1, static_cast<long>(max), n)) return false;
+        k.added[word] = static_cast<std::uint32_t>(n);
+        return true;
+    };
+    f.defines = [word, define, max](const VariantKey& k, std::vector<ShaderDefine>& out) {
+        const auto it = k.added.find(word);
+        if (it == k.added.end() || it->second == 0) return;
+        out.push_back({define, max == 1 ? std::string() : std::to_string(it->second)});
+    };
+    field_table().push_back(std::move(f));
+    added_field_options()[word] = field.technique_options;
+    return {};
+}
+
+std::string VariantKey::id() const {
     const VariantKey k = canonical();
-    std::uint64_t b = 0;
-    static_assert(kTechniqueCount <= 8, "the key holds the technique in 3 bits");
-    b |= static_cast<std::uint64_t>(k.technique);             // 3 bits
-    b |= static_cast<std::uint64_t>(k.shadow) << 3;           // 2 bits
-    b |= static_cast<std::uint64_t>(k.depth_write) << 5;
-    b |= static_cast<std::uint64_t>(k.lod) << 6;
-    b |= static_cast<std::uint64_t>(k.packed_height) << 7;
-    b |= static_cast<std::uint64_t>(k.es_major & 0xF) << 8;   // 4 bits
-    b |= static_cast<std::uint64_t>(k.max_samples) << 12;     // 16 bits
-    b |= static_cast<std::uint64_t>(k.refine_steps) << 28;    // 8 bits
-    b |= static_cast<std::uint64_t>(k.shadow_samples) << 36;  // 8 bits
-    b |= static_cast<std::uint64_t>(k.debug_output & 0x7) << 44;  // 3 bits
-    b |= static_cast<std::uint64_t>(k.exact_view) << 47;
-    b |= static_cast<std::uint64_t>(k.no_fragment_highp) << 48;
-    b |= static_cast<std::uint64_t>(k.normal_rg) << 49;
-    b |= static_cast<std::uint64_t>(k.height_11bit) << 50;
-    b |= static_cast<std::uint64_t>(k.ladder_step & 0x7) << 51;  // 3 bits
-    b |= static_cast<std::uint64_t>(k.flip_v & 0x7) << 54;       // 3 bits
-    b |= static_cast<std::uint64_t>(k.count_work) << 57;
-    b |= static_cast<std::uint64_t>(k.bounded) << 58;
-    b |= static_cast<std::uint64_t>(k.capture_ray) << 59;
-    b |= static_cast<std::uint64_t>(k.curved) << 60;
-    b |= static_cast<std::uint64_t>(k.shape & 0x3) << 61;  // 2 bits
-    b |= static_cast<std::uint64_t>(k.no_derivatives) << 63;
-    return b;
+    std::string out;
+    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+    for (const VariantField& f : field_table()) f.describe(k, out);
+    return out;
 }
 
-std::optional<VariantKey> VariantKey::from_bits(std::uint64_t b) {
-    VariantKey k;
-    const std::uint64_t technique = b & 0x7;
-    if (technique >= static_cast<std::uint64_t>(kTechniqueCount)) return std::nullopt;
-    k.technique = static_cast<Technique>(technique);
-    const std::uint64_t shadow = (b >> 3) & 0x3;
-    if (shadow > 2) return std::nullopt;
-    k.shadow = static_cast<ShadowMode>(shadow);
-    k.depth_write = (b >> 5) & 1;
-    k.lod = (b >> 6) & 1;
-    k.packed_height = (b >> 7) & 1;
-    k.es_major = static_cast<std::uint8_t>((b >> 8) & 0xF);
-    k.max_samples = static_cast<std::uint16_t>((b >> 12) & 0xFFFF);
-    k.refine_steps = static_cast<std::uint8_t>((b >> 28) & 0xFF);
-    k.shadow_samples = static_cast<std::uint8_t>((b >> 36) & 0xFF);
-    k.debug_output = static_cast<std::uint8_t>((b >> 44) & 0x7);
-    k.exact_view = (b >> 47) & 1;
-    k.no_fragment_highp = (b >> 48) & 1;
-    k.normal_rg = (b >> 49) & 1;
-    k.height_11bit = (b >> 50) & 1;
-    k.ladder_step = static_cast<std::uint8_t>((b >> 51) & 0x7);
-    k.flip_v = static_cast<std::uint8_t>((b >> 54) & 0x7);
-    k.count_work = (b >> 57) & 1;
-    k.bounded = (b >> 58) & 1;
-    k.capture_ray = (b >> 59) & 1;
-    k.curved = (b >> 60) & 1;
-    k.shape = static_cast<std::uint8_t>((b >> 61) & 0x3);
-    k.no_derivatives = (b >> 63) & 1;
-    if (k.bits() != b) return std::nullopt;  // not canonical, or bits past the key's
-    return k;
+std::uint64_t VariantKey::hash() const {
+    const std::string text = id();
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    return h;
 }
 
 std::vector<ShaderDefine> VariantKey::defines() const {
     const VariantKey k = canonical();
-    const TechniqueInfo& info = technique_info(k.technique);
     std::vector<ShaderDefine> d;
-    d.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
-    d.push_back({info.define, ""});
-    if (info.options & kOptNormals) d.push_back({"PX_NORMAL_MAP", ""});
-    if (info.options & kOptHeight) d.push_back({"PX_READS_HEIGHT", ""});
-    if (k.packed_height) d.push_back({"PX_PACKED_HEIGHT", ""});
-    if (k.exact_view) d.push_back({"PX_EXACT_VIEW", ""});
-    if (k.normal_rg) d.push_back({"PX_NORMAL_RG", ""});
-    if (k.height_11bit) d.push_back({"PX_HEIGHT_11BIT", ""});
-    // The loop bound: samples of a linear search, or steps of an exact walk.
-    if (info.options & (kOptSamples | kOptSteps)) d.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
-    if (info.options & kOptRefine) d.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
-    if (k.shadow != ShadowMode::none) {
-        d.push_back({"PX_SHADOW", k.shadow == ShadowMode::hard ? "1" : "2"});
-        d.push_back({"PX_SHADOW_SAMPLES", std::to_string(k.shadow_samples)});
-    }
-    if (k.depth_write) d.push_back({"PX_DEPTH_WRITE", ""});
-    if (k.lod) d.push_back({"PX_LOD", ""});
-    if (k.debug_output) d.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
-    if (k.count_work) d.push_back({"PX_COUNT_WORK", ""});
-    if (k.capture_ray) d.push_back({"PX_CAPTURE_RAY", ""});
-    if (k.bounded) d.push_back({"PX_BOUNDED", ""});
-    if (k.curved) d.push_back({"PX_CURVED", ""});
-    if (k.shape) d.push_back({"PX_SHAPE", std::to_string(k.shape)});
-    if (k.no_fragment_highp) d.push_back({"PX_NO_FRAGMENT_HIGHP", ""});
-    if (k.ladder_step) d.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
-    if (k.flip_v & kFlipAlbedo) d.push_back({"PX_FLIP_ALBEDO_V", ""});
-    if (k.flip_v & kFlipNormal) d.push_back({"PX_FLIP_NORMAL_V", ""});
-    if (k.flip_v & kFlipHeight) d.push_back({"PX_FLIP_HEIGHT_V", ""});
-    if (k.shade_lod_bias()) d.push_back({"PX_SHADE_LOD_BIAS", ""});
+    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+    for (const VariantField& f : field_table()) f.defines(k, d);
     return d;
 }
 
@@ -172,33 +395,7 @@ std::vector<std::string> VariantKey::extensions(ShaderStage stage) const {
     return e;
 }
 
-std::string VariantKey::describe() const {
-    const VariantKey k = canonical();
-    std::ostringstream s;
-    s << technique_name(k.technique) << " es" << int(k.es_major);
-    if (k.max_samples) s << (has_option(k.technique, kOptSteps) ? " steps<=" : " samples<=") << k.max_samples;
-    if (has_option(k.technique, kOptRefine)) s << " refine=" << int(k.refine_steps);
-    if (k.shadow != ShadowMode::none) s << " shadow=" << shadow_mode_name(k.shadow) << "x" << int(k.shadow_samples);
-    if (k.depth_write) s << " depth";
-    if (k.lod) s << " lod";
-    if (k.exact_view) s << " exact-view";
-    if (has_option(k.technique, kOptHeight)) s << (k.packed_height ? " packed" : " separate-height");
-    if (k.normal_rg) s << " normal-rg";
-    if (k.height_11bit) s << " height-11bit";
-    if (k.debug_output) s << " debug" << int(k.debug_output);
-    if (k.count_work) s << " count-work";
-    if (k.capture_ray) s << " capture-ray";
-    if (k.bounded) s << " bounded";
-    if (k.curved) s << " curved";
-    if (k.shape) s << " shape=" << (k.shape == kShapeSphere ? "sphere" : k.shape == kShapeCylinder ? "cylinder" : "torus");
-    if (k.no_fragment_highp) s << " no-fragment-highp";
-    if (k.ladder_step) s << " ladder" << int(k.ladder_step);
-    if (k.flip_v & kFlipAlbedo) s << " flip-albedo";
-    if (k.flip_v & kFlipNormal) s << " flip-normal";
-    if (k.flip_v & kFlipHeight) s << " flip-height";
-    if (k.no_derivatives) s << " no-derivatives";
-    return s.str();
-}
+std::string VariantKey::describe() const { return id(); }
 
 Result<VariantKey> VariantKey::parse(const std::string& name) {
     std::istringstream words(name);
@@ -209,48 +406,15 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
     VariantKey k;
     k.technique = *technique;
     k.packed_height = false;
-    auto number = [](const std::string& text, long limit, long& out) {
-        if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos) return false;
-        out = std::stol(text);
-        return out <= limit;
-    };
+    const std::vector<VariantField> fields = variant_fields();
     while (words >> word) {
-        long n = 0;
-        if (word.rfind("es", 0) == 0 && number(word.substr(2), 3, n) && n >= 2) k.es_major = static_cast<std::uint8_t>(n);
-        else if ((word.rfind("samples<=", 0) == 0 && number(word.substr(9), 65535, n)) ||
-                 (word.rfind("steps<=", 0) == 0 && number(word.substr(7), 65535, n)))
-            k.max_samples = static_cast<std::uint16_t>(n);
-        else if (word.rfind("refine=", 0) == 0 && number(word.substr(7), 255, n)) k.refine_steps = static_cast<std::uint8_t>(n);
-        else if (word.rfind("shadow=", 0) == 0 && word.find('x') != std::string::npos) {
-            const std::string mode = word.substr(7, word.find('x') - 7);
-            if (!number(word.substr(word.find('x') + 1), 255, n)) return make_error("variant '" + name + "': bad '" + word + "'");
-            if (mode == "hard") k.shadow = ShadowMode::hard;
-            else if (mode == "soft") k.shadow = ShadowMode::soft;
-            else return make_error("variant '" + name + "': bad '" + word + "'");
-            k.shadow_samples = static_cast<std::uint8_t>(n);
-        } else if (word == "depth") k.depth_write = true;
-        else if (word == "lod") k.lod = true;
-        else if (word == "exact-view") k.exact_view = true;
-        else if (word == "packed") k.packed_height = true;
-        else if (word == "separate-height") k.packed_height = false;
-        else if (word == "normal-rg") k.normal_rg = true;
-        else if (word == "height-11bit") k.height_11bit = true;
-        else if (word.rfind("debug", 0) == 0 && number(word.substr(5), 4, n) && n >= 1) k.debug_output = static_cast<std::uint8_t>(n);
-        else if (word == "no-fragment-highp") k.no_fragment_highp = true;
-        else if (word == "count-work") k.count_work = true;
-        else if (word == "capture-ray") k.capture_ray = true;
-        else if (word == "bounded") k.bounded = true;
-        else if (word == "curved") k.curved = true;
-        else if (word == "shape=sphere") k.shape = kShapeSphere;
-        else if (word == "shape=cylinder") k.shape = kShapeCylinder;
-        else if (word == "shape=torus") k.shape = kShapeTorus;
-        else if (word == "flip-albedo") k.flip_v |= kFlipAlbedo;
-        else if (word == "flip-normal") k.flip_v |= kFlipNormal;
-        else if (word == "flip-height") k.flip_v |= kFlipHeight;
-        else if (word == "no-derivatives") k.no_derivatives = true;
-        else if (word.rfind("ladder", 0) == 0 && number(word.substr(6), kLadderSteps, n) && n >= 1)
-            k.ladder_step = static_cast<std::uint8_t>(n);
-        else return make_error("variant '" + name + "': unknown word '" + word + "'");
+        bool read = false;
+        for (const VariantField& f : fields)
+            if (f.parse(word, k)) {
+                read = true;
+                break;
+            }
+        if (!read) return make_error("variant '" + name + "': unknown word '" + word + "'");
     }
     // What the technique ignores is dropped; a name that is not what the
     // key describes (an option the technique lacks) is refused.
@@ -309,11 +473,10 @@ VariantKey default_variant(const TechniqueInfo& info, int es_major) {
 
 std::vector<VariantKey> enumerate_variants(int es_major) {
     std::vector<VariantKey> out;
-    auto add = [&out](const VariantKey& k) {
+    std::set<std::string> seen;
+    auto add = [&out, &seen](const VariantKey& k) {
         const VariantKey c = k.canonical();
-        for (const VariantKey& e : out)
-            if (e == c) return;
-        out.push_back(c);
+        if (seen.insert(c.id()).second) out.push_back(c);
     };
     for (const TechniqueInfo& info : technique_table()) {
         if (info.min_es_major > es_major) continue;

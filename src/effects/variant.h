@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -102,15 +104,23 @@ struct VariantKey {
     // the implicit level stays (no-derivatives).
     bool no_derivatives = false;
 
+    // Fields added at run time (add_variant_field), by word: 0 or absent
+    // is off. The built-in fields are the members above.
+    std::map<std::string, std::uint32_t> added;
+
     // The same variant with every field the technique does not use zeroed,
     // so that equal programs have equal keys.
     VariantKey canonical() const;
-    // A unique 64-bit value per variant: the program cache's key.
-    std::uint64_t bits() const;
-    // The key whose bits() these are; nullopt for bits no key has (another
-    // process's `parallax profile` passes variants this way).
-    static std::optional<VariantKey> from_bits(std::uint64_t bits);
-    bool operator==(const VariantKey& o) const { return bits() == o.bits(); }
+    // The variant's identity: its canonical description (describe()), made
+    // from the field table, so that it has room for any number of fields.
+    // The program cache's key; another process (`parallax profile`'s NIR
+    // capture) is handed variants this way, and parse() reads it back.
+    std::string id() const;
+    // A 64-bit FNV-1a hash of id(), for compact labels (not a key: two
+    // variants may share one).
+    std::uint64_t hash() const;
+    bool operator==(const VariantKey& o) const { return id() == o.id(); }
+    bool operator!=(const VariantKey& o) const { return !(*this == o); }
 
     std::vector<ShaderDefine> defines() const;
     std::vector<std::string> extensions(ShaderStage stage) const;  // #extension lines needed on ES 2.0
@@ -128,6 +138,37 @@ struct VariantKey {
     // The key with a material's texture layout applied.
     VariantKey with_layout(const TextureLayout& layout) const;
 };
+
+// One field of a variant: how it is written in the description, read back
+// and turned into shader defines. variant_fields() lists them in the
+// description's order; VariantKey::describe, parse, defines, id (and so the
+// program cache's key) all read this one table.
+struct VariantField {
+    std::string name;
+    // Appends the field's word (with a leading space; the technique's has
+    // none) where it differs from its default.
+    std::function<void(const VariantKey&, std::string&)> describe;
+    // Reads one word of a description into the key; false: not its word.
+    std::function<bool(const std::string&, VariantKey&)> parse;
+    // Appends its defines (of a canonical key).
+    std::function<void(const VariantKey&, std::vector<ShaderDefine>&)> defines;
+};
+std::vector<VariantField> variant_fields();
+
+// A field added to the table at run time, held in VariantKey::added: a
+// flag (max_value 1: "word" and a bare define) or a number ("word=N" and
+// the define set to N, 1..max_value). Present only for techniques with every
+// bit of `technique_options` (OptionFlag; 0: every technique). For shader
+// experiments and tests; the built-in fields are rows of variant.cpp's
+// table. Errors: a word that is empty, has digits, '=' or spaces, or is
+// already a field's; a define not PX_ and capitals.
+struct AddedVariantField {
+    std::string word;
+    std::string define;
+    std::uint32_t max_value = 1;
+    std::uint32_t technique_options = 0;
+};
+Status add_variant_field(const AddedVariantField& field);
 
 // The optimisation ladder's steps (VariantKey::ladder_step 1..kLadderSteps):
 // what each one changes, for reports.

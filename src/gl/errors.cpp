@@ -80,12 +80,31 @@ void GL_APIENTRY on_debug_message(GLenum /*source*/, GLenum type, GLuint /*id*/,
 
 }  // namespace
 
-bool install_debug_messages(GetProcAddress get_proc, bool has_khr_debug) {
-    if (!get_proc || !has_khr_debug) return false;
+DebugMessages install_debug_messages(GetProcAddress get_proc, bool has_khr_debug) {
+    if (!get_proc || !has_khr_debug) return DebugMessages::none;
     auto callback = reinterpret_cast<PFNGLDEBUGMESSAGECALLBACKKHRPROC>(get_proc("glDebugMessageCallbackKHR"));
-    if (!callback) return false;
+    auto get_pointer = reinterpret_cast<PFNGLGETPOINTERVKHRPROC>(get_proc("glGetPointervKHR"));
+    if (!callback || !get_pointer) return DebugMessages::none;
+    // The host's own callback (and its user parameter) stays: the context
+    // has one callback, and the host's is the host's. The library's errors
+    // then carry glGetError's codes without the driver's words.
+    void* host = nullptr;
+    get_pointer(GL_DEBUG_CALLBACK_FUNCTION_KHR, &host);
+    if (host != nullptr) return reinterpret_cast<void*>(&on_debug_message) == host ? DebugMessages::installed
+                                                                                    : DebugMessages::host_callback;
     callback(on_debug_message, nullptr);
-    return true;
+    return DebugMessages::installed;
+}
+
+void remove_debug_messages(GetProcAddress get_proc) {
+    if (!get_proc) return;
+    auto callback = reinterpret_cast<PFNGLDEBUGMESSAGECALLBACKKHRPROC>(get_proc("glDebugMessageCallbackKHR"));
+    auto get_pointer = reinterpret_cast<PFNGLGETPOINTERVKHRPROC>(get_proc("glGetPointervKHR"));
+    if (!callback || !get_pointer) return;
+    void* current = nullptr;
+    get_pointer(GL_DEBUG_CALLBACK_FUNCTION_KHR, &current);
+    // Only the library's own: a host that installed one since keeps it.
+    if (current == reinterpret_cast<void*>(&on_debug_message)) callback(nullptr, nullptr);
 }
 
 std::vector<std::string> take_debug_messages() {

@@ -31,9 +31,15 @@ const char* framebuffer_status_name(GLenum status);
 using GetProcAddress = void* (*)(const char* name);
 
 // Installs a KHR_debug callback that collects the driver's messages, if the
-// context exposes GL_KHR_debug and `get_proc` finds its entry points.
-// Returns whether it was installed.
-bool install_debug_messages(GetProcAddress get_proc, bool has_khr_debug);
+// context exposes GL_KHR_debug, `get_proc` finds its entry points and the
+// host has no callback of its own: a host's callback and its user
+// parameter are left alone (the context holds one; the library's errors
+// then carry glGetError's codes only).
+enum class DebugMessages { none, installed, host_callback };
+DebugMessages install_debug_messages(GetProcAddress get_proc, bool has_khr_debug);
+// Takes the library's callback out again (context current), leaving none;
+// a callback the host installed since is left alone.
+void remove_debug_messages(GetProcAddress get_proc);
 // Messages of high and medium severity since the last call (cleared).
 std::vector<std::string> take_debug_messages();
 

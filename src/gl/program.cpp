@@ -234,7 +234,8 @@ ProgramCache::ProgramCache(ShaderTransform transform, ProgramBinaryStore store, 
 }
 
 Result<const Program*> ProgramCache::get(const VariantKey& key) {
-    auto it = programs_.find(key.bits());
+    const std::string key_id = key.id();
+    auto it = programs_.find(key_id);
     if (it != programs_.end()) return static_cast<const Program*>(it->second.get());
     Result<VariantSources> sources = assemble_variant(key);
     if (!sources) return sources.error();
@@ -258,7 +259,7 @@ Result<const Program*> ProgramCache::get(const VariantKey& key) {
             ++stats_.from_binary;
             counters::count(counters::Step::program_build);
             const Program* raw = loaded.get();
-            programs_.emplace(key.bits(), std::move(loaded));
+            programs_.emplace(key_id, std::move(loaded));
             return raw;
         }
     }
@@ -270,7 +271,7 @@ Result<const Program*> ProgramCache::get(const VariantKey& key) {
     counters::count(counters::Step::program_build);
     if (id) store_binary(*id, (*program)->id());
     const Program* raw = program->get();
-    programs_.emplace(key.bits(), std::move(*program));
+    programs_.emplace(key_id, std::move(*program));
     return raw;
 }
 

@@ -112,7 +112,7 @@ private:
     ProgramBinarySupport support_;
     bool binaries_ = false;
     ProgramStats stats_;
-    std::map<std::uint64_t, std::unique_ptr<Program>> programs_;
+    std::map<std::string, std::unique_ptr<Program>> programs_;  // by VariantKey::id()
 };
 
 }  // namespace px

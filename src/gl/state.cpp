@@ -1,18 +1,11 @@
 #include "parallaxes/gl/state.h"
 
+#include <cstdint>
+#include <cstring>
+
 namespace px {
 
 namespace {
-
-struct AttributeState {
-    GLint enabled = 0, size = 4, type = GL_FLOAT, normalized = 0, stride = 0, buffer = 0;
-    void* pointer = nullptr;
-};
-
-struct StencilFace {
-    GLint func = GL_ALWAYS, ref = 0, value_mask = -1, fail = GL_KEEP, pass_depth_fail = GL_KEEP,
-          pass_depth_pass = GL_KEEP, write_mask = -1;
-};
 
 GLint get_int(GLenum name) {
     GLint v = 0;
@@ -22,209 +15,446 @@ GLint get_int(GLenum name) {
 
 void enable(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
 
+std::int64_t float_bits(GLfloat f) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &f, sizeof bits);
+    return bits;
+}
+
+GLfloat bits_float(std::int64_t v) {
+    const auto bits = static_cast<std::uint32_t>(v);
+    GLfloat f = 0.0f;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+// One piece of GL state: read (save), written back (restore) and set to a
+// value other than GL's default (probe, for the test). `index` is the
+// texture unit or attribute slot of a per-unit or per-slot entry.
+struct Entry {
+    const char* name;
+    GlStateScope scope;
+    GlStateRepeat repeat;
+    void (*save)(GlStateValue::Values& v, int index);
+    void (*restore)(const GlStateValue::Values& v, int index);
+    void (*probe)(const GlStateProbe& objects, int index);
+    // The value every draw of the library uses, whatever the host left
+    // (set_aside_host_state); null: the draw sets it from the frame, or not at all.
+    void (*set_aside)(int index) = nullptr;
+};
+
+// An entry that glGetIntegerv reads `count` values of and one call sets.
+#define PX_INTS(pname, count) [](GlStateValue::Values& v, int) { \
+        GLint r[4] = {0, 0, 0, 0};                                \
+        glGetIntegerv(pname, r);                                  \
+        for (int k = 0; k < (count); ++k) v[static_cast<size_t>(k)] = r[k]; }
+// Floats are kept as their bit patterns: exact, and compared exactly.
+#define PX_FLOATS(pname, count) [](GlStateValue::Values& v, int) { \
+        GLfloat r[4] = {0, 0, 0, 0};                                \
+        glGetFloatv(pname, r);                                      \
+        for (int k = 0; k < (count); ++k) v[static_cast<size_t>(k)] = float_bits(r[k]); }
+#define PX_ENABLED(cap) [](GlStateValue::Values& v, int) { v[0] = glIsEnabled(cap) ? 1 : 0; }
+#define PX_SET_ENABLED(cap) [](const GlStateValue::Values& v, int) { enable(cap, v[0] != 0 ? GL_TRUE : GL_FALSE); }
+#define PX_PROBE_ENABLED(cap, on) [](const GlStateProbe&, int) { enable(cap, on); }
+#define PX_INT(i) static_cast<GLint>(v[i])
+#define PX_UINT(i) static_cast<GLuint>(v[i])
+#define PX_ENUM(i) static_cast<GLenum>(v[i])
+#define PX_FLOAT(i) bits_float(v[i])
+
+// In restore order: what binds objects first (a vertex array before the
+// element buffer it holds, the attributes before the array buffer their
+// restore binds), the active texture unit after the units.
+const std::vector<Entry>& entries() {
+    static const std::vector<Entry> table = {
+        {"vertex array", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_VERTEX_ARRAY_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindVertexArray(PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindVertexArray(o.vertex_array); }},
+        {"draw framebuffer", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_DRAW_FRAMEBUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindFramebuffer(GL_DRAW_FRAMEBUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindFramebuffer(GL_DRAW_FRAMEBUFFER, o.draw_framebuffer); }},
+        {"read framebuffer", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_READ_FRAMEBUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindFramebuffer(GL_READ_FRAMEBUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindFramebuffer(GL_READ_FRAMEBUFFER, o.read_framebuffer); }},
+        {"framebuffer", GlStateScope::es2_context, GlStateRepeat::once, PX_INTS(GL_FRAMEBUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindFramebuffer(GL_FRAMEBUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindFramebuffer(GL_FRAMEBUFFER, o.draw_framebuffer); }},
+        // ES 2.0: the library points the context's attribute slots (or an
+        // OES vertex array's the host bound). ES 3.0 draws through vertex
+        // arrays of the library's own, so the host's is only bound again.
+        {"attribute", GlStateScope::es2_path, GlStateRepeat::per_attribute_slot,
+         [](GlStateValue::Values& v, int slot) {
+             const GLuint a = static_cast<GLuint>(slot);
+             GLint r = 0;
+             const GLenum names[] = {GL_VERTEX_ATTRIB_ARRAY_ENABLED, GL_VERTEX_ATTRIB_ARRAY_SIZE,
+                                     GL_VERTEX_ATTRIB_ARRAY_TYPE,    GL_VERTEX_ATTRIB_ARRAY_NORMALIZED,
+                                     GL_VERTEX_ATTRIB_ARRAY_STRIDE,  GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING};
+             for (size_t k = 0; k < 6; ++k) {
+                 glGetVertexAttribiv(a, names[k], &r);
+                 v[k] = r;
+             }
+             void* pointer = nullptr;
+             glGetVertexAttribPointerv(a, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+             v[6] = static_cast<std::int64_t>(reinterpret_cast<std::uintptr_t>(pointer));
+         },
+         [](const GlStateValue::Values& v, int slot) {
+             const GLuint a = static_cast<GLuint>(slot);
+             glBindBuffer(GL_ARRAY_BUFFER, PX_UINT(5));
+             glVertexAttribPointer(a, PX_INT(1), PX_ENUM(2), v[3] ? GL_TRUE : GL_FALSE, PX_INT(4),
+                                   reinterpret_cast<void*>(static_cast<std::uintptr_t>(v[6])));
+             v[0] ? glEnableVertexAttribArray(a) : glDisableVertexAttribArray(a);
+         },
+         [](const GlStateProbe& o, int slot) {
+             if (slot % 2) return;  // odd slots stay disabled: both kinds covered
+             glBindBuffer(GL_ARRAY_BUFFER, o.buffers[0]);
+             glEnableVertexAttribArray(static_cast<GLuint>(slot));
+             glVertexAttribPointer(static_cast<GLuint>(slot), 1 + slot % 3, GL_FLOAT, GL_FALSE, 12 + 4 * slot,
+                                   reinterpret_cast<void*>(static_cast<std::uintptr_t>(4 + 4 * slot)));
+         }},
+        {"array buffer", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_ARRAY_BUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_ARRAY_BUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindBuffer(GL_ARRAY_BUFFER, o.buffers[1]); }},
+        // Of the bound vertex array on ES 3.0 (the host's own).
+        {"element array buffer", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_ELEMENT_ARRAY_BUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, o.buffers[2]); }},
+        {"renderbuffer", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_RENDERBUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindRenderbuffer(GL_RENDERBUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindRenderbuffer(GL_RENDERBUFFER, o.renderbuffer); }},
+        // A program the host deleted while it was current lives only as
+        // long as it stays current: once the library's draw replaced it, it
+        // is gone, and making it current again would be GL_INVALID_VALUE.
+        // Then none is.
+        {"program", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_CURRENT_PROGRAM, 1),
+         [](const GlStateValue::Values& v, int) {
+             const GLuint program = PX_UINT(0);
+             glUseProgram(program != 0 && glIsProgram(program) ? program : 0);
+         },
+         [](const GlStateProbe& o, int) { glUseProgram(o.program); }},
+        // Every unit the library binds, and whichever the host left active:
+        // uploads bind on the active unit.
+        {"texture 2d", GlStateScope::all, GlStateRepeat::per_texture_unit,
+         [](GlStateValue::Values& v, int unit) {
+             glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
+             v[0] = get_int(GL_TEXTURE_BINDING_2D);
+         },
+         [](const GlStateValue::Values& v, int unit) {
+             glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
+             glBindTexture(GL_TEXTURE_2D, PX_UINT(0));
+         },
+         [](const GlStateProbe& o, int unit) {
+             glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
+             glBindTexture(GL_TEXTURE_2D, o.textures[static_cast<size_t>(unit) % GlStateProbe::kTextures]);
+         }},
+        // A sampler object overrides a texture's own filtering and wrapping.
+        {"sampler", GlStateScope::es3_context, GlStateRepeat::per_texture_unit,
+         [](GlStateValue::Values& v, int unit) {
+             glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
+             v[0] = get_int(GL_SAMPLER_BINDING);
+         },
+         [](const GlStateValue::Values& v, int unit) { glBindSampler(static_cast<GLuint>(unit), PX_UINT(0)); },
+         [](const GlStateProbe& o, int unit) {
+             glBindSampler(static_cast<GLuint>(unit), o.samplers[static_cast<size_t>(unit) % GlStateProbe::kSamplers]);
+         },
+         [](int unit) { glBindSampler(static_cast<GLuint>(unit), 0); }},
+        // Read before the units above changed it (its index is the unit).
+        {"active texture", GlStateScope::all, GlStateRepeat::host_active_unit,
+         [](GlStateValue::Values& v, int unit) { v[0] = GL_TEXTURE0 + unit; },
+         [](const GlStateValue::Values& v, int) { glActiveTexture(PX_ENUM(0)); },
+         [](const GlStateProbe&, int) { glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + GlStateProbe::kActiveUnit)); }},
+        {"pack alignment", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_PACK_ALIGNMENT, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_ALIGNMENT, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_ALIGNMENT, 2); }},
+        {"unpack alignment", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_UNPACK_ALIGNMENT, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_ALIGNMENT, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_ALIGNMENT, 8); }},
+        // A pixel buffer bound for unpacking: an upload that did not unbind
+        // it would read the host's buffer instead of the image.
+        {"pixel pack buffer", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PIXEL_PACK_BUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_PIXEL_PACK_BUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindBuffer(GL_PIXEL_PACK_BUFFER, o.buffers[3]); }},
+        {"pixel unpack buffer", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PIXEL_UNPACK_BUFFER_BINDING, 1),
+         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_PIXEL_UNPACK_BUFFER, PX_UINT(0)); },
+         [](const GlStateProbe& o, int) { glBindBuffer(GL_PIXEL_UNPACK_BUFFER, o.buffers[4]); }},
+        {"unpack row length", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_ROW_LENGTH, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_ROW_LENGTH, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_ROW_LENGTH, 7); }},
+        {"unpack skip rows", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_SKIP_ROWS, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_SKIP_ROWS, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_SKIP_ROWS, 1); }},
+        {"unpack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_SKIP_PIXELS, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_SKIP_PIXELS, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_SKIP_PIXELS, 2); }},
+        {"unpack image height", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_IMAGE_HEIGHT, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, 3); }},
+        {"unpack skip images", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_SKIP_IMAGES, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_SKIP_IMAGES, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_SKIP_IMAGES, 4); }},
+        {"pack row length", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PACK_ROW_LENGTH, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_ROW_LENGTH, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_ROW_LENGTH, 5); }},
+        {"pack skip rows", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PACK_SKIP_ROWS, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_SKIP_ROWS, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_SKIP_ROWS, 1); }},
+        {"pack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PACK_SKIP_PIXELS, 1),
+         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_SKIP_PIXELS, PX_INT(0)); },
+         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_SKIP_PIXELS, 3); }},
+        {"rasterizer discard", GlStateScope::es3_context, GlStateRepeat::once, PX_ENABLED(GL_RASTERIZER_DISCARD),
+         PX_SET_ENABLED(GL_RASTERIZER_DISCARD),
+         // On, it would discard every triangle (and clear): the draw sets it aside.
+         PX_PROBE_ENABLED(GL_RASTERIZER_DISCARD, GL_TRUE),
+         [](int) { glDisable(GL_RASTERIZER_DISCARD); }},
+        {"primitive restart", GlStateScope::es3_context, GlStateRepeat::once, PX_ENABLED(GL_PRIMITIVE_RESTART_FIXED_INDEX),
+         PX_SET_ENABLED(GL_PRIMITIVE_RESTART_FIXED_INDEX), PX_PROBE_ENABLED(GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_TRUE),
+         [](int) { glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX); }},
+        {"viewport", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_VIEWPORT, 4),
+         [](const GlStateValue::Values& v, int) { glViewport(PX_INT(0), PX_INT(1), PX_INT(2), PX_INT(3)); },
+         [](const GlStateProbe&, int) { glViewport(3, 5, 7, 9); }},
+        {"scissor box", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_SCISSOR_BOX, 4),
+         [](const GlStateValue::Values& v, int) { glScissor(PX_INT(0), PX_INT(1), PX_INT(2), PX_INT(3)); },
+         [](const GlStateProbe&, int) { glScissor(5, 6, 7, 8); }},
+        // Scissor, stencil and the colour mask would each stop the draw: it
+        // sets them aside and gives them back.
+        {"scissor test", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_SCISSOR_TEST),
+         PX_SET_ENABLED(GL_SCISSOR_TEST), PX_PROBE_ENABLED(GL_SCISSOR_TEST, GL_TRUE),
+         [](int) { glDisable(GL_SCISSOR_TEST); }},
+        {"cull face", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_CULL_FACE), PX_SET_ENABLED(GL_CULL_FACE),
+         PX_PROBE_ENABLED(GL_CULL_FACE, GL_TRUE),
+         [](int) { glEnable(GL_CULL_FACE); }},
+        {"cull face mode", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_CULL_FACE_MODE, 1),
+         [](const GlStateValue::Values& v, int) { glCullFace(PX_ENUM(0)); },
+         [](const GlStateProbe&, int) { glCullFace(GL_FRONT); },
+         [](int) { glCullFace(GL_BACK); }},
+        {"front face", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_FRONT_FACE, 1),
+         [](const GlStateValue::Values& v, int) { glFrontFace(PX_ENUM(0)); },
+         [](const GlStateProbe&, int) { glFrontFace(GL_CW); }},
+        {"polygon offset fill", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_POLYGON_OFFSET_FILL),
+         PX_SET_ENABLED(GL_POLYGON_OFFSET_FILL), PX_PROBE_ENABLED(GL_POLYGON_OFFSET_FILL, GL_TRUE),
+         [](int) { glDisable(GL_POLYGON_OFFSET_FILL); }},
+        {"depth test", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_DEPTH_TEST), PX_SET_ENABLED(GL_DEPTH_TEST),
+         PX_PROBE_ENABLED(GL_DEPTH_TEST, GL_TRUE),
+         [](int) { glEnable(GL_DEPTH_TEST); }},
+        {"depth write mask", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_DEPTH_WRITEMASK, 1),
+         [](const GlStateValue::Values& v, int) { glDepthMask(v[0] ? GL_TRUE : GL_FALSE); },
+         [](const GlStateProbe&, int) { glDepthMask(GL_FALSE); },
+         [](int) { glDepthMask(GL_TRUE); }},
+        {"depth func", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_DEPTH_FUNC, 1),
+         [](const GlStateValue::Values& v, int) { glDepthFunc(PX_ENUM(0)); },
+         [](const GlStateProbe&, int) { glDepthFunc(GL_GREATER); },
+         [](int) { glDepthFunc(GL_LESS); }},
+        {"depth range", GlStateScope::all, GlStateRepeat::once, PX_FLOATS(GL_DEPTH_RANGE, 2),
+         [](const GlStateValue::Values& v, int) { glDepthRangef(PX_FLOAT(0), PX_FLOAT(1)); },
+         [](const GlStateProbe&, int) { glDepthRangef(0.25f, 0.75f); },
+         [](int) { glDepthRangef(0.0f, 1.0f); }},
+        {"depth clear value", GlStateScope::all, GlStateRepeat::once, PX_FLOATS(GL_DEPTH_CLEAR_VALUE, 1),
+         [](const GlStateValue::Values& v, int) { glClearDepthf(PX_FLOAT(0)); },
+         [](const GlStateProbe&, int) { glClearDepthf(0.5f); }},
+        {"blend", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_BLEND), PX_SET_ENABLED(GL_BLEND),
+         PX_PROBE_ENABLED(GL_BLEND, GL_TRUE),
+         [](int) { glDisable(GL_BLEND); }},
+        {"blend func",
+         GlStateScope::all,
+         GlStateRepeat::once,
+         [](GlStateValue::Values& v, int) {
+             v[0] = get_int(GL_BLEND_SRC_RGB);
+             v[1] = get_int(GL_BLEND_DST_RGB);
+             v[2] = get_int(GL_BLEND_SRC_ALPHA);
+             v[3] = get_int(GL_BLEND_DST_ALPHA);
+         },
+         [](const GlStateValue::Values& v, int) { glBlendFuncSeparate(PX_ENUM(0), PX_ENUM(1), PX_ENUM(2), PX_ENUM(3)); },
+         [](const GlStateProbe&, int) {
+             glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_DST_COLOR, GL_ONE_MINUS_DST_ALPHA);
+         }},
+        {"blend equation",
+         GlStateScope::all,
+         GlStateRepeat::once,
+         [](GlStateValue::Values& v, int) {
+             v[0] = get_int(GL_BLEND_EQUATION_RGB);
+             v[1] = get_int(GL_BLEND_EQUATION_ALPHA);
+         },
+         [](const GlStateValue::Values& v, int) { glBlendEquationSeparate(PX_ENUM(0), PX_ENUM(1)); },
+         [](const GlStateProbe&, int) { glBlendEquationSeparate(GL_FUNC_SUBTRACT, GL_FUNC_REVERSE_SUBTRACT); }},
+        {"blend color", GlStateScope::all, GlStateRepeat::once, PX_FLOATS(GL_BLEND_COLOR, 4),
+         [](const GlStateValue::Values& v, int) { glBlendColor(PX_FLOAT(0), PX_FLOAT(1), PX_FLOAT(2), PX_FLOAT(3)); },
+         [](const GlStateProbe&, int) { glBlendColor(0.125f, 0.25f, 0.5f, 0.75f); }},
+        {"color write mask",
+         GlStateScope::all,
+         GlStateRepeat::once,
+         [](GlStateValue::Values& v, int) {
+             GLboolean m[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+             glGetBooleanv(GL_COLOR_WRITEMASK, m);
+             for (size_t k = 0; k < 4; ++k) v[k] = m[k] ? 1 : 0;
+         },
+         [](const GlStateValue::Values& v, int) {
+             glColorMask(v[0] ? GL_TRUE : GL_FALSE, v[1] ? GL_TRUE : GL_FALSE, v[2] ? GL_TRUE : GL_FALSE,
+                         v[3] ? GL_TRUE : GL_FALSE);
+         },
+         [](const GlStateProbe&, int) { glColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE); },
+         [](int) { glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE); }},
+        {"color clear value", GlStateScope::all, GlStateRepeat::once, PX_FLOATS(GL_COLOR_CLEAR_VALUE, 4),
+         [](const GlStateValue::Values& v, int) { glClearColor(PX_FLOAT(0), PX_FLOAT(1), PX_FLOAT(2), PX_FLOAT(3)); },
+         [](const GlStateProbe&, int) { glClearColor(0.125f, 0.25f, 0.375f, 0.5f); }},
+        {"stencil test", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_STENCIL_TEST),
+         PX_SET_ENABLED(GL_STENCIL_TEST), PX_PROBE_ENABLED(GL_STENCIL_TEST, GL_TRUE),
+         [](int) { glDisable(GL_STENCIL_TEST); }},
+        // The reference value reads back clamped to the bound framebuffer's
+        // stencil bits: saved and restored, not compared by the test.
+        {"stencil front",
+         GlStateScope::all,
+         GlStateRepeat::once,
+         [](GlStateValue::Values& v, int) {
+             const GLenum names[] = {GL_STENCIL_FUNC,       GL_STENCIL_VALUE_MASK,      GL_STENCIL_FAIL,
+                                     GL_STENCIL_PASS_DEPTH_FAIL, GL_STENCIL_PASS_DEPTH_PASS, GL_STENCIL_WRITEMASK,
+                                     GL_STENCIL_REF};
+             for (size_t k = 0; k < 7; ++k) v[k] = get_int(names[k]);
+         },
+         [](const GlStateValue::Values& v, int) {
+             glStencilFuncSeparate(GL_FRONT, PX_ENUM(0), PX_INT(6), PX_UINT(1));
+             glStencilOpSeparate(GL_FRONT, PX_ENUM(2), PX_ENUM(3), PX_ENUM(4));
+             glStencilMaskSeparate(GL_FRONT, PX_UINT(5));
+         },
+         [](const GlStateProbe&, int) {
+             glStencilFuncSeparate(GL_FRONT, GL_NEVER, 3, 0x0F);
+             glStencilOpSeparate(GL_FRONT, GL_INCR, GL_DECR, GL_INVERT);
+             glStencilMaskSeparate(GL_FRONT, 0x55);
+         }},
+        {"stencil back",
+         GlStateScope::all,
+         GlStateRepeat::once,
+         [](GlStateValue::Values& v, int) {
+             const GLenum names[] = {GL_STENCIL_BACK_FUNC,            GL_STENCIL_BACK_VALUE_MASK,
+                                     GL_STENCIL_BACK_FAIL,            GL_STENCIL_BACK_PASS_DEPTH_FAIL,
+                                     GL_STENCIL_BACK_PASS_DEPTH_PASS, GL_STENCIL_BACK_WRITEMASK,
+                                     GL_STENCIL_BACK_REF};
+             for (size_t k = 0; k < 7; ++k) v[k] = get_int(names[k]);
+         },
+         [](const GlStateValue::Values& v, int) {
+             glStencilFuncSeparate(GL_BACK, PX_ENUM(0), PX_INT(6), PX_UINT(1));
+             glStencilOpSeparate(GL_BACK, PX_ENUM(2), PX_ENUM(3), PX_ENUM(4));
+             glStencilMaskSeparate(GL_BACK, PX_UINT(5));
+         },
+         [](const GlStateProbe&, int) {
+             glStencilFuncSeparate(GL_BACK, GL_LESS, 1, 0x07);
+             glStencilOpSeparate(GL_BACK, GL_DECR_WRAP, GL_INCR_WRAP, GL_ZERO);
+             glStencilMaskSeparate(GL_BACK, 0x33);
+         }},
+        {"dither", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_DITHER), PX_SET_ENABLED(GL_DITHER),
+         PX_PROBE_ENABLED(GL_DITHER, GL_FALSE),
+         [](int) { glDisable(GL_DITHER); }},
+        {"sample coverage", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_SAMPLE_COVERAGE),
+         PX_SET_ENABLED(GL_SAMPLE_COVERAGE), PX_PROBE_ENABLED(GL_SAMPLE_COVERAGE, GL_TRUE),
+         [](int) { glDisable(GL_SAMPLE_COVERAGE); }},
+        {"sample alpha to coverage", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_SAMPLE_ALPHA_TO_COVERAGE),
+         PX_SET_ENABLED(GL_SAMPLE_ALPHA_TO_COVERAGE), PX_PROBE_ENABLED(GL_SAMPLE_ALPHA_TO_COVERAGE, GL_TRUE),
+         [](int) { glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE); }},
+    };
+    return table;
+}
+
+#undef PX_INTS
+#undef PX_FLOATS
+#undef PX_ENABLED
+#undef PX_SET_ENABLED
+#undef PX_PROBE_ENABLED
+#undef PX_INT
+#undef PX_UINT
+#undef PX_ENUM
+#undef PX_FLOAT
+
+// Whether an entry is state of this context that the library touches.
+bool in_scope(GlStateScope scope, const Caps& caps) {
+    switch (scope) {
+        case GlStateScope::all: return true;
+        case GlStateScope::es3_context: return caps.context_es3();
+        case GlStateScope::es2_context: return !caps.context_es3();
+        // The attribute slots wherever the library points them: the ES 2.0
+        // path, also on an ES 3.x context drawing as ES 2.0 (emulate_es2).
+        case GlStateScope::es2_path: return caps.es_major < 3;
+    }
+    return false;
+}
+
+// The units and slots an entry covers on this context, now: every unit
+// the library binds and the host's active one (uploads bind there), every
+// attribute slot the library points.
+std::vector<int> indices(GlStateRepeat repeat, int host_active_unit) {
+    std::vector<int> out;
+    switch (repeat) {
+        case GlStateRepeat::once: out.push_back(0); break;
+        case GlStateRepeat::host_active_unit: out.push_back(host_active_unit); break;
+        case GlStateRepeat::per_texture_unit:
+            for (int u = 0; u < kLibraryTextureUnits; ++u) out.push_back(u);
+            if (host_active_unit >= kLibraryTextureUnits) out.push_back(host_active_unit);
+            break;
+        case GlStateRepeat::per_attribute_slot:
+            for (int a = 0; a < kLibraryAttributeSlots; ++a) out.push_back(a);
+            break;
+    }
+    return out;
+}
+
+// Walks the table's entries in scope for this context, each index, in
+// restore order; gives back the active texture unit afterwards.
+template <typename F>
+void for_each_entry(const Caps& caps, F&& f) {
+    const int active_unit = get_int(GL_ACTIVE_TEXTURE) - GL_TEXTURE0;
+    const std::vector<Entry>& table = entries();
+    for (size_t i = 0; i < table.size(); ++i) {
+        if (!in_scope(table[i].scope, caps)) continue;
+        for (int index : indices(table[i].repeat, active_unit)) f(i, table[i], index);
+    }
+    glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + active_unit));
+}
+
 }  // namespace
 
+std::vector<GlStateValue> read_gl_state(const Caps& caps) {
+    std::vector<GlStateValue> out;
+    for_each_entry(caps, [&out](size_t entry, const Entry& e, int index) {
+        GlStateValue v;
+        v.name = e.name;
+        v.entry = entry;
+        v.index = e.repeat == GlStateRepeat::once ? -1 : index;
+        e.save(v.values, index);
+        out.push_back(std::move(v));
+    });
+    return out;
+}
+
+void set_gl_state_probe(const Caps& caps, const GlStateProbe& objects) {
+    // The host's active unit is one past the library's, so that the table
+    // covers a unit the library binds only because it is active.
+    glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + GlStateProbe::kActiveUnit));
+    for_each_entry(caps, [&objects](size_t, const Entry& e, int index) { e.probe(objects, index); });
+    // for_each_entry gave back the unit active when it began; the probe's own
+    // is the active-texture entry's value.
+    glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + GlStateProbe::kActiveUnit));
+}
+
+std::vector<std::string> gl_state_entry_names() {
+    std::vector<std::string> out;
+    for (const Entry& e : entries()) out.push_back(e.name);
+    return out;
+}
+
 struct SavedGlState::Snapshot {
-    bool es3 = false;         // the context has ES 3.0 state
-    bool points_attributes = false;  // the library points the context's attribute slots (the ES 2.0 path)
-    GLint draw_framebuffer = 0, read_framebuffer = 0, renderbuffer = 0, program = 0;
-    GLint array_buffer = 0, element_buffer = 0, vertex_array = 0, pack_buffer = 0, unpack_buffer = 0;
-    GLint active_texture = GL_TEXTURE0;
-    std::array<GLint, kLibraryTextureUnits> textures{}, samplers{};
-    GLint pack_alignment = 4, unpack_alignment = 4;
-    GLint unpack_row_length = 0, unpack_skip_rows = 0, unpack_skip_pixels = 0, unpack_image_height = 0,
-          unpack_skip_images = 0, pack_row_length = 0, pack_skip_rows = 0, pack_skip_pixels = 0;
-    GLint viewport[4] = {0, 0, 0, 0}, scissor_box[4] = {0, 0, 0, 0};
-    GLboolean scissor_test = GL_FALSE, cull_face = GL_FALSE, polygon_offset_fill = GL_FALSE,
-              rasterizer_discard = GL_FALSE;
-    GLint cull_face_mode = GL_BACK, front_face = GL_CCW;
-    GLboolean depth_test = GL_FALSE, depth_mask = GL_TRUE;
-    GLint depth_func = GL_LESS;
-    GLfloat depth_range[2] = {0.0f, 1.0f}, clear_depth = 1.0f;
-    GLboolean blend = GL_FALSE;
-    GLint blend_src_rgb = GL_ONE, blend_dst_rgb = GL_ZERO, blend_src_alpha = GL_ONE, blend_dst_alpha = GL_ZERO;
-    GLint blend_equation_rgb = GL_FUNC_ADD, blend_equation_alpha = GL_FUNC_ADD;
-    GLfloat blend_color[4] = {0, 0, 0, 0}, clear_color[4] = {0, 0, 0, 0};
-    GLboolean color_mask[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
-    GLboolean stencil_test = GL_FALSE, dither = GL_TRUE, sample_coverage = GL_FALSE,
-              sample_alpha_to_coverage = GL_FALSE, primitive_restart = GL_FALSE;
-    StencilFace stencil_front, stencil_back;
-    std::array<AttributeState, kLibraryAttributeSlots> attributes{};
+    std::vector<GlStateValue> values;  // in restore order
 };
 
 SavedGlState::SavedGlState(const Caps& caps) : saved_(std::make_unique<Snapshot>()) {
-    Snapshot& s = *saved_;
-    s.es3 = caps.context_es3();
-    s.points_attributes = caps.es_major < 3;
-    if (s.es3) {
-        s.draw_framebuffer = get_int(GL_DRAW_FRAMEBUFFER_BINDING);
-        s.read_framebuffer = get_int(GL_READ_FRAMEBUFFER_BINDING);
-        s.vertex_array = get_int(GL_VERTEX_ARRAY_BINDING);
-        s.pack_buffer = get_int(GL_PIXEL_PACK_BUFFER_BINDING);
-        s.unpack_buffer = get_int(GL_PIXEL_UNPACK_BUFFER_BINDING);
-        s.unpack_row_length = get_int(GL_UNPACK_ROW_LENGTH);
-        s.unpack_skip_rows = get_int(GL_UNPACK_SKIP_ROWS);
-        s.unpack_skip_pixels = get_int(GL_UNPACK_SKIP_PIXELS);
-        s.unpack_image_height = get_int(GL_UNPACK_IMAGE_HEIGHT);
-        s.unpack_skip_images = get_int(GL_UNPACK_SKIP_IMAGES);
-        s.pack_row_length = get_int(GL_PACK_ROW_LENGTH);
-        s.pack_skip_rows = get_int(GL_PACK_SKIP_ROWS);
-        s.pack_skip_pixels = get_int(GL_PACK_SKIP_PIXELS);
-        s.rasterizer_discard = glIsEnabled(GL_RASTERIZER_DISCARD);
-        s.primitive_restart = glIsEnabled(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-    } else {
-        s.draw_framebuffer = s.read_framebuffer = get_int(GL_FRAMEBUFFER_BINDING);
-    }
-    s.renderbuffer = get_int(GL_RENDERBUFFER_BINDING);
-    s.program = get_int(GL_CURRENT_PROGRAM);
-    s.array_buffer = get_int(GL_ARRAY_BUFFER_BINDING);
-    s.element_buffer = get_int(GL_ELEMENT_ARRAY_BUFFER_BINDING);  // of the bound VAO on ES 3.0
-    s.active_texture = get_int(GL_ACTIVE_TEXTURE);
-    for (int i = 0; i < kLibraryTextureUnits; ++i) {
-        glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
-        s.textures[static_cast<size_t>(i)] = get_int(GL_TEXTURE_BINDING_2D);
-        if (s.es3) s.samplers[static_cast<size_t>(i)] = get_int(GL_SAMPLER_BINDING);
-    }
-    glActiveTexture(static_cast<GLenum>(s.active_texture));
-    s.pack_alignment = get_int(GL_PACK_ALIGNMENT);
-    s.unpack_alignment = get_int(GL_UNPACK_ALIGNMENT);
-
-    glGetIntegerv(GL_VIEWPORT, s.viewport);
-    glGetIntegerv(GL_SCISSOR_BOX, s.scissor_box);
-    s.scissor_test = glIsEnabled(GL_SCISSOR_TEST);
-    s.cull_face = glIsEnabled(GL_CULL_FACE);
-    s.cull_face_mode = get_int(GL_CULL_FACE_MODE);
-    s.front_face = get_int(GL_FRONT_FACE);
-    s.polygon_offset_fill = glIsEnabled(GL_POLYGON_OFFSET_FILL);
-
-    s.depth_test = glIsEnabled(GL_DEPTH_TEST);
-    glGetBooleanv(GL_DEPTH_WRITEMASK, &s.depth_mask);
-    s.depth_func = get_int(GL_DEPTH_FUNC);
-    glGetFloatv(GL_DEPTH_RANGE, s.depth_range);
-    glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s.clear_depth);
-    s.blend = glIsEnabled(GL_BLEND);
-    s.blend_src_rgb = get_int(GL_BLEND_SRC_RGB);
-    s.blend_dst_rgb = get_int(GL_BLEND_DST_RGB);
-    s.blend_src_alpha = get_int(GL_BLEND_SRC_ALPHA);
-    s.blend_dst_alpha = get_int(GL_BLEND_DST_ALPHA);
-    s.blend_equation_rgb = get_int(GL_BLEND_EQUATION_RGB);
-    s.blend_equation_alpha = get_int(GL_BLEND_EQUATION_ALPHA);
-    glGetFloatv(GL_BLEND_COLOR, s.blend_color);
-    glGetBooleanv(GL_COLOR_WRITEMASK, s.color_mask);
-    glGetFloatv(GL_COLOR_CLEAR_VALUE, s.clear_color);
-    s.stencil_test = glIsEnabled(GL_STENCIL_TEST);
-    s.stencil_front = {get_int(GL_STENCIL_FUNC), get_int(GL_STENCIL_REF), get_int(GL_STENCIL_VALUE_MASK),
-                       get_int(GL_STENCIL_FAIL), get_int(GL_STENCIL_PASS_DEPTH_FAIL),
-                       get_int(GL_STENCIL_PASS_DEPTH_PASS), get_int(GL_STENCIL_WRITEMASK)};
-    s.stencil_back = {get_int(GL_STENCIL_BACK_FUNC), get_int(GL_STENCIL_BACK_REF),
-                      get_int(GL_STENCIL_BACK_VALUE_MASK), get_int(GL_STENCIL_BACK_FAIL),
-                      get_int(GL_STENCIL_BACK_PASS_DEPTH_FAIL), get_int(GL_STENCIL_BACK_PASS_DEPTH_PASS),
-                      get_int(GL_STENCIL_BACK_WRITEMASK)};
-    s.dither = glIsEnabled(GL_DITHER);
-    s.sample_coverage = glIsEnabled(GL_SAMPLE_COVERAGE);
-    s.sample_alpha_to_coverage = glIsEnabled(GL_SAMPLE_ALPHA_TO_COVERAGE);
-
-    // Attribute state lives in the bound vertex array object. On ES 3.0 the
-    // library binds a VAO of its own for every mesh it uploads or draws, so it
-    // never writes the host's; on ES 2.0 it points the slots of the context
-    // (or of an OES VAO the host bound): save those.
-    for (int i = 0; i < kLibraryAttributeSlots && s.points_attributes; ++i) {
-        AttributeState& a = s.attributes[static_cast<size_t>(i)];
-        const GLuint slot = static_cast<GLuint>(i);
-        glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_ENABLED, &a.enabled);
-        glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_SIZE, &a.size);
-        glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_TYPE, &a.type);
-        glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_NORMALIZED, &a.normalized);
-        glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_STRIDE, &a.stride);
-        glGetVertexAttribiv(slot, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING, &a.buffer);
-        glGetVertexAttribPointerv(slot, GL_VERTEX_ATTRIB_ARRAY_POINTER, &a.pointer);
-    }
+    saved_->values = read_gl_state(caps);
 }
 
 SavedGlState::~SavedGlState() {
-    const Snapshot& s = *saved_;
-    if (s.es3) {
-        glBindVertexArray(static_cast<GLuint>(s.vertex_array));
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(s.draw_framebuffer));
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(s.read_framebuffer));
-    } else {
-        glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(s.draw_framebuffer));
-    }
-    // ES 2.0: the attributes go back into the context (or an OES VAO the host
-    // bound), each pointer with the buffer it was taken from. ES 3.0: the
-    // library only points attributes of its own VAOs, and the host's VAO is
-    // bound again above.
-    for (int i = 0; i < kLibraryAttributeSlots && s.points_attributes; ++i) {
-        const AttributeState& a = s.attributes[static_cast<size_t>(i)];
-        const GLuint slot = static_cast<GLuint>(i);
-        glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(a.buffer));
-        glVertexAttribPointer(slot, a.size, static_cast<GLenum>(a.type), a.normalized ? GL_TRUE : GL_FALSE,
-                              a.stride, a.pointer);
-        a.enabled ? glEnableVertexAttribArray(slot) : glDisableVertexAttribArray(slot);
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(s.array_buffer));
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLuint>(s.element_buffer));
-    glBindRenderbuffer(GL_RENDERBUFFER, static_cast<GLuint>(s.renderbuffer));
-    // A program the host deleted while it was current lives only as long as
-    // it stays current: once the library's draw replaced it, it is gone, and
-    // making it current again would be GL_INVALID_VALUE. Then none is.
-    const GLuint program = static_cast<GLuint>(s.program);
-    glUseProgram(program != 0 && glIsProgram(program) ? program : 0);
-    for (int i = 0; i < kLibraryTextureUnits; ++i) {
-        glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + i));
-        glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(s.textures[static_cast<size_t>(i)]));
-        if (s.es3) glBindSampler(static_cast<GLuint>(i), static_cast<GLuint>(s.samplers[static_cast<size_t>(i)]));
-    }
-    glActiveTexture(static_cast<GLenum>(s.active_texture));
-    glPixelStorei(GL_PACK_ALIGNMENT, s.pack_alignment);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, s.unpack_alignment);
-    if (s.es3) {
-        glBindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(s.pack_buffer));
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(s.unpack_buffer));
-        glPixelStorei(GL_UNPACK_ROW_LENGTH, s.unpack_row_length);
-        glPixelStorei(GL_UNPACK_SKIP_ROWS, s.unpack_skip_rows);
-        glPixelStorei(GL_UNPACK_SKIP_PIXELS, s.unpack_skip_pixels);
-        glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, s.unpack_image_height);
-        glPixelStorei(GL_UNPACK_SKIP_IMAGES, s.unpack_skip_images);
-        glPixelStorei(GL_PACK_ROW_LENGTH, s.pack_row_length);
-        glPixelStorei(GL_PACK_SKIP_ROWS, s.pack_skip_rows);
-        glPixelStorei(GL_PACK_SKIP_PIXELS, s.pack_skip_pixels);
-        enable(GL_RASTERIZER_DISCARD, s.rasterizer_discard);
-        enable(GL_PRIMITIVE_RESTART_FIXED_INDEX, s.primitive_restart);
-    }
-    glViewport(s.viewport[0], s.viewport[1], s.viewport[2], s.viewport[3]);
-    glScissor(s.scissor_box[0], s.scissor_box[1], s.scissor_box[2], s.scissor_box[3]);
-    enable(GL_SCISSOR_TEST, s.scissor_test);
-    enable(GL_CULL_FACE, s.cull_face);
-    glCullFace(static_cast<GLenum>(s.cull_face_mode));
-    glFrontFace(static_cast<GLenum>(s.front_face));
-    enable(GL_POLYGON_OFFSET_FILL, s.polygon_offset_fill);
-    enable(GL_DEPTH_TEST, s.depth_test);
-    glDepthMask(s.depth_mask);
-    glDepthFunc(static_cast<GLenum>(s.depth_func));
-    glDepthRangef(s.depth_range[0], s.depth_range[1]);
-    glClearDepthf(s.clear_depth);
-    enable(GL_BLEND, s.blend);
-    glBlendFuncSeparate(static_cast<GLenum>(s.blend_src_rgb), static_cast<GLenum>(s.blend_dst_rgb),
-                        static_cast<GLenum>(s.blend_src_alpha), static_cast<GLenum>(s.blend_dst_alpha));
-    glBlendEquationSeparate(static_cast<GLenum>(s.blend_equation_rgb), static_cast<GLenum>(s.blend_equation_alpha));
-    glBlendColor(s.blend_color[0], s.blend_color[1], s.blend_color[2], s.blend_color[3]);
-    glColorMask(s.color_mask[0], s.color_mask[1], s.color_mask[2], s.color_mask[3]);
-    glClearColor(s.clear_color[0], s.clear_color[1], s.clear_color[2], s.clear_color[3]);
-    enable(GL_STENCIL_TEST, s.stencil_test);
-    const StencilFace& f = s.stencil_front;
-    const StencilFace& b = s.stencil_back;
-    glStencilFuncSeparate(GL_FRONT, static_cast<GLenum>(f.func), f.ref, static_cast<GLuint>(f.value_mask));
-    glStencilFuncSeparate(GL_BACK, static_cast<GLenum>(b.func), b.ref, static_cast<GLuint>(b.value_mask));
-    glStencilOpSeparate(GL_FRONT, static_cast<GLenum>(f.fail), static_cast<GLenum>(f.pass_depth_fail),
-                        static_cast<GLenum>(f.pass_depth_pass));
-    glStencilOpSeparate(GL_BACK, static_cast<GLenum>(b.fail), static_cast<GLenum>(b.pass_depth_fail),
-                        static_cast<GLenum>(b.pass_depth_pass));
-    glStencilMaskSeparate(GL_FRONT, static_cast<GLuint>(f.write_mask));
-    glStencilMaskSeparate(GL_BACK, static_cast<GLuint>(b.write_mask));
-    enable(GL_DITHER, s.dither);
-    enable(GL_SAMPLE_COVERAGE, s.sample_coverage);
-    enable(GL_SAMPLE_ALPHA_TO_COVERAGE, s.sample_alpha_to_coverage);
+    const std::vector<Entry>& table = entries();
+    for (const GlStateValue& v : saved_->values) table[v.entry].restore(v.values, v.index < 0 ? 0 : v.index);
+}
+
+void set_aside_host_state(const Caps& caps) {
+    for_each_entry(caps, [](size_t, const Entry& e, int index) {
+        if (e.set_aside && !(e.repeat == GlStateRepeat::per_texture_unit && index >= kLibraryTextureUnits))
+            e.set_aside(index);
+    });
 }
 
 void set_unpack_defaults(const Caps& caps) {

@@ -88,11 +88,11 @@ void plan_outlines(ObjectPlan& plan, const OutlineRequest& r, const ObjectDesc& 
         key.curved = silhouette_visible && marches;
         key = with_curved_shape(key, object.mesh.kind);
         plan.notes.push_back(r.folds ? silhouette_folds_note(object.mesh, *r.folds)
-                             : !marches ? silhouette_dropped_note(key.technique)
                              : !silhouette_visible
                                  ? "silhouette off: the object's contour is off screen (the relief fills the view, or "
                                    "the object is outside it), so nothing is discarded"
-                                 : silhouette_drawn_note(key));
+                             : marches ? silhouette_drawn_note(key)
+                                       : silhouette_dropped_note(key.technique));
         if (key.curved)
             if (std::optional<std::string> open = open_tube_ends_note(object.mesh, material)) plan.notes.push_back(*open);
     }

@@ -394,21 +394,10 @@ void draw_mesh(const GpuMesh& mesh) {
 void set_draw_state(const Caps& caps, const HostFrame& frame, const Viewport& vp, const glm::vec4& clear_color) {
     glBindFramebuffer(GL_FRAMEBUFFER, frame.target.framebuffer);
     glViewport(vp.x, vp.y, vp.width, vp.height);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_BLEND);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    glDisable(GL_SAMPLE_COVERAGE);
-    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-    glDisable(GL_DITHER);  // the debug outputs are exact bit patterns
-    if (caps.context_es3()) {
-        glDisable(GL_RASTERIZER_DISCARD);
-        glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-        for (int i = 0; i < kLibraryTextureUnits; ++i) glBindSampler(static_cast<GLuint>(i), 0);
-    }
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glDepthRangef(0.0f, 1.0f);
+    // The state table's set-aside column (gl/state.h): scissor, stencil,
+    // blend, dither (the debug outputs are exact bit patterns), colour and
+    // depth masks, depth test LESS, back-face culling, sampler objects, ...
+    set_aside_host_state(caps);
     const GLbitfield clears = (frame.clear_color ? GL_COLOR_BUFFER_BIT : 0u) | (frame.clear_depth ? GL_DEPTH_BUFFER_BIT : 0u);
     if (clears) {
         const bool whole = vp.x == 0 && vp.y == 0 && vp.width == frame.target.width && vp.height == frame.target.height;
@@ -421,10 +410,6 @@ void set_draw_state(const Caps& caps, const HostFrame& frame, const Viewport& vp
         glClear(clears);
         glDisable(GL_SCISSOR_TEST);
     }
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
 }
 
 }  // namespace
@@ -720,7 +705,12 @@ HostFrame HostFrame::from_camera(const CameraDesc& camera, const RenderTarget& t
     return f;
 }
 
-Renderer::~Renderer() { release(); }
+Renderer::~Renderer() {
+    // The library's debug callback goes with it, where it put one (a host's
+    // own is never touched) and its context is current.
+    if (owns_debug_callback_ && check_context("destroy")) remove_debug_messages(get_proc_address_);
+    release();
+}
 
 Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& options) {
     const GLubyte* version = glGetString(GL_VERSION);
@@ -762,7 +752,9 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& option
         }
     }
     if (r->current_context_) r->context_ = r->current_context_();
-    install_debug_messages(options.get_proc_address, r->caps_.khr_debug());
+    r->get_proc_address_ = options.get_proc_address;
+    r->owns_debug_callback_ =
+        install_debug_messages(options.get_proc_address, r->caps_.khr_debug()) == DebugMessages::installed;
     if (options.program_binaries.enabled()) {
         r->program_binaries_ = options.program_binaries;
         r->binary_support_ = query_program_binary_support(r->caps_, options.get_proc_address);
@@ -1130,15 +1122,15 @@ Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, con
     const Viewport whole{0, 0, warm_target.width, warm_target.height};
     set_draw_state(caps_, frame, whole, glm::vec4(0.0f));
     const FrameValues values = frame_values(prepared_->desc, frame);
-    std::vector<std::vector<std::uint64_t>> warmed(scene_->objects.size());
+    std::vector<std::vector<std::string>> warmed(scene_->objects.size());
     for (const std::vector<ObjectPlan>& plans : frames) {
         if (plans.size() != scene_->objects.size())
             return make_error("prepare: a frame has " + std::to_string(plans.size()) + " plans for " +
                               std::to_string(scene_->objects.size()) + " objects");
         for (size_t i = 0; i < plans.size(); ++i) {
-            const std::uint64_t bits = plans[i].key.bits();
-            if (std::find(warmed[i].begin(), warmed[i].end(), bits) != warmed[i].end()) continue;
-            warmed[i].push_back(bits);
+            const std::string id = plans[i].key.id();
+            if (std::find(warmed[i].begin(), warmed[i].end(), id) != warmed[i].end()) continue;
+            warmed[i].push_back(id);
             const GpuObject& object = scene_->objects[i];
             Status s = draw_object(*scene_, object, object.desc->transform.matrix(), plans[i].key, plans[i].options, values);
             if (!s) return s;

@@ -39,6 +39,10 @@ const TextureFileSupport* texture_files();
 
 struct RendererOptions {
     // Entry points for extensions (KHR_debug); nullptr: no debug messages.
+    // The driver's messages reach the library's errors through a KHR_debug
+    // callback it installs only where the host has none (a host's callback
+    // and its user parameter are never replaced), and takes out again when
+    // the renderer is destroyed with its context current.
     GetProcAddress get_proc_address = nullptr;
     // OpenGL ES 2.0 only: draw as a GPU without fragment highp would (every
     // PX_HIGHP in the fragment stage is mediump, and the debug outputs use
@@ -280,6 +284,8 @@ private:
     std::vector<TextureUpload> texture_uploads_;
     std::vector<std::string> texture_notes_;
     bool force_texture_decode_ = false;
+    GetProcAddress get_proc_address_ = nullptr;
+    bool owns_debug_callback_ = false;  // the context's KHR_debug callback is the library's
 };
 
 }  // namespace px

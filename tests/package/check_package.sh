@@ -48,14 +48,19 @@ done < <(cd "$prefix/include" && find parallaxes -name '*.h' | sort)
 [ "$header_failures" -eq 0 ] || exit 1
 echo "ok: every installed header compiles alone under ${strict[*]}"
 
-# The README's integration snippet, extracted (the cpp block after the
-# marker), compiled against the install as a host's source file.
-awk '/<!-- snippet: integration/ {on = 1; next} on && /^```cpp/ {code = 1; next} code && /^```/ {exit} code' \
-    "$source_dir/README.md" >"$work/snippet.cpp"
-[ -s "$work/snippet.cpp" ] || { echo "FAIL: no integration snippet found in README.md"; exit 1; }
-c++ -std=c++17 -c -Wall -Wextra -Werror -I"$prefix/include" "$work/snippet.cpp" -o "$work/snippet.o" ||
-    { echo "FAIL: the README's integration snippet does not compile against the install"; exit 1; }
-echo "ok: the README's integration snippet compiles ($(wc -l <"$work/snippet.cpp") lines)"
+# The README's snippets, extracted (each cpp block after a
+# "<!-- snippet: NAME" marker) and compiled against the install as printed.
+snippets=0
+for name in $(sed -n 's/^<!-- snippet: \([a-z-]*\).*/\1/p' "$source_dir/README.md"); do
+    awk -v name="$name" '$0 ~ "<!-- snippet: " name {on = 1; next} on && /^```cpp/ {code = 1; next} code && /^```/ {exit} code' \
+        "$source_dir/README.md" >"$work/snippet-$name.cpp"
+    [ -s "$work/snippet-$name.cpp" ] || { echo "FAIL: the README's snippet '$name' has no cpp block"; exit 1; }
+    c++ -std=c++17 -c -Wall -Wextra -Werror -I"$prefix/include" "$work/snippet-$name.cpp" -o "$work/snippet-$name.o" ||
+        { echo "FAIL: the README's snippet '$name' does not compile against the install"; exit 1; }
+    echo "ok: the README's snippet '$name' compiles ($(wc -l <"$work/snippet-$name.cpp") lines)"
+    snippets=$((snippets + 1))
+done
+[ "$snippets" -ge 2 ] || { echo "FAIL: expected the integration and program-binaries snippets, found $snippets"; exit 1; }
 
 # find_package(ParallaxES), as examples/host_app/CMakeLists.txt does.
 cmake -S "$source_dir/examples/host_app" -B "$work/host" -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" 2>&1 ||
@@ -64,6 +69,32 @@ cmake --build "$work/host" -j 2 >"$work/build.log" 2>&1 || { cat "$work/build.lo
 app="$work/host/host_app"
 "$app" --es 3 --frames 3
 "$app" --es 2 --frames 2
+
+# ParallaxES::planner, the target the library's messages name for effects.
+mkdir -p "$work/planned"
+cat >"$work/planned/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.20)
+project(planned LANGUAGES CXX)
+set(CMAKE_CXX_STANDARD 17)
+find_package(ParallaxES 0.3 REQUIRED)
+add_executable(planned main.cpp)
+target_link_libraries(planned PRIVATE ParallaxES::planner)
+CMAKE
+cat >"$work/planned/main.cpp" <<'CPP'
+#include "parallaxes/planner/planner.h"
+#include "parallaxes/render/renderer.h"
+int main() {
+    px::RendererOptions options;
+    options.effect_planner = px::effect_planner;
+    return options.effect_planner ? 0 : 1;
+}
+CPP
+cmake -S "$work/planned" -B "$work/planned/build" -DCMAKE_PREFIX_PATH="$prefix" >"$work/planned.log" 2>&1 &&
+    cmake --build "$work/planned/build" >>"$work/planned.log" 2>&1 ||
+    { cat "$work/planned.log"; echo "FAIL: an app linking ParallaxES::planner does not build"; exit 1; }
+nm -C "$work/planned/build/planned" | grep -q "px::ScenePlanner" ||
+    { echo "FAIL: ParallaxES::planner linked no effect planner"; exit 1; }
+echo "ok: an app linking ParallaxES::planner builds and holds the effect planner"
 
 # What a host app pulls in: the renderer, none of the rest.
 symbols=$(nm -C "$app")
