@@ -41,9 +41,6 @@ constexpr bool kCheckEveryDraw = false;
 constexpr bool kCheckEveryDraw = true;
 #endif
 
-// How much farther out than its chord sag (the second-order estimate) a
-// curved relief's polygon is drawn: a margin for the sag's higher orders.
-constexpr float kShellOverSag = 1.5f;
 
 struct GpuMesh {
     BufferHandle vertices;
@@ -117,77 +114,29 @@ void point_attributes() {
 
 Result<GpuMesh> upload_mesh(const Mesh& mesh, const Caps& caps, const std::string& what);
 
-// Whether an object draws its material's curved silhouette (PX_CURVED): a
-// parallax-drawn sphere, torus or cylinder (of `units_per_uv` mesh units
-// per uv) whose material asks for it, and whose relief does not reach
-// through its centre or axis (relief_folds_through).
-bool curved_silhouette(const MaterialDesc& m, const ObjectDesc& o, float units_per_uv) {
-    return m.silhouette && mesh_kind_is_curved(o.mesh.kind) && !o.mesh.displaced &&
-           !relief_folds_through(o.mesh, m, units_per_uv);
-}
-
 // The relief's depth in mesh units over a mesh of `units_per_uv`.
 float relief_depth(const MaterialDesc& m, float units_per_uv) {
     return m.height_scale * units_per_uv / m.uv.area_scale<float>();
 }
 
-// A bounded tube's rim caps, or nothing: an annulus at each end over the
-// relief's whole depth, whatever the technique's polygon height (1 or
-// less: the relief from R - depth to R + depth at most), with room for the
-// shell that surface.vert pushes every vertex out by along its normal (the
-// caps' too: kShellOverSag chord sags, radially), which moved an inner
-// edge set at the relief's bottom a tenth of a relief depth outward and
-// cut the rays that come onto the tube just above its valleys (3.7 % of
-// the contour at 60 degrees, 18.6 % at 89); a cap fragment outside the
-// relief or in the hollow draws nothing (march.glsl).
-std::optional<Mesh> build_rim_caps(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared) {
-    if (!(m.bounded && curved_silhouette(m, o, prepared.units_per_uv) && o.mesh.kind == MeshKind::cylinder))
-        return std::nullopt;
-    const float depth = relief_depth(m, prepared.units_per_uv);
-    if (!(std::isfinite(depth) && depth > 0.0f)) return std::nullopt;
-    const float r = o.mesh.radius;
-    const float shell = kShellOverSag * prepared.chord_sag;
-    const float inner = std::max(0.0f, r - 1.1f * depth - 2.0f * shell);
-    const float outer = r + 1.1f * depth + 2.0f * shell;
-    Mesh caps = make_tube_rim_caps(prepared, r, inner, outer);
-    if (caps.indices.empty()) return std::nullopt;
-    return caps;
-}
-
-// A bounded plane's side walls, or nothing: along its edges over the
-// relief's whole depth, whatever the polygon's height in it (and a tenth of
-// a relief depth past each end).
-std::optional<Mesh> build_tile_walls(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared) {
-    if (!(m.bounded && o.mesh.kind == MeshKind::plane && !o.mesh.displaced)) return std::nullopt;
-    const float depth = relief_depth(m, prepared.units_per_uv);
-    const auto polygon = static_cast<float>(m.polygon_height());
-    if (!(std::isfinite(depth) && depth > 0.0f && std::isfinite(polygon))) return std::nullopt;
-    const float below = (std::max(polygon, 0.0f) + 0.1f) * depth;
-    const float above = (std::max(1.0f - polygon, 0.0f) + 0.1f) * depth;
-    Mesh walls = make_tile_walls(prepared, below, above);
-    if (walls.indices.empty()) return std::nullopt;
-    return walls;
-}
-
-// An object's mesh as drawn: the prepared one, or for a bounded relief the
-// widened one (build_widened_mesh), with the prepared one beside it (and a
-// bounded tube's rim caps).
-Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const MaterialDesc& m, const Mesh& prepared, const Caps& caps) {
+// An object's drawn meshes as prepared (PreparedObject): the mesh, or for a
+// bounded relief the widened one with the object's own beside it, and a
+// bounded tube's rim caps or a bounded plane's side walls.
+Result<GpuMesh> upload_object_mesh(const ObjectDesc& o, const PreparedObject& prepared, const Caps& caps) {
     const std::string what = "object '" + echo(o.name) + "'";
-    std::optional<Mesh> wide = build_widened_mesh(o.mesh, m);
-    if (!wide) return upload_mesh(prepared, caps, what);
-    Result<GpuMesh> widened = upload_mesh(*wide, caps, what);
+    if (!prepared.widened) return upload_mesh(prepared.mesh, caps, what);
+    Result<GpuMesh> widened = upload_mesh(*prepared.widened, caps, what);
     if (!widened) return widened;
-    Result<GpuMesh> own = upload_mesh(prepared, caps, what);
+    Result<GpuMesh> own = upload_mesh(prepared.mesh, caps, what);
     if (!own) return own.error();
     widened->unwidened = std::make_unique<GpuMesh>(std::move(*own));
-    if (std::optional<Mesh> rims = build_rim_caps(o, m, prepared)) {
-        Result<GpuMesh> uploaded = upload_mesh(*rims, caps, what + " (its rim caps)");
+    if (prepared.rim_caps) {
+        Result<GpuMesh> uploaded = upload_mesh(*prepared.rim_caps, caps, what + " (its rim caps)");
         if (!uploaded) return uploaded.error();
         widened->rim_caps = std::make_unique<GpuMesh>(std::move(*uploaded));
     }
-    if (std::optional<Mesh> walls = build_tile_walls(o, m, prepared)) {
-        Result<GpuMesh> uploaded = upload_mesh(*walls, caps, what + " (its side walls)");
+    if (prepared.tile_walls) {
+        Result<GpuMesh> uploaded = upload_mesh(*prepared.tile_walls, caps, what + " (its side walls)");
         if (!uploaded) return uploaded.error();
         widened->tile_walls = std::make_unique<GpuMesh>(std::move(*uploaded));
     }
@@ -868,8 +817,7 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     gpu->camera = desc.camera;
     for (size_t i = 0; i < desc.objects.size(); ++i) {
         const ObjectDesc& o = desc.objects[i];
-        Result<GpuMesh> g = upload_object_mesh(o, desc.materials[prepared->objects[i]->material],
-                                               prepared->objects[i]->mesh, caps_);
+        Result<GpuMesh> g = upload_object_mesh(o, *prepared->objects[i], caps_);
         if (!g) return g.error();
         gpu->meshes.push_back(std::move(*g));
         GpuObject object;
@@ -924,17 +872,10 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         // Meshes displaced from the new relief, before anything is replaced.
         std::vector<std::pair<size_t, GpuMesh>> meshes;
         for (size_t i = 0; i < p.objects.size(); ++i) {
-            // Displaced from the new relief, or widened by other bounds.
-            // (A bounded tube's rim caps span the relief's depth.)
-            const MaterialDesc& now = p.desc.materials[mi];
-            const MaterialDesc& before = prepared_->desc.materials[mi];
-            const bool widened_differently =
-                p.objects[i]->material == mi &&
-                (bounded_margin(now) != bounded_margin(before) || now.silhouette != before.silhouette ||
-                 relief_depth(now, 1.0f) != relief_depth(before, 1.0f));
-            if (p.objects[i].get() == prepared_->objects[i].get() && !widened_differently) continue;
-            Result<GpuMesh> m = upload_object_mesh(p.desc.objects[i], p.desc.materials[p.objects[i]->material],
-                                                   p.objects[i]->mesh, caps_);
+            // Prepared again (displaced from the new relief, or widened by
+            // other bounds): uploaded again.
+            if (p.objects[i].get() == prepared_->objects[i].get()) continue;
+            Result<GpuMesh> m = upload_object_mesh(p.desc.objects[i], *p.objects[i], caps_);
             if (!m) return m.error();
             meshes.emplace_back(scene_->objects[i].mesh, std::move(*m));
         }

@@ -250,6 +250,36 @@ std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_s
 
 }  // namespace
 
+namespace {
+
+// maxmip (explicit, or possible under effects): its pyramid needs a field
+// that halves exactly.
+bool maxmip_possible(const MaterialDesc& m) {
+    return m.effects ? (m.effects->parallax && m.height_scale > 0.0f) : m.technique.technique == Technique::maxmip;
+}
+
+bool same_field(const FieldSpec& a, const FieldSpec& b) {
+    return a.kind == b.kind && a.size == b.size && a.level == b.level && a.count == b.count &&
+           a.frequency == b.frequency && a.mortar == b.mortar && a.line_width == b.line_width &&
+           a.radius == b.radius && a.text == b.text;
+}
+
+bool same_source(const TextureSource& a, const TextureSource& b) {
+    return a.kind == b.kind && a.path == b.path && same_field(a.field, b.field) && a.low == b.low &&
+           a.high == b.high && a.grain == b.grain && a.color == b.color && a.convention == b.convention &&
+           a.first_row == b.first_row;
+}
+
+}  // namespace
+
+bool same_material_images(const MaterialDesc& a, const MaterialDesc& b) {
+    // Every field of the material the builder below reads (the name only
+    // labels its errors).
+    return same_source(a.albedo, b.albedo) && same_source(a.height, b.height) && same_source(a.normal, b.normal) &&
+           a.pack_height_in_normal_alpha == b.pack_height_in_normal_alpha && a.height_scale == b.height_scale &&
+           maxmip_possible(a) == maxmip_possible(b);
+}
+
 Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const std::string& base_dir,
                                                   const MaterialImageOptions& options) {
     counters::count(counters::Step::image_build);
@@ -257,10 +287,9 @@ Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const s
     if (!built) return built;
     MaterialImages& out = *built;
     // maxmip (explicit, or possible under effects) on a non-power-of-two field.
-    const bool maxmip_possible = m.effects ? (m.effects->parallax && m.height_scale > 0.0f)
-                                           : m.technique.technique == Technique::maxmip;
+    const bool walks_pyramid = maxmip_possible(m);
     const bool field_npot = !pot(out.field.width, out.field.height);
-    if (field_npot && (maxmip_possible || options.power_of_two_textures)) {
+    if (field_npot && (walks_pyramid || options.power_of_two_textures)) {
         const int w = next_power_of_two(out.field.width), h = next_power_of_two(out.field.height);
         out.notes.push_back("height " + size_text(out.field.width, out.field.height) + " resampled to " + size_text(w, h) +
                             " (bilinear, 8-bit): " +

@@ -71,6 +71,13 @@ struct MaterialImageOptions {
     const TextureFileReaders* files = nullptr;
 };
 
+// Whether two materials' images are the same images (the same sources,
+// height packing, depth and pyramid needs, under the same base folder):
+// what build_material_images_from reads of a material, so that a prepared
+// scene shares them between materials and across replace_material (a change
+// of technique, sample count or shadow builds nothing again).
+bool same_material_images(const MaterialDesc& a, const MaterialDesc& b);
+
 // Errors name the material and the source (file path or field). A file is
 // read as a texture container when it starts with a KTX or PVR identifier,
 // and as an image (PNG, JPEG, TGA) otherwise.

@@ -189,6 +189,11 @@ void fit_curvature(Mesh& mesh);
 // angle phi). A saddle's triangles, partly outside, count their inside
 // part only.
 float chord_sag(const Mesh& mesh);
+// How much farther out than its chord sag (the second-order estimate) a
+// curved relief's polygon is drawn (surface.vert's shell, set by the
+// renderer), and a bounded tube's rim caps made room for: a margin for the
+// sag's higher orders.
+inline constexpr float kShellOverSag = 1.5f;
 
 // Recomputes every vertex tangent from positions, normals and uvs of an
 // indexed triangle list (per-triangle uv derivatives, accumulated and

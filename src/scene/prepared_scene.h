@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,9 +23,22 @@ struct PreparedMaterial {
     MaterialImages images;
 };
 
+// One object as it is drawn: its mesh, and what a bounded or silhouetted
+// relief draws besides (GL-free; the renderer only uploads these).
 struct PreparedObject {
     size_t material = 0;  // index into PreparedScene::materials (and desc.materials)
-    Mesh mesh;            // the mesh that is drawn
+    Mesh mesh;            // the object's own mesh (a displaced one displaced): what the planner surveys
+    // A bounded relief on a plane or an open cylinder: the mesh drawn wider
+    // by bounded_margin (build_widened_mesh), so that the traces that leave
+    // the tile through its side start where the ray comes in; `mesh` is
+    // still drawn by the variants that trace nothing.
+    std::optional<Mesh> widened;
+    // A bounded tube with a curved silhouette: an annulus at each end over
+    // the relief's whole depth (what the exact shape search draws the rims with).
+    std::optional<Mesh> rim_caps;
+    // A bounded plane: its side walls over the relief's whole depth (for the
+    // rays that come into the tile through its side past about 80 degrees).
+    std::optional<Mesh> tile_walls;
 };
 
 struct PrepareOptions {

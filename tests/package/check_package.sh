@@ -92,8 +92,8 @@ CPP
 cmake -S "$work/planned" -B "$work/planned/build" -DCMAKE_PREFIX_PATH="$prefix" >"$work/planned.log" 2>&1 &&
     cmake --build "$work/planned/build" >>"$work/planned.log" 2>&1 ||
     { cat "$work/planned.log"; echo "FAIL: an app linking ParallaxES::planner does not build"; exit 1; }
-nm -C "$work/planned/build/planned" | grep -q "px::ScenePlanner" ||
-    { echo "FAIL: ParallaxES::planner linked no effect planner"; exit 1; }
+planned_symbols=$(nm -C "$work/planned/build/planned")
+grep -q "px::ScenePlanner" <<<"$planned_symbols" || { echo "FAIL: ParallaxES::planner linked no effect planner"; exit 1; }
 echo "ok: an app linking ParallaxES::planner builds and holds the effect planner"
 
 # What a host app pulls in: the renderer, none of the rest.
