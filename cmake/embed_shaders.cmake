@@ -1,5 +1,5 @@
 # Writes OUTPUT: a C++ file holding every file under SHADER_DIR as a string,
-# looked up by its path relative to SHADER_DIR (see src/shaders/shader_source.h).
+# looked up by its path relative to SHADER_DIR (see include/parallaxes/shaders/shader_source.h).
 # STRIP_COMMENTS: drop every line comment (GLSL has no strings, so `//`
 # always starts one), keeping each line's end so that line numbers stay.
 file(GLOB_RECURSE files RELATIVE ${SHADER_DIR} ${SHADER_DIR}/*.glsl ${SHADER_DIR}/*.vert ${SHADER_DIR}/*.frag)

@@ -1,4 +1,4 @@
-// The precision emulation without GL (src/emulation/precision.h): the CPU
+// The precision emulation without GL (include/parallaxes/emulation/precision.h): the CPU
 // rounding against IEEE 754 binary16 and GLSL ES 1.00 section 4.5.2, and the
 // rewriter over every variant the program can build.
 #include <gtest/gtest.h>

@@ -576,7 +576,7 @@ TEST(Accuracy, DepthWriteMatchesTheCompositedReference) {
 namespace px::test {
 namespace {
 
-// The exact walk counts its own work (profiling/measurement/work.h), on both
+// The exact walk counts its own work (include/parallaxes/profiling/measurement/work.h), on both
 // contexts (ES 2.0 through the 24-bit packed passes). Every iteration reads
 // one texel (a node's max, or on ES 2.0 a cell's four corners at once) and
 // ends in at least one patch solve (4 reads of the height map on ES 3.0), so

@@ -1,4 +1,4 @@
-// The precision emulation on the GPU (src/emulation/precision.h): the
+// The precision emulation on the GPU (include/parallaxes/emulation/precision.h): the
 // rewritten shaders run on llvmpipe. ES 3.0 only (the emitted sources are
 // GLSL ES 3.00; ES 2.0 variants run through RendererOptions::emulate_es2):
 // the gpu_es2 entry leaves these tests out (tests/CMakeLists.txt).

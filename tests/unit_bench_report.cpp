@@ -1,4 +1,4 @@
-// Unit tests for the benchmark report writers (profiling/reports/bench_results.h):
+// Unit tests for the benchmark report writers (include/parallaxes/profiling/reports/bench_results.h):
 // CSV, JSON, the Pareto SVG and the markdown report, on a synthetic run whose
 // answers are known, plus the atomic write and its errors.
 #include <gtest/gtest.h>
@@ -573,7 +573,7 @@ TEST(BenchReport, ReplacesAnExistingFileAndRemovesTheTemporary) {
 }  // namespace
 }  // namespace px::profiling
 
-// The reports' small chart (profiling/reports/svg_plot.h): the same bytes for the
+// The reports' small chart (include/parallaxes/profiling/reports/svg_plot.h): the same bytes for the
 // same input, points that cannot be drawn left out (not drawn at NaN), text
 // escaped, and the scatter's line of equality and factor band.
 #include "parallaxes/profiling/reports/svg_plot.h"

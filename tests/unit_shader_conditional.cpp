@@ -1,6 +1,6 @@
-// The partial preprocessor (src/shaders/conditional.h) on small inputs, and
+// The partial preprocessor (include/parallaxes/shaders/conditional.h) on small inputs, and
 // the assembled sources of every variant: no code of an effect a variant
-// does not use (src/shaders/effect_code.h). Pure text, no GL.
+// does not use (include/parallaxes/shaders/effect_code.h). Pure text, no GL.
 #include <gtest/gtest.h>
 
 #include <map>

@@ -1,5 +1,5 @@
 // Unit tests for the vendor shader compilers' parsers and runner
-// (profiling/costs/vendor_compilers.h). Neither malioc nor the PowerVR compilers
+// (include/parallaxes/profiling/costs/vendor_compilers.h). Neither malioc nor the PowerVR compilers
 // are installed here: the parsers read reports written for the tests after
 // the tools' documentation (tests/data/vendor/README.md), and the runner runs
 // fake compilers, shell scripts this file writes and puts first on PATH.

@@ -55,7 +55,7 @@ struct BenchArgs {
 };
 
 
-// The planner's cost table: the grid of profiling/measurement/planner_table.h, or the
+// The planner's cost table: the grid of include/parallaxes/profiling/measurement/planner_table.h, or the
 // options given (--scenes, --angles, --samples, --frames, --size).
 int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
     profiling::TableGrid grid;

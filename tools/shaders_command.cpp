@@ -1,7 +1,7 @@
 // parallax shaders --es 2|3 --out DIR: writes the full source of every shader
 // variant the program can build, for offline validation (glslangValidator)
 // and for reading what a variant really contains. --emulate PROFILE writes
-// them as the precision emulation rewrites them (src/emulation/precision.h).
+// them as the precision emulation rewrites them (include/parallaxes/emulation/precision.h).
 #include "parallaxes/core/files.h"
 #include <cstdio>
 #include <filesystem>

@@ -514,7 +514,7 @@ Result<CostModel> calibrated_model(const CostModel& base, const CalibrationFit& 
     const double fp16_ratio = base.fp32_ops_per_cycle / base.fp16_ops_per_cycle;
     const double latency_in_samples = base.texture_latency_cycles * base.samples_per_cycle;
     m.name = "mobile-class GPU, per thread, weights fitted to " + set.gpu;
-    m.about = "Turns the counts glslang's SPIR-V gives (profiling/costs/shader_costs.h) into estimated cycles per thread on "
+    m.about = "Turns the counts glslang's SPIR-V gives (include/parallaxes/profiling/costs/shader_costs.h) into estimated cycles per thread on "
               "each pipe, with weights fitted to a real compiler's figures for real shaders (`parallax profile "
               "--calibrate`, docs/profiling.md): a model of that GPU class, not the vendor's. `parallax profile --model "
               "FILE` takes another file of this shape, used as written.";

@@ -765,7 +765,7 @@ std::string describe_end(const ProcessOutcome& outcome) {
     return "exited with status " + std::to_string(outcome.exit_status);
 }
 
-// Runs argv[0] with stdout and stderr into one pipe (profiling/costs/process.h:
+// Runs argv[0] with stdout and stderr into one pipe (include/parallaxes/profiling/costs/process.h:
 // its own process group, killed whole at the time limit or the output cap).
 Result<ProcessOutcome> run_captured(const std::vector<std::string>& argv, std::chrono::milliseconds time_limit) {
     ProcessOptions options;

@@ -1148,7 +1148,7 @@ std::string all_settings_section(const std::vector<TechniqueEntry>& techniques, 
 }
 
 // The exact walk's iterations per pixel, where the run counted them: what
-// its time is made of (profiling/measurement/work.h).
+// its time is made of (include/parallaxes/profiling/measurement/work.h).
 std::string work_section(const BenchRun& run) {
     std::vector<const BenchRow*> counted;
     for (const BenchRow& row : run.rows)

@@ -32,7 +32,7 @@ uniform mediump vec3 u_ambient;
 uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 
 // PX_COUNT_WORK (VariantKey::count_work, debug outputs only; read by
-// profiling/measurement/work.h for `parallax bench`'s work columns): the
+// include/parallaxes/profiling/measurement/work.h for `parallax bench`'s work columns): the
 // debug outputs show the search's loop iterations and texture fetches per
 // pixel in place of the hit uv. Each search counts its own with PX_WORK.
 #ifdef PX_BOUNDED

@@ -309,7 +309,7 @@ void main() {
 #endif
     }
 #ifdef PX_COUNT_WORK
-    // profiling/measurement/work.h: the counts in place of the uv, scaled
+    // include/parallaxes/profiling/measurement/work.h: the counts in place of the uv, scaled
     // into [0, 1) for the packed passes (exact: a power of two).
     shown.uv = px_work / 65536.0;
 #endif

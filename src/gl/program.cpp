@@ -94,10 +94,10 @@ Status check_interface(GLuint program, const std::string& what) {
             if (name == u.name) found = &u;
         if (!found)
             return make_error(what + ": the shader has uniform '" + name +
-                              "', which src/shaders/interface.h does not list, so the renderer never sets it");
+                              "', which include/parallaxes/shaders/interface.h does not list, so the renderer never sets it");
         if (gl_type(found->type) != type || size > found->array_size)
             return make_error(what + ": uniform '" + name + "' is declared with another type or array size than "
-                              "src/shaders/interface.h gives (" + shader::type_name(found->type) +
+                              "include/parallaxes/shaders/interface.h gives (" + shader::type_name(found->type) +
                               (found->array_size > 1 ? "[" + std::to_string(found->array_size) + "]" : "") + ")");
     }
     return {};
@@ -145,7 +145,7 @@ Result<std::unique_ptr<Program>> Program::adopt(ProgramHandle program, const Var
         const GLint location = glGetUniformLocation(program.get(), u.name);
         if (location < 0 && shader::needed(u.id, key))
             return make_error(what + " needs uniform '" + std::string(u.name) +
-                              "' (src/shaders/interface.h), and the linked program has no active uniform of that "
+                              "' (include/parallaxes/shaders/interface.h), and the linked program has no active uniform of that "
                               "name: a misspelt or unused declaration in shaders_es/");
         p->uniforms_[static_cast<std::size_t>(u.id)] = location;
     }
@@ -153,7 +153,7 @@ Result<std::unique_ptr<Program>> Program::adopt(ProgramHandle program, const Var
         const GLint location = glGetAttribLocation(program.get(), a.name);
         if (location < 0 && shader::needed(a.id, key))
             return make_error(what + " needs attribute '" + std::string(a.name) +
-                              "' (src/shaders/interface.h), and the linked program has no active attribute of that "
+                              "' (include/parallaxes/shaders/interface.h), and the linked program has no active attribute of that "
                               "name");
         if (location >= 0 && location != a.slot)
             return make_error(what + " attribute '" + std::string(a.name) + "' linked at slot " +

@@ -266,23 +266,23 @@ Status check_declarations(const std::string& source, const std::string& what) {
             for (const UniformInfo& u : uniforms())
                 if (bare == u.name) found = &u;
             if (!found)
-                return make_error(where + "uniform '" + bare + "' is not in src/shaders/interface.h, so no program "
+                return make_error(where + "uniform '" + bare + "' is not in include/parallaxes/shaders/interface.h, so no program "
                                   "would ever set it");
             if (type != type_name(found->type) || array != (found->array_size > 1))
                 return make_error(where + "uniform '" + bare + "' is declared as " + type + (array ? "[]" : "") +
-                                  ", and src/shaders/interface.h lists it as " + type_name(found->type) +
+                                  ", and include/parallaxes/shaders/interface.h lists it as " + type_name(found->type) +
                                   (found->array_size > 1 ? "[]" : ""));
         } else {
             const AttributeInfo* found = nullptr;
             for (const AttributeInfo& a : attributes())
                 if (bare == a.name) found = &a;
             if (!found)
-                return make_error(where + "attribute '" + bare + "' is not in src/shaders/interface.h, so it has "
+                return make_error(where + "attribute '" + bare + "' is not in include/parallaxes/shaders/interface.h, so it has "
                                   "no slot");
             const std::string expected = found->components == 1 ? "float" : "vec" + std::to_string(found->components);
             if (type != expected)
                 return make_error(where + "attribute '" + bare + "' is declared as " + type +
-                                  ", and src/shaders/interface.h gives it " + std::to_string(found->components) +
+                                  ", and include/parallaxes/shaders/interface.h gives it " + std::to_string(found->components) +
                                   " components (" + expected + ")");
         }
     }

@@ -23,7 +23,7 @@ struct BenchRow {
     ShadowMode shadow = ShadowMode::none;
     int shadow_samples = 0;   // shadowed scenes: samples along the shadow ray
     double light_elevation_deg = 35.0;  // the light, above the plane
-    // Error against the exact reference (see src/reference/metrics.h).
+    // Error against the exact reference (see include/parallaxes/reference/metrics.h).
     long pixels = 0;
     double uv_error_mean = 0.0;  // texels
     double uv_error_p95 = 0.0;
@@ -51,7 +51,7 @@ struct BenchRow {
     double ns_per_pixel = 0.0;   // median frame time / pixels drawn
     double ratio_to_normal = 0.0;  // median of per-round (this / normal mapping), interleaved
     // The exact walk's work per drawn pixel, counted by the shader
-    // (profiling/measurement/work.h); 0 for the techniques not counted.
+    // (include/parallaxes/profiling/measurement/work.h); 0 for the techniques not counted.
     double iterations_median = 0.0;
     double iterations_p90 = 0.0;
     double iterations_p99 = 0.0;

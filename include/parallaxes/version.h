@@ -1,12 +1,13 @@
 // ParallaxES's version, as the package (ParallaxESConfigVersion.cmake,
 // parallaxes.pc) gives it. CHANGELOG.md says what each version changed and
-// what a host must change. Generated from cmake/version.h.in.
+// what a host must change. Kept here by hand, beside the project(VERSION)
+// in CMakeLists.txt: configuring checks that the two agree.
 #pragma once
 
-#define PARALLAXES_VERSION_MAJOR @PROJECT_VERSION_MAJOR@
-#define PARALLAXES_VERSION_MINOR @PROJECT_VERSION_MINOR@
-#define PARALLAXES_VERSION_PATCH @PROJECT_VERSION_PATCH@
-#define PARALLAXES_VERSION_STRING "@PROJECT_VERSION@"
+#define PARALLAXES_VERSION_MAJOR 0
+#define PARALLAXES_VERSION_MINOR 3
+#define PARALLAXES_VERSION_PATCH 0
+#define PARALLAXES_VERSION_STRING "0.3.0"
 // One number to compare: PARALLAXES_VERSION >= PARALLAXES_MAKE_VERSION(0, 2, 0).
 #define PARALLAXES_MAKE_VERSION(major, minor, patch) ((major) * 10000 + (minor) * 100 + (patch))
 #define PARALLAXES_VERSION \

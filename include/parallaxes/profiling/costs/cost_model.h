@@ -1,5 +1,5 @@
 // A documented cost model for a mobile-class GPU: the static counts of
-// profiling/costs/shader_costs.h turned into estimated cycles per pipe. Its
+// include/parallaxes/profiling/costs/shader_costs.h turned into estimated cycles per pipe. Its
 // parameters live in one data file (profiling/costs/cost_model.json, carried
 // inside the program; `parallax profile --model FILE` reads another), with
 // the assumptions beside them, printed with every report.

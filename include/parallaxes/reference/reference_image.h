@@ -49,7 +49,7 @@ struct ReferenceImage {
     // toward the eye in the material's texture frame (x along u, y along v, z
     // along the normal; not height-scaled) at the point the camera ray meets
     // the polygon, and the uv there. What a technique's offset bound and
-    // error bound are computed from (profiling/measurement/stability.h).
+    // error bound are computed from (include/parallaxes/profiling/measurement/stability.h).
     std::vector<glm::dvec3> view_ts;
     std::vector<glm::dvec2> entry_uv;
     // The traced material's relief depth (tile units) and polygon height

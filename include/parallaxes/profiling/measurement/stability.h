@@ -1,4 +1,4 @@
-// Running the hard-case catalogue (profiling/reports/stability_catalogue.h) on the
+// Running the hard-case catalogue (include/parallaxes/profiling/reports/stability_catalogue.h) on the
 // current context: every case, every technique, the precisions asked for.
 #pragma once
 

@@ -122,7 +122,7 @@ struct MaterialDesc {
     TechniqueOptions technique;  // technique and its options
     // Set: the material declares the effects it needs ("effects" in a scene
     // file) and the planner chooses technique and options per object and
-    // frame (src/planner/planner.h); `technique` is then unused.
+    // frame (include/parallaxes/planner/planner.h); `technique` is then unused.
     std::optional<EffectRequest> effects;
     // Lighting: Lambert diffuse plus Blinn-Phong specular, as the renderer's
     // shaders_es/chunks/lighting.glsl and the reference both compute it.

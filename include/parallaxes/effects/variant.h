@@ -62,7 +62,7 @@ struct VariantKey {
     std::uint8_t debug_output = 0;
     // With a debug output, a search's loop iterations and texture fetches
     // per pixel in place of the hit uv (PX_COUNT_WORK,
-    // profiling/measurement/work.h). Searching techniques only.
+    // include/parallaxes/profiling/measurement/work.h). Searching techniques only.
     bool count_work = false;
     // With the float debug output (1), the ray the trace was handed in
     // place of its hit: (uv, parallax.x, parallax.y), parallax the uv shift

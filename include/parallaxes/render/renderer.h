@@ -61,7 +61,7 @@ struct RendererOptions {
     ShaderTransform shader_transform;
     // Debug draws (draw(target, debug_output)) of searching techniques show
     // each pixel's loop iterations and texture fetches in place of the hit
-    // uv (VariantKey::count_work; profiling/measurement/work.h reads them).
+    // uv (VariantKey::count_work; include/parallaxes/profiling/measurement/work.h reads them).
     bool count_work = false;
     // Float debug draws (debug output 1, ES 3.0) of height-reading techniques
     // show the ray each pixel's trace was handed instead of its hit
