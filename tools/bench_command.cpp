@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "parallaxes/core/limits.h"
 #include "parallaxes/core/counters.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/profiling/measurement/bench.h"
@@ -208,7 +209,7 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     CLI::App* cmd = app.add_subcommand("bench", "Sweep error against the exact reference beside frame time");
     cmd->add_option("--scenes", args->scenes, "Bench scenes (default: all)")->delimiter(',');
     cmd->add_option("--techniques", args->techniques, "Techniques, and displaced_mesh (default: all)")->delimiter(',');
-    cmd->add_option("--samples", args->samples, "max_samples settings (default 4,8,16,32,64,128,256)")->delimiter(',');
+    cmd->add_option("--samples", args->samples, "max_samples settings (default " + sample_grid_text() + ")")->delimiter(',');
     cmd->add_option("--angles", args->angles, "View angles from the normal, degrees (default 0,30,60,75,85,89)")
         ->delimiter(',');
     cmd->add_option("--size", args->size, "Image size")->capture_default_str();

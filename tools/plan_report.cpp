@@ -5,6 +5,7 @@
 #include <set>
 
 #include "cli_common.h"
+#include "parallaxes/core/limits.h"
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
@@ -253,7 +254,7 @@ Result<std::vector<Tried>> try_candidates(Renderer& planned, const SceneDesc& sc
     if (!target) return target.error();
     const int rounds = 5;
     std::vector<Tried> out;
-    const std::vector<int> counts{4, 8, 16, 32, 64, 128, 256};
+    const std::vector<int> counts = sample_grid();
     for (Technique t : {Technique::normal, Technique::parallax, Technique::offset_limited, Technique::steep,
                         Technique::pom, Technique::relief, Technique::maxmip}) {
         const TechniqueInfo& info = technique_info(t);

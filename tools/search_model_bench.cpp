@@ -20,6 +20,7 @@
 
 #include "cli_common.h"
 #include "draw_surface.h"
+#include "parallaxes/core/limits.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/planner/search_model.h"
 #include "parallaxes/platform/headless_context.h"
@@ -182,7 +183,7 @@ Result<std::vector<std::pair<bool, std::string>>> search_model_scenes(const std:
 profiling::BenchOptions search_model_bench_options(int width, int height, const std::string& command) {
     profiling::BenchOptions o;
     o.angles = {0, 30, 60, 75, 85, 89};
-    o.samples = {4, 8, 16, 32, 64, 128, 256};
+    o.samples = sample_grid();
     o.techniques = {"normal", "parallax", "offset_limited", "steep", "pom", "relief", "maxmip"};
     o.frames = 1;  // errors only: the time is not used
     o.width = width;

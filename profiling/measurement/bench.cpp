@@ -66,13 +66,20 @@ std::string now_iso8601() {
     return buffer;
 }
 
-Result<std::unique_ptr<Renderer>> load_renderer(const SceneDesc& scene, const RendererOptions& given = {}) {
+Result<std::unique_ptr<Renderer>> make_renderer(const RendererOptions& given) {
     RendererOptions options = given;
     options.effect_planner = effect_planner;
     options.texture_files = texture_files();
-    Result<std::unique_ptr<Renderer>> r = Renderer::create(options);
+    return Renderer::create(options);
+}
+
+// A renderer drawing a prepared scene: every renderer of a setting (the
+// draw, the ray capture, the work count) uploads the same preparation.
+Result<std::unique_ptr<Renderer>> load_renderer(std::shared_ptr<const PreparedScene> scene,
+                                                const RendererOptions& given = {}) {
+    Result<std::unique_ptr<Renderer>> r = make_renderer(given);
     if (!r) return r.error();
-    Status loaded = (*r)->load(scene);
+    Status loaded = (*r)->load(std::move(scene));
     if (!loaded) return loaded.error();
     return r;
 }
@@ -238,6 +245,9 @@ Result<std::vector<Setting>> bench_settings(const BenchOptions& options, const s
 // mapping baseline every setting is timed against.
 struct AngleContext {
     SceneDesc base;
+    // `base` prepared once (validated, images and mesh built): every setting
+    // at this angle, the baseline and the reference draw from it.
+    std::shared_ptr<const PreparedScene> prepared;
     ShadowMode shadow = ShadowMode::none;
     double angle = 0.0;
     reference::ReferenceImage truth;
@@ -249,7 +259,8 @@ struct AngleContext {
 // The setting's own_ray_errors p95: NaN where it cannot be read (no float
 // read-back, a technique that traces nothing).
 Result<double> own_ray_error_p95(const BenchOptions& options, const AngleContext& at, const Setting& setting,
-                                 const SceneDesc& scene, const RenderTarget& target, const SurfaceImage& hits) {
+                                 const std::shared_ptr<const PreparedScene>& scene, const RenderTarget& target,
+                                 const SurfaceImage& hits) {
     constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
     if (setting.technique == kDisplacedMesh) return kNotMeasured;
     if (!(technique_info(*parse_technique(setting.technique)).options & kOptHeight)) return kNotMeasured;
@@ -268,10 +279,22 @@ Result<double> own_ray_error_p95(const BenchOptions& options, const AngleContext
 }
 
 // What one setting measures at one scene and angle, as a row.
+// The setting's scene from the angle's preparation: a material replaced
+// (its images kept: only the technique and its options differ), or for the
+// displaced mesh, whose object changes, prepared afresh.
+Result<std::shared_ptr<const PreparedScene>> setting_scene(const BenchOptions& options, const AngleContext& at,
+                                                           const Setting& setting) {
+    const SceneDesc scene = with_setting(at.base, setting, at.shadow, options.exact_view);
+    if (setting.technique == kDisplacedMesh) return prepare_scene(scene, at.prepared->options);
+    return replace_material(*at.prepared, scene.materials[0]);
+}
+
 Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext& at, const Setting& setting,
                                  const std::string& scene_name, const RenderTarget& target,
                                  const std::function<Result<Image>()>& read_color) {
-    const SceneDesc scene = with_setting(at.base, setting, at.shadow, options.exact_view);
+    Result<std::shared_ptr<const PreparedScene>> prepared = setting_scene(options, at, setting);
+    if (!prepared) return with_context(setting.technique, prepared.error());
+    const std::shared_ptr<const PreparedScene>& scene = *prepared;
     Result<std::unique_ptr<Renderer>> renderer = load_renderer(scene, options.renderer);
     if (!renderer) return with_context(setting.technique, renderer.error());
 
@@ -317,7 +340,7 @@ Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext
         row.variant = (*renderer)->reports()[0].variant.describe();
     row.shadow = at.shadow;
     row.light_elevation_deg = options.light_elevation_deg;
-    row.shadow_samples = at.shadow == ShadowMode::none ? 0 : scene.materials[0].technique.shadow_samples;
+    row.shadow_samples = at.shadow == ShadowMode::none ? 0 : scene->desc.materials[0].technique.shadow_samples;
     row.pixels = error->pixels;
     row.uv_error_mean = error->uv_error_mean;
     row.uv_error_p95 = error->uv_error_p95;
@@ -382,14 +405,21 @@ Status prepare_angle(const BenchOptions& options, SceneDesc base, const std::str
                      const RenderTarget& target, AngleContext& at) {
     at.base = std::move(base);
     at.angle = angle;
+    // One preparation, for this context's texture rules (what its renderers
+    // would prepare): the reference traces the same images.
+    Result<std::unique_ptr<Renderer>> context = make_renderer(options.renderer);
+    if (!context) return context.error();
+    Result<std::shared_ptr<const PreparedScene>> prepared = prepare_scene(at.base, (*context)->prepare_options());
+    if (!prepared) return with_context(scene_name, prepared.error());
+    at.prepared = std::move(*prepared);
     reference::ReferenceOptions reference_options;
     reference_options.shadow = at.shadow;
-    Result<reference::ReferenceImage> truth = reference::render_reference(at.base, target.width, target.height, reference_options);
+    reference_options.images = at.prepared->options.images;
+    Result<reference::ReferenceImage> truth =
+        reference::render_reference(*at.prepared, target.width, target.height, reference_options);
     if (!truth) return with_context("reference for " + scene_name, truth.error());
     at.truth = std::move(*truth);
-    Result<MaterialImages> images = build_material_images(at.base.materials[0], at.base.base_dir);
-    if (!images) return images.error();
-    at.field = images->traced;
+    at.field = at.prepared->materials[0]->images.traced;
     // What an fp32 tracer cannot be asked to beat: how far the exact hit
     // moves for one float ulp of its inputs, per covered pixel.
     std::vector<double> floors;
@@ -400,11 +430,13 @@ Status prepare_angle(const BenchOptions& options, SceneDesc base, const std::str
     at.input_floor_p95 = reference::nearest_rank_p95(std::move(floors));
     at.normal.reset();
     if (!options.timed) return {};
-    SceneDesc normal_scene = at.base;
-    normal_scene.materials[0].technique.technique = Technique::normal;
+    MaterialDesc normal = at.base.materials[0];
+    normal.technique.technique = Technique::normal;
+    Result<std::shared_ptr<const PreparedScene>> normal_scene = replace_material(*at.prepared, normal);
+    if (!normal_scene) return normal_scene.error();
     RendererOptions baseline_options = options.renderer;
     baseline_options.variant_transform = nullptr;
-    Result<std::unique_ptr<Renderer>> loaded = load_renderer(normal_scene, baseline_options);
+    Result<std::unique_ptr<Renderer>> loaded = load_renderer(std::move(*normal_scene), baseline_options);
     if (!loaded) return loaded.error();
     at.normal = std::move(*loaded);
     return {};

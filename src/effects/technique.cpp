@@ -10,10 +10,7 @@ namespace {
 constexpr std::uint32_t kMarchOptions =
     kOptHeight | kOptNormals | kOptSamples | kOptShadow | kOptDepth | kOptLod;
 
-// The loop bound must be a constant in GLSL ES 1.00 (Appendix A), so each
-// max_samples is a shader variant; 256 keeps the worst case bounded.
-constexpr int kMaxMarchSamples = 256;
-constexpr int kMaxExactSteps = 4096;
+// kMaxMarchSamples and kMaxExactSteps: core/limits.h.
 
 constexpr std::array<TechniqueInfo, kTechniqueCount> kTable = {{
     {Technique::flat, "flat", "PX_TECH_FLAT", "flat.frag", "albedo only, lit by the geometric normal", "-", 0u, 2,

@@ -1,5 +1,7 @@
 #include "parallaxes/planner/search_model.h"
 
+#include "parallaxes/core/limits.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -61,7 +63,7 @@ namespace {
 std::vector<int> usable_counts(const std::vector<int>& samples) {
     std::vector<int> counts;
     for (int n : samples)
-        if (n >= 1 && n <= 4096) counts.push_back(n);
+        if (n >= 1 && n <= kMaxExactSteps) counts.push_back(n);
     std::sort(counts.begin(), counts.end());
     counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
     return counts;

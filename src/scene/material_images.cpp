@@ -280,6 +280,18 @@ bool same_material_images(const MaterialDesc& a, const MaterialDesc& b) {
            maxmip_possible(a) == maxmip_possible(b);
 }
 
+bool images_serve(const MaterialImages& built, const MaterialDesc& built_for, const MaterialDesc& next) {
+    if (same_material_images(built_for, next)) return true;
+    // The same sources, and only the pyramid's need differs: where the field
+    // already halves exactly and was not resampled for it, the images are
+    // what the new material would build.
+    MaterialDesc as_built = next;
+    as_built.effects = built_for.effects;
+    as_built.technique = built_for.technique;
+    return same_material_images(built_for, as_built) && !maxmip_possible(built_for) &&
+           pot(built.field.width, built.field.height);
+}
+
 Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const std::string& base_dir,
                                                   const MaterialImageOptions& options) {
     counters::count(counters::Step::image_build);

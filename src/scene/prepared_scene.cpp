@@ -173,12 +173,13 @@ Result<std::shared_ptr<const PreparedScene>> replace_material(const PreparedScen
                                       [&]() -> Result<std::shared_ptr<const PreparedScene>> {
         auto next = std::make_shared<PreparedScene>(scene);
         next->desc.materials[mi] = material;
-        if (Status s = validate_scene(next->desc); !s) return s.error();
+        // The rest of the scene was validated when it was prepared.
+        if (Status s = validate_replaced_material(next->desc, mi); !s) return s.error();
         if (Status s = check_files_readable(next->desc, scene.options); !s) return s.error();
         if (Status s = check_scene_resources_with(next->desc, scene.options.images.files); !s) return s.error();
         // The images are kept where only what they do not depend on changed
         // (a technique, a sample count, a shadow).
-        if (!same_material_images(scene.desc.materials[mi], material)) {
+        if (!images_serve(scene.materials[mi]->images, scene.desc.materials[mi], material)) {
             Result<std::shared_ptr<const PreparedMaterial>> prepared =
                 prepare_material(material, next->desc, scene.options);
             if (!prepared) return prepared.error();

@@ -346,6 +346,25 @@ const MaterialDesc* SceneDesc::find_material(const std::string& material_name) c
     return i < materials.size() ? &materials[i] : nullptr;
 }
 
+Status validate_replaced_material(const SceneDesc& scene, size_t mi) {
+    if (mi >= scene.materials.size())
+        return make_error("materials: no material " + std::to_string(mi) + " (the scene has " +
+                          std::to_string(scene.materials.size()) + ")");
+    Checker c;
+    const std::string path = index_path("materials", mi);
+    check_material(c, scene.materials[mi], path);
+    for (std::size_t k = 0; k < scene.materials.size(); ++k)
+        c.require(k == mi || scene.materials[k].name != scene.materials[mi].name, path + ".name",
+                  "duplicate material name '" + echo(scene.materials[mi].name) + "' (also " +
+                      index_path("materials", k) + ")");
+    // The objects drawn with it: what they may be drawn with depends on it
+    // (a bounded material's meshes).
+    for (std::size_t i = 0; i < scene.objects.size(); ++i)
+        if (scene.objects[i].material == scene.materials[mi].name)
+            check_object(c, scene.objects[i], scene, index_path("objects", i));
+    return c.status();
+}
+
 Status validate_scene(const SceneDesc& scene) {
     counters::count(counters::Step::validation);
     Checker c;

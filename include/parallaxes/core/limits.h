@@ -4,10 +4,32 @@
 // generated; docs/scene-format.md ("Limits") states them for users.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace px {
+
+// Loop bounds must be constants in GLSL ES 1.00 (Appendix A), so each is a
+// shader variant. A linear search's max_samples up to 256 keeps its worst
+// case bounded; an exact walk's max_steps up to 4096 (the technique table's
+// max_samples_limit, the planner's and search model's ranges).
+inline constexpr int kMaxMarchSamples = 256;
+inline constexpr int kMaxExactSteps = 4096;
+
+// The sample counts every sweep measures by default (the benchmark, the
+// planner's cost table, its search model, `plan --verify --candidates`):
+// powers of two from 4 to the linear searches' limit.
+inline constexpr std::array<int, 7> kSampleGrid = {4, 8, 16, 32, 64, 128, kMaxMarchSamples};
+inline std::vector<int> sample_grid() { return std::vector<int>(kSampleGrid.begin(), kSampleGrid.end()); }
+// "4,8,16,32,64,128,256", for help strings.
+inline std::string sample_grid_text() {
+    std::string out;
+    for (int n : kSampleGrid) out += (out.empty() ? "" : ",") + std::to_string(n);
+    return out;
+}
 
 // Lights drawn per object: a constant loop bound in GLSL ES 1.00 (Appendix
 // A), and 4 light vectors + 4 other varyings fit the 8 varying vectors that

@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "parallaxes/core/limits.h"
 #include "parallaxes/assets/heightfield.h"
 #include "parallaxes/effects/technique.h"
 
@@ -56,7 +57,7 @@ struct SearchModel {
 
 struct SearchModelOptions {
     std::vector<double> angles{0, 20, 40, 55, 65, 72, 78, 82, 85, 87, 89};
-    std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
+    std::vector<int> samples = sample_grid();
     int rays = 128;         // per angle and azimuth sector: stratified over the tile, azimuths spread
     int refine_steps = 5;   // relief's binary search (TechniqueOptions' default)
 };

@@ -77,6 +77,10 @@ struct MaterialImageOptions {
 // scene shares them between materials and across replace_material (a change
 // of technique, sample count or shadow builds nothing again).
 bool same_material_images(const MaterialDesc& a, const MaterialDesc& b);
+// Whether images `built` for material `built_for` are what `next` would
+// build: the same images, or the same sources on a field that already halves
+// exactly where only `next` walks a max pyramid (maxmip).
+bool images_serve(const MaterialImages& built, const MaterialDesc& built_for, const MaterialDesc& next);
 
 // Errors name the material and the source (file path or field). A file is
 // read as a texture container when it starts with a KTX or PVR identifier,

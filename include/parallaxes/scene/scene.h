@@ -255,6 +255,11 @@ Result<SceneDesc> load_scene(const std::string& name_or_path, SceneChecks checks
 
 // Checks cross references (object -> material) and value ranges.
 Status validate_scene(const SceneDesc& scene);
+// A valid scene with material `mi` replaced: checks only that material (its
+// fields, its name against the others) and the objects drawn with it, with
+// the same messages and JSON paths as validate_scene. Not counted as a
+// scene validation (PipelineCounters::validations): replace_material's check.
+Status validate_replaced_material(const SceneDesc& scene, size_t mi);
 
 // Draws material `m` (or every material of `scene`) with technique `t`, as
 // an override does: effect requests give way, the options are kept where

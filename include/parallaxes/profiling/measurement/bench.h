@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "parallaxes/core/limits.h"
 #include "parallaxes/assets/heightfield.h"
 #include "parallaxes/assets/image.h"
 #include "parallaxes/profiling/reports/bench_results.h"
@@ -66,7 +67,7 @@ std::vector<std::string> bench_technique_names(int es_major = 3);
 struct BenchOptions {
     std::vector<std::string> scenes;      // empty: every bench scene
     std::vector<std::string> techniques;  // empty: every technique and the baseline
-    std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
+    std::vector<int> samples = sample_grid();
     std::vector<double> angles{0, 30, 60, 75, 85, 89};
     int width = 256;
     int height = 256;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "parallaxes/core/limits.h"
 #include "parallaxes/planner/cost_table.h"
 #include "parallaxes/profiling/measurement/bench.h"
 
@@ -17,7 +18,7 @@ struct TableGrid {
     std::vector<std::string> scenes{"sine", "bricks", "text", "hemispheres", "lines"};
     std::vector<std::string> shadow_scenes{"bricks_shadowed", "bricks_soft", "text_shadowed", "text_soft"};
     std::vector<double> angles{0, 30, 60, 75, 85, 89};
-    std::vector<int> samples{4, 8, 16, 32, 64, 128, 256};
+    std::vector<int> samples = sample_grid();
     std::vector<int> shadow_samples{4, 8, 16, 32, 64};
     // Shadow rows: view angles, and the light's elevations above the plane
     // (a shadow's error depends on how low the light is most of all). Each
