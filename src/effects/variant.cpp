@@ -94,229 +94,203 @@ bool read_number(const std::string& text, long limit, long& out) {
 }
 
 // `word` is `prefix` followed by a number within [low, limit].
-bool prefixed_number(const std::string& word, const char* prefix, long low, long limit, long& out) {
-    const std::string p(prefix);
-    return word.rfind(p, 0) == 0 && read_number(word.substr(p.size()), limit, out) && out >= low;
-}
-
-// A flag field: one word in the description, one bare define, one member.
-template <bool VariantKey::*member>
-VariantField flag(const char* word, const char* define) {
-    VariantField f;
-    f.name = word;
-    f.describe = [word](const VariantKey& k, std::string& out) {
-        if (k.*member) out += std::string(" ") + word;
-    };
-    f.parse = [word](const std::string& w, VariantKey& k) {
-        if (w != word) return false;
-        k.*member = true;
-        return true;
-    };
-    f.defines = [define](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.*member) out.push_back({define, ""});
-    };
-    return f;
-}
-
-// One bit of VariantKey::flip_v.
-VariantField flip(const char* word, const char* define, std::uint8_t bit) {
-    VariantField f;
-    f.name = word;
-    f.describe = [word, bit](const VariantKey& k, std::string& out) {
-        if (k.flip_v & bit) out += std::string(" ") + word;
-    };
-    f.parse = [word, bit](const std::string& w, VariantKey& k) {
-        if (w != word) return false;
-        k.flip_v = static_cast<std::uint8_t>(k.flip_v | bit);
-        return true;
-    };
-    f.defines = [define, bit](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.flip_v & bit) out.push_back({define, ""});
-    };
-    return f;
+bool prefixed_number(const std::string& word, const std::string& prefix, long low, long limit, long& out) {
+    return word.rfind(prefix, 0) == 0 && read_number(word.substr(prefix.size()), limit, out) && out >= low;
 }
 
 const char* shape_name(std::uint8_t shape) {
     return shape == kShapeSphere ? "sphere" : shape == kShapeCylinder ? "cylinder" : "torus";
 }
 
-// Every field of a variant, in the order of its description (describe()
-// and parse() read this table, defines() emits in its order, the identity
-// and the program cache's key come from the description): adding a field is
-// one row here, a member in VariantKey and its rule in canonical().
-std::vector<VariantField> builtin_fields() {
-    std::vector<VariantField> t;
-    VariantField f;
+bool flag_set(const VariantField& f, const VariantKey& k) { return f.flag ? k.*f.flag : (k.flip_v & f.flip_bit) != 0; }
+
+// Every field of a variant, in the order of its description: describe()
+// and parse() read this table, defines() emits in its order, and the
+// identity and the program cache's key come from the description. A flag
+// is one row of data (its word, its define, its member or flip bit); the
+// other fields have their own three functions. Adding a field is one row
+// here, a member in VariantKey and its rule in canonical().
+const VariantField kFields[] = {
     // The technique: the description's first word (parse reads it apart).
-    f.name = "technique";
-    f.describe = [](const VariantKey& k, std::string& out) { out += technique_name(k.technique); };
-    f.parse = [](const std::string&, VariantKey&) { return false; };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        const TechniqueInfo& info = technique_info(k.technique);
-        out.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
-        out.push_back({info.define, ""});
-        if (info.options & kOptNormals) out.push_back({"PX_NORMAL_MAP", ""});
-        if (info.options & kOptHeight) out.push_back({"PX_READS_HEIGHT", ""});
-    };
-    t.push_back(f);
-    f.name = "es";
-    f.describe = [](const VariantKey& k, std::string& out) { out += " es" + std::to_string(int(k.es_major)); };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        long n = 0;
-        if (!prefixed_number(w, "es", 2, 3, n)) return false;
-        k.es_major = static_cast<std::uint8_t>(n);
-        return true;
-    };
-    f.defines = [](const VariantKey&, std::vector<ShaderDefine>&) {};  // the preamble's #version
-    t.push_back(f);
+    {"technique", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) { out += technique_name(k.technique); },
+     [](const std::string&, VariantKey&) { return false; },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         const TechniqueInfo& info = technique_info(k.technique);
+         out.push_back({"PX_MAX_LIGHTS", std::to_string(kMaxLights)});
+         out.push_back({info.define, ""});
+         if (info.options & kOptNormals) out.push_back({"PX_NORMAL_MAP", ""});
+         if (info.options & kOptHeight) out.push_back({"PX_READS_HEIGHT", ""});
+     }},
+    {"es", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) { out += " es" + std::to_string(int(k.es_major)); },
+     [](const std::string& w, VariantKey& k) {
+         long n = 0;
+         if (!prefixed_number(w, "es", 2, 3, n)) return false;
+         k.es_major = static_cast<std::uint8_t>(n);
+         return true;
+     },
+     [](const VariantKey&, std::vector<ShaderDefine>&) {}},  // the preamble's #version
     // The loop bound: samples of a linear search, or steps of an exact walk.
-    f.name = "max_samples";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (k.max_samples)
-            out += (has_option(k.technique, kOptSteps) ? " steps<=" : " samples<=") + std::to_string(k.max_samples);
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        long n = 0;
-        if (!prefixed_number(w, "samples<=", 0, 65535, n) && !prefixed_number(w, "steps<=", 0, 65535, n)) return false;
-        k.max_samples = static_cast<std::uint16_t>(n);
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps))
-            out.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
-    };
-    t.push_back(f);
-    f.name = "refine_steps";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (has_option(k.technique, kOptRefine)) out += " refine=" + std::to_string(int(k.refine_steps));
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        long n = 0;
-        if (!prefixed_number(w, "refine=", 0, 255, n)) return false;
-        k.refine_steps = static_cast<std::uint8_t>(n);
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (has_option(k.technique, kOptRefine)) out.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
-    };
-    t.push_back(f);
-    f.name = "shadow";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (k.shadow != ShadowMode::none)
-            out += std::string(" shadow=") + shadow_mode_name(k.shadow) + "x" + std::to_string(int(k.shadow_samples));
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        const size_t x = w.find('x');
-        long n = 0;
-        if (w.rfind("shadow=", 0) != 0 || x == std::string::npos || !read_number(w.substr(x + 1), 255, n)) return false;
-        const std::string mode = w.substr(7, x - 7);
-        if (mode != "hard" && mode != "soft") return false;
-        k.shadow = mode == "hard" ? ShadowMode::hard : ShadowMode::soft;
-        k.shadow_samples = static_cast<std::uint8_t>(n);
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.shadow == ShadowMode::none) return;
-        out.push_back({"PX_SHADOW", k.shadow == ShadowMode::hard ? "1" : "2"});
-        out.push_back({"PX_SHADOW_SAMPLES", std::to_string(k.shadow_samples)});
-    };
-    t.push_back(f);
-    t.push_back(flag<&VariantKey::depth_write>("depth", "PX_DEPTH_WRITE"));
-    t.push_back(flag<&VariantKey::lod>("lod", "PX_LOD"));
-    t.push_back(flag<&VariantKey::exact_view>("exact-view", "PX_EXACT_VIEW"));
-    f.name = "packed_height";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (has_option(k.technique, kOptHeight)) out += k.packed_height ? " packed" : " separate-height";
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        if (w != "packed" && w != "separate-height") return false;
-        k.packed_height = w == "packed";
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.packed_height) out.push_back({"PX_PACKED_HEIGHT", ""});
-    };
-    t.push_back(f);
-    t.push_back(flag<&VariantKey::normal_rg>("normal-rg", "PX_NORMAL_RG"));
-    t.push_back(flag<&VariantKey::height_11bit>("height-11bit", "PX_HEIGHT_11BIT"));
-    f.name = "debug_output";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (k.debug_output) out += " debug" + std::to_string(int(k.debug_output));
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        long n = 0;
-        if (!prefixed_number(w, "debug", 1, 4, n)) return false;
-        k.debug_output = static_cast<std::uint8_t>(n);
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.debug_output) out.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
-    };
-    t.push_back(f);
-    t.push_back(flag<&VariantKey::count_work>("count-work", "PX_COUNT_WORK"));
-    t.push_back(flag<&VariantKey::capture_ray>("capture-ray", "PX_CAPTURE_RAY"));
-    t.push_back(flag<&VariantKey::bounded>("bounded", "PX_BOUNDED"));
-    t.push_back(flag<&VariantKey::curved>("curved", "PX_CURVED"));
-    f.name = "shape";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (k.shape) out += std::string(" shape=") + shape_name(k.shape);
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        for (std::uint8_t shape : {kShapeSphere, kShapeCylinder, kShapeTorus})
-            if (w == std::string("shape=") + shape_name(shape)) {
-                k.shape = shape;
-                return true;
-            }
-        return false;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.shape) out.push_back({"PX_SHAPE", std::to_string(k.shape)});
-    };
-    t.push_back(f);
-    t.push_back(flag<&VariantKey::no_fragment_highp>("no-fragment-highp", "PX_NO_FRAGMENT_HIGHP"));
-    f.name = "ladder_step";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (k.ladder_step) out += " ladder" + std::to_string(int(k.ladder_step));
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        long n = 0;
-        if (!prefixed_number(w, "ladder", 1, kLadderSteps, n)) return false;
-        k.ladder_step = static_cast<std::uint8_t>(n);
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.ladder_step) out.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
-    };
-    t.push_back(f);
-    t.push_back(flip("flip-albedo", "PX_FLIP_ALBEDO_V", kFlipAlbedo));
-    t.push_back(flip("flip-normal", "PX_FLIP_NORMAL_V", kFlipNormal));
-    t.push_back(flip("flip-height", "PX_FLIP_HEIGHT_V", kFlipHeight));
-    f.name = "no_derivatives";
-    f.describe = [](const VariantKey& k, std::string& out) {
-        if (k.no_derivatives) out += " no-derivatives";
-    };
-    f.parse = [](const std::string& w, VariantKey& k) {
-        if (w != "no-derivatives") return false;
-        k.no_derivatives = true;
-        return true;
-    };
-    f.defines = [](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        if (k.shade_lod_bias()) out.push_back({"PX_SHADE_LOD_BIAS", ""});
-    };
-    t.push_back(f);
-    return t;
+    {"max_samples", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (k.max_samples)
+             out += (has_option(k.technique, kOptSteps) ? " steps<=" : " samples<=") + std::to_string(k.max_samples);
+     },
+     [](const std::string& w, VariantKey& k) {
+         long n = 0;
+         if (!prefixed_number(w, "samples<=", 0, 65535, n) && !prefixed_number(w, "steps<=", 0, 65535, n)) return false;
+         k.max_samples = static_cast<std::uint16_t>(n);
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps))
+             out.push_back({"PX_MAX_SAMPLES", std::to_string(k.max_samples)});
+     }},
+    {"refine_steps", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (has_option(k.technique, kOptRefine)) out += " refine=" + std::to_string(int(k.refine_steps));
+     },
+     [](const std::string& w, VariantKey& k) {
+         long n = 0;
+         if (!prefixed_number(w, "refine=", 0, 255, n)) return false;
+         k.refine_steps = static_cast<std::uint8_t>(n);
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (has_option(k.technique, kOptRefine)) out.push_back({"PX_REFINE_STEPS", std::to_string(k.refine_steps)});
+     }},
+    {"shadow", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (k.shadow != ShadowMode::none)
+             out += std::string(" shadow=") + shadow_mode_name(k.shadow) + "x" + std::to_string(int(k.shadow_samples));
+     },
+     [](const std::string& w, VariantKey& k) {
+         const size_t x = w.find('x');
+         long n = 0;
+         if (w.rfind("shadow=", 0) != 0 || x == std::string::npos || !read_number(w.substr(x + 1), 255, n)) return false;
+         const std::string mode = w.substr(7, x - 7);
+         if (mode != "hard" && mode != "soft") return false;
+         k.shadow = mode == "hard" ? ShadowMode::hard : ShadowMode::soft;
+         k.shadow_samples = static_cast<std::uint8_t>(n);
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (k.shadow == ShadowMode::none) return;
+         out.push_back({"PX_SHADOW", k.shadow == ShadowMode::hard ? "1" : "2"});
+         out.push_back({"PX_SHADOW_SAMPLES", std::to_string(k.shadow_samples)});
+     }},
+    {"depth_write", "depth", "PX_DEPTH_WRITE", &VariantKey::depth_write},
+    {"lod", "lod", "PX_LOD", &VariantKey::lod},
+    {"exact_view", "exact-view", "PX_EXACT_VIEW", &VariantKey::exact_view},
+    {"packed_height", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (has_option(k.technique, kOptHeight)) out += k.packed_height ? " packed" : " separate-height";
+     },
+     [](const std::string& w, VariantKey& k) {
+         if (w != "packed" && w != "separate-height") return false;
+         k.packed_height = w == "packed";
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (k.packed_height) out.push_back({"PX_PACKED_HEIGHT", ""});
+     }},
+    {"normal_rg", "normal-rg", "PX_NORMAL_RG", &VariantKey::normal_rg},
+    {"height_11bit", "height-11bit", "PX_HEIGHT_11BIT", &VariantKey::height_11bit},
+    {"debug_output", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (k.debug_output) out += " debug" + std::to_string(int(k.debug_output));
+     },
+     [](const std::string& w, VariantKey& k) {
+         long n = 0;
+         if (!prefixed_number(w, "debug", 1, 4, n)) return false;
+         k.debug_output = static_cast<std::uint8_t>(n);
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (k.debug_output) out.push_back({"PX_DEBUG_OUTPUT", std::to_string(k.debug_output)});
+     }},
+    {"count_work", "count-work", "PX_COUNT_WORK", &VariantKey::count_work},
+    {"capture_ray", "capture-ray", "PX_CAPTURE_RAY", &VariantKey::capture_ray},
+    {"bounded", "bounded", "PX_BOUNDED", &VariantKey::bounded},
+    {"curved", "curved", "PX_CURVED", &VariantKey::curved},
+    {"shape", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (k.shape) out += std::string(" shape=") + shape_name(k.shape);
+     },
+     [](const std::string& w, VariantKey& k) {
+         for (std::uint8_t shape : {kShapeSphere, kShapeCylinder, kShapeTorus})
+             if (w == std::string("shape=") + shape_name(shape)) {
+                 k.shape = shape;
+                 return true;
+             }
+         return false;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (k.shape) out.push_back({"PX_SHAPE", std::to_string(k.shape)});
+     }},
+    {"no_fragment_highp", "no-fragment-highp", "PX_NO_FRAGMENT_HIGHP", &VariantKey::no_fragment_highp},
+    {"ladder_step", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (k.ladder_step) out += " ladder" + std::to_string(int(k.ladder_step));
+     },
+     [](const std::string& w, VariantKey& k) {
+         long n = 0;
+         if (!prefixed_number(w, "ladder", 1, kLadderSteps, n)) return false;
+         k.ladder_step = static_cast<std::uint8_t>(n);
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (k.ladder_step) out.push_back({"PX_LADDER_STEP", std::to_string(k.ladder_step)});
+     }},
+    {"flip_albedo", "flip-albedo", "PX_FLIP_ALBEDO_V", nullptr, kFlipAlbedo},
+    {"flip_normal", "flip-normal", "PX_FLIP_NORMAL_V", nullptr, kFlipNormal},
+    {"flip_height", "flip-height", "PX_FLIP_HEIGHT_V", nullptr, kFlipHeight},
+    // Its define is PX_SHADE_LOD_BIAS where derivatives bias the level.
+    {"no_derivatives", nullptr, nullptr, nullptr, 0,
+     [](const VariantKey& k, std::string& out) {
+         if (k.no_derivatives) out += " no-derivatives";
+     },
+     [](const std::string& w, VariantKey& k) {
+         if (w != "no-derivatives") return false;
+         k.no_derivatives = true;
+         return true;
+     },
+     [](const VariantKey& k, std::vector<ShaderDefine>& out) {
+         if (k.shade_lod_bias()) out.push_back({"PX_SHADE_LOD_BIAS", ""});
+     }},
+};
+
+void describe_field(const VariantField& f, const VariantKey& k, std::string& out) {
+    if (f.describe) return f.describe(k, out);
+    if (flag_set(f, k)) (out += ' ') += f.word;
 }
 
-std::vector<VariantField>& field_table() {
-    static std::vector<VariantField> table = builtin_fields();
-    return table;
+bool parse_field(const VariantField& f, const std::string& word, VariantKey& k) {
+    if (f.parse) return f.parse(word, k);
+    if (word != f.word) return false;
+    if (f.flag) k.*f.flag = true;
+    else k.flip_v = static_cast<std::uint8_t>(k.flip_v | f.flip_bit);
+    return true;
+}
+
+void field_defines(const VariantField& f, const VariantKey& k, std::vector<ShaderDefine>& out) {
+    if (f.defines) return f.defines(k, out);
+    if (flag_set(f, k)) out.push_back({f.define, ""});
+}
+
+// Fields added at run time (add_variant_field), after the table's, in the
+// order they were added.
+std::vector<AddedVariantField>& added_fields() {
+    static std::vector<AddedVariantField> fields;
+    return fields;
 }
 
 }  // namespace
 
-std::vector<VariantField> variant_fields() {
-    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
-    return field_table();
+const VariantField* variant_fields(size_t& count) {
+    count = sizeof kFields / sizeof kFields[0];
+    return kFields;
 }
 
 Status add_variant_field(const AddedVariantField& field) {
@@ -327,42 +301,29 @@ Status add_variant_field(const AddedVariantField& field) {
         return make_error("variant field '" + field.word + "': its define must be PX_ and capitals, got '" +
                           field.define + "'");
     if (field.max_value < 1) return make_error("variant field '" + field.word + "': max_value must be at least 1");
-    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
-    for (const VariantField& f : field_table()) {
-        VariantKey probe;
-        if (f.name == field.word || f.parse(field.word, probe) || f.parse(field.word + "=1", probe))
+    VariantKey probe;
+    for (const VariantField& f : kFields)
+        if (field.word == f.name || parse_field(f, field.word, probe) || parse_field(f, field.word + "=1", probe))
             return make_error("variant field '" + field.word + "' is already a field");
-    }
-    const std::string word = field.word, define = field.define;
-    const std::uint32_t max = field.max_value;
-    VariantField f;
-    f.name = word;
-    f.describe = [word, max](const VariantKey& k, std::string& out) {
-        const auto it = k.added.find(word);
-        if (it == k.added.end() || it->second == 0) return;
-        out += " " + word + (max == 1 ? std::string() : "=" + std::to_string(it->second));
-    };
-    f.parse = [word, max](const std::string& w, VariantKey& k) {
-        long n = 1;
-        if (max == 1 ? w != word : !prefixed_number(w, (word + "=").c_str(), 1, static_cast<long>(max), n)) return false;
-        k.added[word] = static_cast<std::uint32_t>(n);
-        return true;
-    };
-    f.defines = [word, define, max](const VariantKey& k, std::vector<ShaderDefine>& out) {
-        const auto it = k.added.find(word);
-        if (it == k.added.end() || it->second == 0) return;
-        out.push_back({define, max == 1 ? std::string() : std::to_string(it->second)});
-    };
-    field_table().push_back(std::move(f));
-    added_field_options()[word] = field.technique_options;
+    std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+    for (const AddedVariantField& f : added_fields())
+        if (f.word == field.word) return make_error("variant field '" + field.word + "' is already a field");
+    added_fields().push_back(field);
+    added_field_options()[field.word] = field.technique_options;
     return {};
 }
 
 std::string VariantKey::id() const {
     const VariantKey k = canonical();
     std::string out;
+    for (const VariantField& f : kFields) describe_field(f, k, out);
+    if (k.added.empty()) return out;
     std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
-    for (const VariantField& f : field_table()) f.describe(k, out);
+    for (const AddedVariantField& f : added_fields()) {
+        const auto it = k.added.find(f.word);
+        if (it != k.added.end() && it->second != 0)
+            out += " " + f.word + (f.max_value == 1 ? std::string() : "=" + std::to_string(it->second));
+    }
     return out;
 }
 
@@ -376,8 +337,14 @@ std::uint64_t VariantKey::hash() const {
 std::vector<ShaderDefine> VariantKey::defines() const {
     const VariantKey k = canonical();
     std::vector<ShaderDefine> d;
+    for (const VariantField& f : kFields) field_defines(f, k, d);
+    if (k.added.empty()) return d;
     std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
-    for (const VariantField& f : field_table()) f.defines(k, d);
+    for (const AddedVariantField& f : added_fields()) {
+        const auto it = k.added.find(f.word);
+        if (it != k.added.end() && it->second != 0)
+            d.push_back({f.define, f.max_value == 1 ? std::string() : std::to_string(it->second)});
+    }
     return d;
 }
 
@@ -406,14 +373,25 @@ Result<VariantKey> VariantKey::parse(const std::string& name) {
     VariantKey k;
     k.technique = *technique;
     k.packed_height = false;
-    const std::vector<VariantField> fields = variant_fields();
     while (words >> word) {
         bool read = false;
-        for (const VariantField& f : fields)
-            if (f.parse(word, k)) {
+        for (const VariantField& f : kFields)
+            if (parse_field(f, word, k)) {
                 read = true;
                 break;
             }
+        if (!read) {
+            std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
+            for (const AddedVariantField& f : added_fields()) {
+                long n = 1;
+                if (f.max_value == 1 ? word == f.word
+                                     : prefixed_number(word, f.word + "=", 1, static_cast<long>(f.max_value), n)) {
+                    k.added[f.word] = static_cast<std::uint32_t>(n);
+                    read = true;
+                    break;
+                }
+            }
+        }
         if (!read) return make_error("variant '" + name + "': unknown word '" + word + "'");
     }
     // What the technique ignores is dropped; a name that is not what the

@@ -28,9 +28,19 @@ GLfloat bits_float(std::int64_t v) {
     return f;
 }
 
-// One piece of GL state: read (save), written back (restore) and set to a
-// value other than GL's default (probe, for the test). `index` is the
-// texture unit or attribute slot of a per-unit or per-slot entry.
+// How an entry is read and written: most are one of three plain kinds,
+// held as data; the rest have their own functions.
+enum class Kind : std::uint8_t {
+    custom,       // save, restore, probe (and set_aside) below
+    enable,       // glIsEnabled / glEnable(pname)
+    pixel_store,  // glGetIntegerv / glPixelStorei(pname)
+    buffer,       // glGetIntegerv(pname) / glBindBuffer(target)
+};
+
+// One piece of GL state: read (save), written back (restore), set to a
+// value other than GL's default (probe, for the test) and, where every draw
+// needs a value of its own, set aside. `index` is the texture unit or
+// attribute slot of a per-unit or per-slot entry.
 struct Entry {
     const char* name;
     GlStateScope scope;
@@ -41,7 +51,44 @@ struct Entry {
     // The value every draw of the library uses, whatever the host left
     // (set_aside_host_state); null: the draw sets it from the frame, or not at all.
     void (*set_aside)(int index) = nullptr;
+    Kind kind = Kind::custom;
+    GLenum pname = 0;       // enable: the capability; pixel_store: the parameter; buffer: the binding read
+    GLenum target = 0;      // buffer: the target bound
+    GLint probe_value = 0;  // enable: on (1) or off; pixel_store: the value; buffer: which GlStateProbe::buffers
+    int aside = -1;         // enable: what every draw sets (1 on, 0 off); -1: nothing
 };
+
+void save_entry(const Entry& e, GlStateValue::Values& v, int index) {
+    switch (e.kind) {
+        case Kind::enable: v[0] = glIsEnabled(e.pname) ? 1 : 0; return;
+        case Kind::pixel_store:
+        case Kind::buffer: v[0] = get_int(e.pname); return;
+        case Kind::custom: e.save(v, index); return;
+    }
+}
+
+void restore_entry(const Entry& e, const GlStateValue::Values& v, int index) {
+    switch (e.kind) {
+        case Kind::enable: enable(e.pname, v[0] != 0 ? GL_TRUE : GL_FALSE); return;
+        case Kind::pixel_store: glPixelStorei(e.pname, static_cast<GLint>(v[0])); return;
+        case Kind::buffer: glBindBuffer(e.target, static_cast<GLuint>(v[0])); return;
+        case Kind::custom: e.restore(v, index); return;
+    }
+}
+
+void probe_entry(const Entry& e, const GlStateProbe& o, int index) {
+    switch (e.kind) {
+        case Kind::enable: enable(e.pname, e.probe_value ? GL_TRUE : GL_FALSE); return;
+        case Kind::pixel_store: glPixelStorei(e.pname, e.probe_value); return;
+        case Kind::buffer: glBindBuffer(e.target, o.buffers[static_cast<size_t>(e.probe_value)]); return;
+        case Kind::custom: e.probe(o, index); return;
+    }
+}
+
+void set_aside_entry(const Entry& e, int index) {
+    if (e.set_aside) e.set_aside(index);
+    else if (e.kind == Kind::enable && e.aside >= 0) enable(e.pname, e.aside ? GL_TRUE : GL_FALSE);
+}
 
 // An entry that glGetIntegerv reads `count` values of and one call sets.
 #define PX_INTS(pname, count) [](GlStateValue::Values& v, int) { \
@@ -53,9 +100,6 @@ struct Entry {
         GLfloat r[4] = {0, 0, 0, 0};                                \
         glGetFloatv(pname, r);                                      \
         for (int k = 0; k < (count); ++k) v[static_cast<size_t>(k)] = float_bits(r[k]); }
-#define PX_ENABLED(cap) [](GlStateValue::Values& v, int) { v[0] = glIsEnabled(cap) ? 1 : 0; }
-#define PX_SET_ENABLED(cap) [](const GlStateValue::Values& v, int) { enable(cap, v[0] != 0 ? GL_TRUE : GL_FALSE); }
-#define PX_PROBE_ENABLED(cap, on) [](const GlStateProbe&, int) { enable(cap, on); }
 #define PX_INT(i) static_cast<GLint>(v[i])
 #define PX_UINT(i) static_cast<GLuint>(v[i])
 #define PX_ENUM(i) static_cast<GLenum>(v[i])
@@ -110,13 +154,9 @@ const std::vector<Entry>& entries() {
              glVertexAttribPointer(static_cast<GLuint>(slot), 1 + slot % 3, GL_FLOAT, GL_FALSE, 12 + 4 * slot,
                                    reinterpret_cast<void*>(static_cast<std::uintptr_t>(4 + 4 * slot)));
          }},
-        {"array buffer", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_ARRAY_BUFFER_BINDING, 1),
-         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_ARRAY_BUFFER, PX_UINT(0)); },
-         [](const GlStateProbe& o, int) { glBindBuffer(GL_ARRAY_BUFFER, o.buffers[1]); }},
+        {"array buffer", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::buffer, GL_ARRAY_BUFFER_BINDING, GL_ARRAY_BUFFER, 1},
         // Of the bound vertex array on ES 3.0 (the host's own).
-        {"element array buffer", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_ELEMENT_ARRAY_BUFFER_BINDING, 1),
-         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, PX_UINT(0)); },
-         [](const GlStateProbe& o, int) { glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, o.buffers[2]); }},
+        {"element array buffer", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::buffer, GL_ELEMENT_ARRAY_BUFFER_BINDING, GL_ELEMENT_ARRAY_BUFFER, 2},
         {"renderbuffer", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_RENDERBUFFER_BINDING, 1),
          [](const GlStateValue::Values& v, int) { glBindRenderbuffer(GL_RENDERBUFFER, PX_UINT(0)); },
          [](const GlStateProbe& o, int) { glBindRenderbuffer(GL_RENDERBUFFER, o.renderbuffer); }},
@@ -161,52 +201,23 @@ const std::vector<Entry>& entries() {
          [](GlStateValue::Values& v, int unit) { v[0] = GL_TEXTURE0 + unit; },
          [](const GlStateValue::Values& v, int) { glActiveTexture(PX_ENUM(0)); },
          [](const GlStateProbe&, int) { glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + GlStateProbe::kActiveUnit)); }},
-        {"pack alignment", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_PACK_ALIGNMENT, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_ALIGNMENT, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_ALIGNMENT, 2); }},
-        {"unpack alignment", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_UNPACK_ALIGNMENT, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_ALIGNMENT, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_ALIGNMENT, 8); }},
+        {"pack alignment", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_PACK_ALIGNMENT, 0, 2},
+        {"unpack alignment", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_UNPACK_ALIGNMENT, 0, 8},
         // A pixel buffer bound for unpacking: an upload that did not unbind
         // it would read the host's buffer instead of the image.
-        {"pixel pack buffer", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PIXEL_PACK_BUFFER_BINDING, 1),
-         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_PIXEL_PACK_BUFFER, PX_UINT(0)); },
-         [](const GlStateProbe& o, int) { glBindBuffer(GL_PIXEL_PACK_BUFFER, o.buffers[3]); }},
-        {"pixel unpack buffer", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PIXEL_UNPACK_BUFFER_BINDING, 1),
-         [](const GlStateValue::Values& v, int) { glBindBuffer(GL_PIXEL_UNPACK_BUFFER, PX_UINT(0)); },
-         [](const GlStateProbe& o, int) { glBindBuffer(GL_PIXEL_UNPACK_BUFFER, o.buffers[4]); }},
-        {"unpack row length", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_ROW_LENGTH, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_ROW_LENGTH, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_ROW_LENGTH, 7); }},
-        {"unpack skip rows", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_SKIP_ROWS, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_SKIP_ROWS, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_SKIP_ROWS, 1); }},
-        {"unpack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_SKIP_PIXELS, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_SKIP_PIXELS, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_SKIP_PIXELS, 2); }},
-        {"unpack image height", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_IMAGE_HEIGHT, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, 3); }},
-        {"unpack skip images", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_UNPACK_SKIP_IMAGES, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_UNPACK_SKIP_IMAGES, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_UNPACK_SKIP_IMAGES, 4); }},
-        {"pack row length", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PACK_ROW_LENGTH, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_ROW_LENGTH, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_ROW_LENGTH, 5); }},
-        {"pack skip rows", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PACK_SKIP_ROWS, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_SKIP_ROWS, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_SKIP_ROWS, 1); }},
-        {"pack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, PX_INTS(GL_PACK_SKIP_PIXELS, 1),
-         [](const GlStateValue::Values& v, int) { glPixelStorei(GL_PACK_SKIP_PIXELS, PX_INT(0)); },
-         [](const GlStateProbe&, int) { glPixelStorei(GL_PACK_SKIP_PIXELS, 3); }},
-        {"rasterizer discard", GlStateScope::es3_context, GlStateRepeat::once, PX_ENABLED(GL_RASTERIZER_DISCARD),
-         PX_SET_ENABLED(GL_RASTERIZER_DISCARD),
-         // On, it would discard every triangle (and clear): the draw sets it aside.
-         PX_PROBE_ENABLED(GL_RASTERIZER_DISCARD, GL_TRUE),
-         [](int) { glDisable(GL_RASTERIZER_DISCARD); }},
-        {"primitive restart", GlStateScope::es3_context, GlStateRepeat::once, PX_ENABLED(GL_PRIMITIVE_RESTART_FIXED_INDEX),
-         PX_SET_ENABLED(GL_PRIMITIVE_RESTART_FIXED_INDEX), PX_PROBE_ENABLED(GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_TRUE),
-         [](int) { glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX); }},
+        {"pixel pack buffer", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::buffer, GL_PIXEL_PACK_BUFFER_BINDING, GL_PIXEL_PACK_BUFFER, 3},
+        {"pixel unpack buffer", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::buffer, GL_PIXEL_UNPACK_BUFFER_BINDING, GL_PIXEL_UNPACK_BUFFER, 4},
+        {"unpack row length", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_UNPACK_ROW_LENGTH, 0, 7},
+        {"unpack skip rows", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_UNPACK_SKIP_ROWS, 0, 1},
+        {"unpack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_UNPACK_SKIP_PIXELS, 0, 2},
+        {"unpack image height", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_UNPACK_IMAGE_HEIGHT, 0, 3},
+        {"unpack skip images", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_UNPACK_SKIP_IMAGES, 0, 4},
+        {"pack row length", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_PACK_ROW_LENGTH, 0, 5},
+        {"pack skip rows", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_PACK_SKIP_ROWS, 0, 1},
+        {"pack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::pixel_store, GL_PACK_SKIP_PIXELS, 0, 3},
+        // On, rasterizer discard would drop every triangle (and clear): the draw sets it aside.
+        {"rasterizer discard", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_RASTERIZER_DISCARD, 0, 1, 0},
+        {"primitive restart", GlStateScope::es3_context, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_PRIMITIVE_RESTART_FIXED_INDEX, 0, 1, 0},
         {"viewport", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_VIEWPORT, 4),
          [](const GlStateValue::Values& v, int) { glViewport(PX_INT(0), PX_INT(1), PX_INT(2), PX_INT(3)); },
          [](const GlStateProbe&, int) { glViewport(3, 5, 7, 9); }},
@@ -215,12 +226,8 @@ const std::vector<Entry>& entries() {
          [](const GlStateProbe&, int) { glScissor(5, 6, 7, 8); }},
         // Scissor, stencil and the colour mask would each stop the draw: it
         // sets them aside and gives them back.
-        {"scissor test", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_SCISSOR_TEST),
-         PX_SET_ENABLED(GL_SCISSOR_TEST), PX_PROBE_ENABLED(GL_SCISSOR_TEST, GL_TRUE),
-         [](int) { glDisable(GL_SCISSOR_TEST); }},
-        {"cull face", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_CULL_FACE), PX_SET_ENABLED(GL_CULL_FACE),
-         PX_PROBE_ENABLED(GL_CULL_FACE, GL_TRUE),
-         [](int) { glEnable(GL_CULL_FACE); }},
+        {"scissor test", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_SCISSOR_TEST, 0, 1, 0},
+        {"cull face", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_CULL_FACE, 0, 1, 1},
         {"cull face mode", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_CULL_FACE_MODE, 1),
          [](const GlStateValue::Values& v, int) { glCullFace(PX_ENUM(0)); },
          [](const GlStateProbe&, int) { glCullFace(GL_FRONT); },
@@ -228,12 +235,8 @@ const std::vector<Entry>& entries() {
         {"front face", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_FRONT_FACE, 1),
          [](const GlStateValue::Values& v, int) { glFrontFace(PX_ENUM(0)); },
          [](const GlStateProbe&, int) { glFrontFace(GL_CW); }},
-        {"polygon offset fill", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_POLYGON_OFFSET_FILL),
-         PX_SET_ENABLED(GL_POLYGON_OFFSET_FILL), PX_PROBE_ENABLED(GL_POLYGON_OFFSET_FILL, GL_TRUE),
-         [](int) { glDisable(GL_POLYGON_OFFSET_FILL); }},
-        {"depth test", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_DEPTH_TEST), PX_SET_ENABLED(GL_DEPTH_TEST),
-         PX_PROBE_ENABLED(GL_DEPTH_TEST, GL_TRUE),
-         [](int) { glEnable(GL_DEPTH_TEST); }},
+        {"polygon offset fill", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_POLYGON_OFFSET_FILL, 0, 1, 0},
+        {"depth test", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_DEPTH_TEST, 0, 1, 1},
         {"depth write mask", GlStateScope::all, GlStateRepeat::once, PX_INTS(GL_DEPTH_WRITEMASK, 1),
          [](const GlStateValue::Values& v, int) { glDepthMask(v[0] ? GL_TRUE : GL_FALSE); },
          [](const GlStateProbe&, int) { glDepthMask(GL_FALSE); },
@@ -249,9 +252,7 @@ const std::vector<Entry>& entries() {
         {"depth clear value", GlStateScope::all, GlStateRepeat::once, PX_FLOATS(GL_DEPTH_CLEAR_VALUE, 1),
          [](const GlStateValue::Values& v, int) { glClearDepthf(PX_FLOAT(0)); },
          [](const GlStateProbe&, int) { glClearDepthf(0.5f); }},
-        {"blend", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_BLEND), PX_SET_ENABLED(GL_BLEND),
-         PX_PROBE_ENABLED(GL_BLEND, GL_TRUE),
-         [](int) { glDisable(GL_BLEND); }},
+        {"blend", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_BLEND, 0, 1, 0},
         {"blend func",
          GlStateScope::all,
          GlStateRepeat::once,
@@ -294,9 +295,7 @@ const std::vector<Entry>& entries() {
         {"color clear value", GlStateScope::all, GlStateRepeat::once, PX_FLOATS(GL_COLOR_CLEAR_VALUE, 4),
          [](const GlStateValue::Values& v, int) { glClearColor(PX_FLOAT(0), PX_FLOAT(1), PX_FLOAT(2), PX_FLOAT(3)); },
          [](const GlStateProbe&, int) { glClearColor(0.125f, 0.25f, 0.375f, 0.5f); }},
-        {"stencil test", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_STENCIL_TEST),
-         PX_SET_ENABLED(GL_STENCIL_TEST), PX_PROBE_ENABLED(GL_STENCIL_TEST, GL_TRUE),
-         [](int) { glDisable(GL_STENCIL_TEST); }},
+        {"stencil test", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_STENCIL_TEST, 0, 1, 0},
         // The reference value reads back clamped to the bound framebuffer's
         // stencil bits: saved and restored, not compared by the test.
         {"stencil front",
@@ -338,24 +337,15 @@ const std::vector<Entry>& entries() {
              glStencilOpSeparate(GL_BACK, GL_DECR_WRAP, GL_INCR_WRAP, GL_ZERO);
              glStencilMaskSeparate(GL_BACK, 0x33);
          }},
-        {"dither", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_DITHER), PX_SET_ENABLED(GL_DITHER),
-         PX_PROBE_ENABLED(GL_DITHER, GL_FALSE),
-         [](int) { glDisable(GL_DITHER); }},
-        {"sample coverage", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_SAMPLE_COVERAGE),
-         PX_SET_ENABLED(GL_SAMPLE_COVERAGE), PX_PROBE_ENABLED(GL_SAMPLE_COVERAGE, GL_TRUE),
-         [](int) { glDisable(GL_SAMPLE_COVERAGE); }},
-        {"sample alpha to coverage", GlStateScope::all, GlStateRepeat::once, PX_ENABLED(GL_SAMPLE_ALPHA_TO_COVERAGE),
-         PX_SET_ENABLED(GL_SAMPLE_ALPHA_TO_COVERAGE), PX_PROBE_ENABLED(GL_SAMPLE_ALPHA_TO_COVERAGE, GL_TRUE),
-         [](int) { glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE); }},
+        {"dither", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_DITHER, 0, 0, 0},
+        {"sample coverage", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_SAMPLE_COVERAGE, 0, 1, 0},
+        {"sample alpha to coverage", GlStateScope::all, GlStateRepeat::once, nullptr, nullptr, nullptr, nullptr, Kind::enable, GL_SAMPLE_ALPHA_TO_COVERAGE, 0, 1, 0},
     };
     return table;
 }
 
 #undef PX_INTS
 #undef PX_FLOATS
-#undef PX_ENABLED
-#undef PX_SET_ENABLED
-#undef PX_PROBE_ENABLED
 #undef PX_INT
 #undef PX_UINT
 #undef PX_ENUM
@@ -415,7 +405,7 @@ std::vector<GlStateValue> read_gl_state(const Caps& caps) {
         v.name = e.name;
         v.entry = entry;
         v.index = e.repeat == GlStateRepeat::once ? -1 : index;
-        e.save(v.values, index);
+        save_entry(e, v.values, index);
         out.push_back(std::move(v));
     });
     return out;
@@ -425,7 +415,7 @@ void set_gl_state_probe(const Caps& caps, const GlStateProbe& objects) {
     // The host's active unit is one past the library's, so that the table
     // covers a unit the library binds only because it is active.
     glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + GlStateProbe::kActiveUnit));
-    for_each_entry(caps, [&objects](size_t, const Entry& e, int index) { e.probe(objects, index); });
+    for_each_entry(caps, [&objects](size_t, const Entry& e, int index) { probe_entry(e, objects, index); });
     // for_each_entry gave back the unit active when it began; the probe's own
     // is the active-texture entry's value.
     glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + GlStateProbe::kActiveUnit));
@@ -447,13 +437,12 @@ SavedGlState::SavedGlState(const Caps& caps) : saved_(std::make_unique<Snapshot>
 
 SavedGlState::~SavedGlState() {
     const std::vector<Entry>& table = entries();
-    for (const GlStateValue& v : saved_->values) table[v.entry].restore(v.values, v.index < 0 ? 0 : v.index);
+    for (const GlStateValue& v : saved_->values) restore_entry(table[v.entry], v.values, v.index < 0 ? 0 : v.index);
 }
 
 void set_aside_host_state(const Caps& caps) {
     for_each_entry(caps, [](size_t, const Entry& e, int index) {
-        if (e.set_aside && !(e.repeat == GlStateRepeat::per_texture_unit && index >= kLibraryTextureUnits))
-            e.set_aside(index);
+        if (!(e.repeat == GlStateRepeat::per_texture_unit && index >= kLibraryTextureUnits)) set_aside_entry(e, index);
     });
 }
 

@@ -80,8 +80,14 @@ bool silhouette_on_screen(const OutlineRequest& r, const ObjectDesc& object, con
                                     r.relief_depth, frame.view, frame.projection);
 }
 
+bool bounded_on_screen(const OutlineRequest& r, const ObjectDesc& object, const glm::mat4& model, const PlanView& frame) {
+    return r.asks_bounded && (object.mesh.kind != MeshKind::plane ||
+                              bounded_outline_on_screen(model, object.mesh.size, r.relief_depth, frame.view,
+                                                        frame.projection));
+}
+
 void plan_outlines(ObjectPlan& plan, const OutlineRequest& r, const ObjectDesc& object, const MaterialDesc& material,
-                   const TextureLayout& layout, const glm::mat4& model, const PlanView& frame, bool silhouette_visible) {
+                   const TextureLayout& layout, bool silhouette_visible, bool bounded_visible) {
     VariantKey& key = plan.key;
     if (r.asks_silhouette) {
         const bool marches = technique_has(key.technique, kOptSamples);
@@ -107,10 +113,9 @@ void plan_outlines(ObjectPlan& plan, const OutlineRequest& r, const ObjectDesc& 
         return;
     }
     // A bounded relief's discard only where its outline can be on screen
-    // (bounded_outline_on_screen): a tile that fills the view keeps what a
-    // discard costs a tile-based GPU.
-    key.bounded = object.mesh.kind != MeshKind::plane ||
-                  bounded_outline_on_screen(model, object.mesh.size, r.relief_depth, frame.view, frame.projection);
+    // (bounded_on_screen): a tile that fills the view keeps what a discard
+    // costs a tile-based GPU.
+    key.bounded = bounded_visible;
     plan.notes.push_back(!key.bounded
                              ? "bounded, silhouette off: every ray on screen stays inside the tile's bounds, so "
                                "nothing is discarded"
@@ -147,9 +152,11 @@ public:
             p.options = material.technique;
             p.key = material_plans_[mi].key;
             p.notes = material_plans_[mi].notes;
-            const glm::mat4 model = object_model(frame, desc, i);
-            const bool visible = silhouette_on_screen(outlines_[i], object, material, model, frame);
-            plan_outlines(p, outlines_[i], object, material, reliefs_[mi].layout, model, frame, visible);
+            // Outlines wherever the material asks for them (the effect planner
+            // also leaves them out where they are off screen): this planner
+            // stays small, for hosts that link no effect planner.
+            const OutlineRequest& r = outlines_[i];
+            plan_outlines(p, r, object, material, reliefs_[mi].layout, r.asks_silhouette && !r.folds, true);
             plans.push_back(std::move(p));
         }
         counters::count(counters::Step::object_plan, plans.size());

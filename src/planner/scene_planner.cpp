@@ -1002,7 +1002,8 @@ Result<std::vector<ObjectPlan>> ScenePlanner::plan(const PlanView& frame) const 
         const bool silhouette = silhouette_on_screen(m.outlines[i], object, material, model, frame);
         Result<ObjectPlan> p = m.plan_object(i, views, points, screen_boxes, world_boxes, silhouette);
         if (!p) return p.error();
-        plan_outlines(*p, m.outlines[i], object, material, m.reliefs[mi].layout, model, frame, silhouette);
+        plan_outlines(*p, m.outlines[i], object, material, m.reliefs[mi].layout, silhouette,
+                      bounded_on_screen(m.outlines[i], object, model, frame));
         plans.push_back(std::move(*p));
     }
     return plans;

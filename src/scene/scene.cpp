@@ -157,7 +157,9 @@ void check_light(Checker& c, const LightDesc& l, const std::string& path) {
               "must be within [0, 45] degrees, got " + num(l.angular_radius_deg));
 }
 
-void check_material(Checker& c, const MaterialDesc& m, const std::string& path) {
+// Inlined into validate_scene as it was before validate_replaced_material
+// called it too: a host app that never replaces a material links one copy.
+[[gnu::always_inline]] inline void check_material(Checker& c, const MaterialDesc& m, const std::string& path) {
     c.require(!m.name.empty(), path + ".name", "a material needs a name");
     check_name(c, m.name, path + ".name");
     c.require(in_range(m.height_scale, 0.0f, kMaxHeightScale), path + ".height_scale",
@@ -193,7 +195,7 @@ void check_material(Checker& c, const MaterialDesc& m, const std::string& path) 
                   technique_name(m.technique.technique) + "'");
 }
 
-void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const std::string& path) {
+[[gnu::always_inline]] inline void check_object(Checker& c, const ObjectDesc& o, const SceneDesc& scene, const std::string& path) {
     const MeshDesc& mesh = o.mesh;
     const std::string extent = "must be within [" + num(kMinExtent) + ", " + num(kMaxExtent) + "], got ";
     c.require(in_range(mesh.size, kMinExtent, kMaxExtent), path + ".mesh.size", extent + num(mesh.size));

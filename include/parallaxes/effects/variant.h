@@ -2,8 +2,8 @@
 // planner that picks the variant for a material on a given context.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -140,22 +140,29 @@ struct VariantKey {
 };
 
 // One field of a variant: how it is written in the description, read back
-// and turned into shader defines. variant_fields() lists them in the
-// description's order; VariantKey::describe, parse, defines, id (and so the
-// program cache's key) all read this one table.
+// and turned into shader defines. VariantKey::describe, parse, defines and
+// id (and so the program cache's key) all read one table of these
+// (variant.cpp), in the description's order. A flag is data: its word, its
+// define, and the member (or flip_v bit) that holds it; any other field has
+// its three functions.
 struct VariantField {
-    std::string name;
+    const char* name;
+    const char* word = nullptr;    // a flag's word in the description
+    const char* define = nullptr;  // a flag's bare define
+    bool VariantKey::*flag = nullptr;
+    std::uint8_t flip_bit = 0;     // a flag held in VariantKey::flip_v
     // Appends the field's word (with a leading space; the technique's has
     // none) where it differs from its default.
-    std::function<void(const VariantKey&, std::string&)> describe;
+    void (*describe)(const VariantKey&, std::string&) = nullptr;
     // Reads one word of a description into the key; false: not its word.
-    std::function<bool(const std::string&, VariantKey&)> parse;
+    bool (*parse)(const std::string&, VariantKey&) = nullptr;
     // Appends its defines (of a canonical key).
-    std::function<void(const VariantKey&, std::vector<ShaderDefine>&)> defines;
+    void (*defines)(const VariantKey&, std::vector<ShaderDefine>&) = nullptr;
 };
-std::vector<VariantField> variant_fields();
+// The table, `count` rows.
+const VariantField* variant_fields(size_t& count);
 
-// A field added to the table at run time, held in VariantKey::added: a
+// A field added after the table at run time, held in VariantKey::added: a
 // flag (max_value 1: "word" and a bare define) or a number ("word=N" and
 // the define set to N, 1..max_value). Present only for techniques with every
 // bit of `technique_options` (OptionFlag; 0: every technique). For shader

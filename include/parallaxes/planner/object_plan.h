@@ -41,12 +41,16 @@ bool silhouette_on_screen(const OutlineRequest& r, const ObjectDesc& object, con
                           const glm::mat4& model, const PlanView& frame);
 
 // Sets the plan's curved silhouette (VariantKey::curved and shape) and
-// bounded discard for this frame, each with its note, and the material's
+// bounded discard for this frame (where `silhouette_visible` and
+// `bounded_visible` say they can show), each with its note, and the material's
 // texture layout: a technique that cannot draw what the material asks for
 // draws without it and the note says what was dropped (an override that
 // asks for less than the material declares draws; it is never refused).
 void plan_outlines(ObjectPlan& plan, const OutlineRequest& r, const ObjectDesc& object, const MaterialDesc& material,
-                   const TextureLayout& layout, const glm::mat4& model, const PlanView& frame, bool silhouette_visible);
+                   const TextureLayout& layout, bool silhouette_visible, bool bounded_visible);
+// Whether a bounded relief's outline can be on screen this frame (a tube's
+// rims always count): false where it asks for none.
+bool bounded_on_screen(const OutlineRequest& r, const ObjectDesc& object, const glm::mat4& model, const PlanView& frame);
 
 // The key an object of a material that names its technique draws wherever
 // its outline is on screen: the material's plan with the texture layout,
@@ -59,7 +63,7 @@ VariantKey named_object_key(const VariantPlan& material_plan, const OutlineReque
 // (RendererOptions::effect_planner null): every material must name its
 // technique (a scene that declares effects is refused, naming the material
 // and its JSON path). plan_variant runs once per material, when it is made;
-// each frame decides only the outlines. Links none of the effect planner's
+// each frame draws the outlines the materials ask for. Links none of the effect planner's
 // survey, cost table or JSON parser.
 Result<std::unique_ptr<FramePlanner>> named_planner(const PreparedScene& scene, const Caps& caps);
 
