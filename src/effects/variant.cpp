@@ -17,10 +17,17 @@ bool has_option(Technique t, OptionFlag flag) { return (technique_info(t).option
 
 std::recursive_mutex g_fields_mutex;  // the field table, which add_variant_field extends
 
-// Fields added at run time (add_variant_field): which techniques have each.
-std::map<std::string, std::uint32_t>& added_field_options() {
-    static std::map<std::string, std::uint32_t> options;
-    return options;
+// Fields added at run time (add_variant_field), after the table's, in the
+// order they were added.
+std::vector<AddedVariantField>& added_fields() {
+    static std::vector<AddedVariantField> fields;
+    return fields;
+}
+
+const AddedVariantField* added_field(const std::string& word) {
+    for (const AddedVariantField& f : added_fields())
+        if (f.word == word) return &f;
+    return nullptr;
 }
 
 }  // namespace
@@ -75,9 +82,9 @@ VariantKey VariantKey::canonical() const {
     if (!k.added.empty()) {
         std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
         for (auto it = k.added.begin(); it != k.added.end();) {
-            const auto options = added_field_options().find(it->first);
-            const bool kept = it->second != 0 && options != added_field_options().end() &&
-                              (technique_info(k.technique).options & options->second) == options->second;
+            const AddedVariantField* f = added_field(it->first);
+            const bool kept = it->second != 0 && f &&
+                              (technique_info(k.technique).options & f->technique_options) == f->technique_options;
             it = kept ? std::next(it) : k.added.erase(it);
         }
     }
@@ -279,13 +286,6 @@ void field_defines(const VariantField& f, const VariantKey& k, std::vector<Shade
     if (flag_set(f, k)) out.push_back({f.define, ""});
 }
 
-// Fields added at run time (add_variant_field), after the table's, in the
-// order they were added.
-std::vector<AddedVariantField>& added_fields() {
-    static std::vector<AddedVariantField> fields;
-    return fields;
-}
-
 }  // namespace
 
 const VariantField* variant_fields(size_t& count) {
@@ -306,10 +306,8 @@ Status add_variant_field(const AddedVariantField& field) {
         if (field.word == f.name || parse_field(f, field.word, probe) || parse_field(f, field.word + "=1", probe))
             return make_error("variant field '" + field.word + "' is already a field");
     std::lock_guard<std::recursive_mutex> lock(g_fields_mutex);
-    for (const AddedVariantField& f : added_fields())
-        if (f.word == field.word) return make_error("variant field '" + field.word + "' is already a field");
+    if (added_field(field.word)) return make_error("variant field '" + field.word + "' is already a field");
     added_fields().push_back(field);
-    added_field_options()[field.word] = field.technique_options;
     return {};
 }
 
