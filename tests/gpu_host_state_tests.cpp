@@ -78,7 +78,7 @@ void delete_host_objects(HostObjects& h) {
 }
 
 std::string row_name(const GlStateValue& v) {
-    return v.name + (v.index >= 0 ? " " + std::to_string(v.index) : std::string());
+    return std::string(v.name) + (v.index >= 0 ? " " + std::to_string(v.index) : std::string());
 }
 
 // Every row the probe sets differs from what the context had before (GL's

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "parallaxes/core/caps.h"
@@ -55,7 +56,7 @@ enum class GlStateRepeat {
 // One row of the table as the context holds it now.
 struct GlStateValue {
     using Values = std::array<std::int64_t, 8>;
-    std::string name;   // "depth func", "texture 2d", ...
+    std::string_view name;  // "depth func", "texture 2d", ... (the table's own text: no copy per save)
     int index = -1;     // the unit or slot; -1: not repeated
     size_t entry = 0;   // the row
     Values values{};    // what glGet read (a float as its bit pattern)
