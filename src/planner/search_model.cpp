@@ -69,6 +69,84 @@ std::vector<int> usable_counts(const std::vector<int>& samples) {
     return counts;
 }
 
+// A linear search's last two samples: the one above the surface and the
+// one on or under it (or the bottom).
+struct March {
+    double ray_above, height_above, ray_below, height_below;
+};
+
+// One ray as the shaders walk it (march.glsl), in texels of the field: uv
+// at ray height r is uv + (r - ph) P, P = height_scale view.xy /
+// max(view.z, 1/64); and its error against the exact hit.
+struct ShaderRay {
+    const HeightField* field;
+    double w, h, ph;
+    glm::dvec2 at_polygon, parallax, truth;
+    double per_level;  // 1 / texels per pixel: errors in texels of the level sampled
+
+    glm::dvec2 position(double r) const { return at_polygon + (r - ph) * parallax; }
+    double height_at(glm::dvec2 p) const { return field->sample_bilinear(p.x / w, p.y / h); }
+    // As the bench measures it (reference/metrics.cpp): the difference
+    // wrapped into one tile, so a miss costs at most half a tile.
+    double error_at(double r) const {
+        glm::dvec2 d = position(r) - truth;
+        d -= glm::dvec2(w, h) * glm::round(d / glm::dvec2(w, h));
+        return glm::length(d) * per_level;
+    }
+};
+
+// The linear search of each count, from the top down in n equal steps,
+// stopping at the first sample on or under the surface, or at the bottom.
+// Where every count divides the finest, the heights come from one grid.
+void march_counts(const ShaderRay& ray, const std::vector<int>& counts, int finest, bool nested,
+                  std::vector<double>& grid_height, std::vector<March>& marches) {
+    if (nested)
+        for (int i = 0; i <= finest; ++i)
+            grid_height[static_cast<size_t>(i)] = ray.height_at(ray.position(1.0 - static_cast<double>(i) / finest));
+    for (size_t k = 0; k < counts.size(); ++k) {
+        const int n = counts[k];
+        auto sample = [&](int i) {
+            return nested ? grid_height[static_cast<size_t>(i * (finest / n))]
+                          : ray.height_at(ray.position(1.0 - static_cast<double>(i) / n));
+        };
+        March m{1.0, sample(0), 1.0, sample(0)};
+        if (m.height_above < 1.0) {
+            for (int i = 1; i <= n; ++i) {
+                const double r = 1.0 - static_cast<double>(i) / n;
+                const double s = sample(i);
+                m.ray_below = r;
+                m.height_below = s;
+                if (s >= r || i >= n) break;
+                m.ray_above = r;
+                m.height_above = s;
+            }
+        }
+        marches[k] = m;
+    }
+}
+
+// The errors of steep (the sample), POM (the secant between the last two
+// samples) and relief (binary refinement) after each march, from curve `c`.
+void push_search_errors(const ShaderRay& ray, const std::vector<March>& marches, int refine,
+                        std::vector<std::vector<double>>& errors, size_t c) {
+    for (const March& m : marches) errors[c++].push_back(ray.error_at(m.ray_below));
+    for (const March& m : marches) {
+        const double gap_above = m.ray_above - m.height_above, gap_below = m.ray_below - m.height_below;
+        const double d = gap_above - gap_below;
+        const double t = d > 0.0 ? std::clamp(gap_above / d, 0.0, 1.0) : 1.0;
+        errors[c++].push_back(ray.error_at(m.ray_above + t * (m.ray_below - m.ray_above)));
+    }
+    for (const March& m : marches) {
+        double above = m.ray_above, below = m.ray_below;
+        for (int i = 0; i < refine; ++i) {
+            const double middle = 0.5 * (above + below);
+            if (ray.height_at(ray.position(middle)) >= middle) below = middle;
+            else above = middle;
+        }
+        errors[c++].push_back(ray.error_at(below));
+    }
+}
+
 }  // namespace
 
 std::vector<std::vector<double>> simulate_rays(const HeightField& field, double height_scale, double polygon_height,
@@ -93,9 +171,6 @@ std::vector<std::vector<double>> simulate_rays(const HeightField& field, double 
     std::vector<std::vector<double>> errors(curve_count);
     for (auto& e : errors) e.reserve(rays.size());
     std::vector<double> grid_height(static_cast<size_t>(finest) + 1);
-    struct March {
-        double ray_above, height_above, ray_below, height_below;
-    };
     std::vector<March> marches(counts.size());
 
     for (const SearchRay& start : rays) {
@@ -105,73 +180,24 @@ std::vector<std::vector<double>> simulate_rays(const HeightField& field, double 
         if (view.z <= 1e-6) continue;  // the polygon is seen edge-on or from behind: nothing to draw
         const reference::Ray exact_ray = reference::view_ray(field, start.uv, view, height_scale, ph);
         const reference::Hit exact = reference::first_hit(field, exact_ray, 0.0, 1.0);
-        const glm::dvec2 truth_position =
-            exact.hit ? glm::dvec2(exact.position) : glm::dvec2(exact_ray.origin + exact_ray.direction);
-
-        // The shaders' ray (march.glsl): uv at ray height r is uv + (r - ph) P,
-        // P = height_scale view.xy / max(view.z, 1/64), here in texels.
-        const glm::dvec2 parallax =
-            height_scale * glm::dvec2(view.x, view.y) / std::max(view.z, 1.0 / 64.0) * glm::dvec2(w, h);
-        const glm::dvec2 at_polygon = start.uv * glm::dvec2(w, h);
-        auto position = [&](double r) { return at_polygon + (r - ph) * parallax; };
-        auto height_at = [&](glm::dvec2 p) { return field.sample_bilinear(p.x / w, p.y / h); };
-        // As the bench measures it (reference/metrics.cpp): the difference
-        // wrapped into one tile, so a miss costs at most half a tile.
-        const double per_level = 1.0 / std::max(1.0, std::isfinite(start.texels_per_pixel) ? start.texels_per_pixel : 1.0);
-        auto error_at = [&](double r) {
-            glm::dvec2 d = position(r) - truth_position;
-            d -= glm::dvec2(w, h) * glm::round(d / glm::dvec2(w, h));
-            return glm::length(d) * per_level;
-        };
+        ShaderRay ray;
+        ray.field = &field;
+        ray.w = w;
+        ray.h = h;
+        ray.ph = ph;
+        ray.truth = exact.hit ? glm::dvec2(exact.position) : glm::dvec2(exact_ray.origin + exact_ray.direction);
+        ray.parallax = height_scale * glm::dvec2(view.x, view.y) / std::max(view.z, 1.0 / 64.0) * glm::dvec2(w, h);
+        ray.at_polygon = start.uv * glm::dvec2(w, h);
+        ray.per_level = 1.0 / std::max(1.0, std::isfinite(start.texels_per_pixel) ? start.texels_per_pixel : 1.0);
 
         size_t c = 0;
-        errors[c++].push_back(error_at(ph));  // normal mapping: the uv as drawn
-        const double h0 = height_at(at_polygon);
-        errors[c++].push_back(error_at(h0));                       // parallax: one offset by h / V.z
-        errors[c++].push_back(error_at(ph + (h0 - ph) * view.z));  // offset limiting: by h alone
-        errors[c++].push_back(0.0);                                // maxmip: an exact walk of the same field
-
-        if (nested)
-            for (int i = 0; i <= finest; ++i)
-                grid_height[static_cast<size_t>(i)] = height_at(position(1.0 - static_cast<double>(i) / finest));
-        for (size_t k = 0; k < counts.size(); ++k) {
-            const int n = counts[k];
-            // From the top down in n equal steps; stop at the first sample on
-            // or under the surface, or at the bottom.
-            auto sample = [&](int i) {
-                return nested ? grid_height[static_cast<size_t>(i * (finest / n))]
-                              : height_at(position(1.0 - static_cast<double>(i) / n));
-            };
-            March m{1.0, sample(0), 1.0, sample(0)};
-            if (m.height_above < 1.0) {
-                for (int i = 1; i <= n; ++i) {
-                    const double r = 1.0 - static_cast<double>(i) / n;
-                    const double s = sample(i);
-                    m.ray_below = r;
-                    m.height_below = s;
-                    if (s >= r || i >= n) break;
-                    m.ray_above = r;
-                    m.height_above = s;
-                }
-            }
-            marches[k] = m;
-        }
-        for (const March& m : marches) errors[c++].push_back(error_at(m.ray_below));  // steep: the sample
-        for (const March& m : marches) {  // pom: the secant between the last two samples
-            const double gap_above = m.ray_above - m.height_above, gap_below = m.ray_below - m.height_below;
-            const double d = gap_above - gap_below;
-            const double t = d > 0.0 ? std::clamp(gap_above / d, 0.0, 1.0) : 1.0;
-            errors[c++].push_back(error_at(m.ray_above + t * (m.ray_below - m.ray_above)));
-        }
-        for (const March& m : marches) {  // relief: binary refinement
-            double above = m.ray_above, below = m.ray_below;
-            for (int i = 0; i < refine; ++i) {
-                const double middle = 0.5 * (above + below);
-                if (height_at(position(middle)) >= middle) below = middle;
-                else above = middle;
-            }
-            errors[c++].push_back(error_at(below));
-        }
+        errors[c++].push_back(ray.error_at(ph));  // normal mapping: the uv as drawn
+        const double h0 = ray.height_at(ray.at_polygon);
+        errors[c++].push_back(ray.error_at(h0));                       // parallax: one offset by h / V.z
+        errors[c++].push_back(ray.error_at(ph + (h0 - ph) * view.z));  // offset limiting: by h alone
+        errors[c++].push_back(0.0);                                    // maxmip: an exact walk of the same field
+        march_counts(ray, counts, finest, nested, grid_height, marches);
+        push_search_errors(ray, marches, refine, errors, c);
     }
     std::vector<std::vector<double>> out(quantiles.size(), std::vector<double>(curve_count, 0.0));
     for (size_t q = 0; q < quantiles.size(); ++q)
