@@ -130,11 +130,22 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
     options.texture_files = texture_files();
     Result<std::unique_ptr<Renderer>> planned = Renderer::create(options);
     if (!planned) return planned.error();
-    Status loaded = (*planned)->load(scene);
-    if (!loaded) return loaded.error();
     Result<std::unique_ptr<Renderer>> all = Renderer::create(options);
     if (!all) return all.error();
-    loaded = (*all)->load(all_scene);
+    // One preparation (validation, images, meshes): the all-effects scene is
+    // the same scene with each material's technique replaced, its images
+    // shared; the references trace the same prepared scene.
+    Result<std::shared_ptr<const PreparedScene>> prepared = prepare_scene(scene, (*planned)->prepare_options());
+    if (!prepared) return prepared.error();
+    std::shared_ptr<const PreparedScene> all_prepared = *prepared;
+    for (const MaterialDesc& m : all_scene.materials) {
+        Result<std::shared_ptr<const PreparedScene>> next = replace_material(*all_prepared, m);
+        if (!next) return with_context("the all-effects scene", next.error());
+        all_prepared = std::move(*next);
+    }
+    Status loaded = (*planned)->load(*prepared);
+    if (!loaded) return loaded.error();
+    loaded = (*all)->load(all_prepared);
     if (!loaded) return with_context("the all-effects scene", loaded.error());
     Result<int> viewed = (*planned)->set_view(scene.camera, target.width, target.height);
     if (!viewed) return viewed.error();
@@ -171,7 +182,7 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
         reference::ReferenceOptions ro;
         ro.shadow = mode;
         ro.depth_composite = true;
-        Result<reference::ReferenceImage> truth = reference::render_reference(scene, target.width, target.height, ro);
+        Result<reference::ReferenceImage> truth = reference::render_reference(**prepared, target.width, target.height, ro);
         if (!truth) return truth.error();
         references.emplace(mode, std::move(*truth));
     }

@@ -241,8 +241,12 @@ Result<std::string> write_height_image(const StabilityCase& c, const std::string
     return path;
 }
 
-Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& technique, double angle,
-                                  double distance, const std::string& height_image) {
+namespace {
+
+// The case's scene, not yet validated (prepare_scene and replace_material
+// validate what they are handed).
+Result<SceneDesc> unchecked_scene(const StabilityCase& c, const std::string& technique, double angle, double distance,
+                                  const std::string& height_image) {
     SceneDesc s;
     s.name = c.name;
     const double a = angle * M_PI / 180.0;
@@ -302,7 +306,16 @@ Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& tec
     o.mesh.normal = c.normal;
     o.material = "surface";
     s.objects = {o};
-    Status valid = validate_scene(s);
+    return s;
+}
+
+}  // namespace
+
+Result<SceneDesc> stability_scene(const StabilityCase& c, const std::string& technique, double angle,
+                                  double distance, const std::string& height_image) {
+    Result<SceneDesc> s = unchecked_scene(c, technique, angle, distance, height_image);
+    if (!s) return s;
+    Status valid = validate_scene(*s);
     if (!valid) return with_context("case '" + c.name + "'", valid.error());
     return s;
 }
@@ -675,7 +688,33 @@ struct RowJob {
     std::vector<SurfaceImage>& entries;  // the normal-mapping pass per frame: each pixel's own uv
     Renderer* ray_renderer;              // capture_ray, where the context reads floats back; else null
     const std::function<void(const std::string&)>& tick;
+    // Per frame: the case's scene prepared once (validation, images, mesh);
+    // each technique is handed to the draw by replacing the material, its
+    // images shared.
+    std::vector<std::shared_ptr<const PreparedScene>> prepared;
 };
+
+// The case's scene at frame `fi` with `technique`, on the frame's one preparation.
+Result<std::shared_ptr<const PreparedScene>> prepared_frame(RowJob& job, size_t fi, const std::string& technique) {
+    const Frame& f = job.w.frames[fi];
+    Result<SceneDesc> scene = unchecked_scene(*job.w.c, technique, f.angle, f.distance, job.cr.height_image);
+    if (!scene) return scene.error();
+    if (job.prepared.size() != job.w.frames.size()) job.prepared.resize(job.w.frames.size());
+    std::shared_ptr<const PreparedScene>& kept = job.prepared[fi];
+    if (!kept) {
+        Result<std::shared_ptr<const PreparedScene>> made = prepare_scene(*scene, job.renderer.prepare_options());
+        if (!made) return with_context("case '" + job.w.c->name + "'", made.error());
+        kept = *made;
+        return kept;
+    }
+    std::shared_ptr<const PreparedScene> out = kept;
+    for (const MaterialDesc& m : scene->materials) {
+        Result<std::shared_ptr<const PreparedScene>> next = replace_material(*out, m);
+        if (!next) return with_context("case '" + job.w.c->name + "'", next.error());
+        out = std::move(*next);
+    }
+    return out;
+}
 
 Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
     const StabilityCase& c = *job.w.c;
@@ -690,9 +729,8 @@ Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
     std::vector<std::vector<double>> frame_bounds;
     std::string drawn_note, drawn_name = t.name;
     for (size_t fi = 0; fi < job.w.frames.size(); ++fi) {
-        const Frame& f = job.w.frames[fi];
         auto capture = [&](const std::string& technique) -> Result<SurfaceImage> {
-            Result<SceneDesc> scene = stability_scene(c, technique, f.angle, f.distance, job.cr.height_image);
+            Result<std::shared_ptr<const PreparedScene>> scene = prepared_frame(job, fi, technique);
             if (!scene) return scene.error();
             Status loaded = job.renderer.load(*scene);
             if (!loaded)
@@ -729,7 +767,7 @@ Result<StabilityRow> stability_row(RowJob& job, const TechniqueInfo& t) {
         const TechniqueBounds& tb = job.catalogue.bounds.techniques.at(drawn_name);
         std::optional<SurfaceImage> rays;
         if (job.ray_renderer && tb.error == BoundKind::exact && !c.lod) {
-            Result<SceneDesc> scene = stability_scene(c, drawn_name, f.angle, f.distance, job.cr.height_image);
+            Result<std::shared_ptr<const PreparedScene>> scene = prepared_frame(job, fi, drawn_name);
             if (!scene) return scene.error();
             Status loaded = job.ray_renderer->load(*scene);
             if (!loaded) return with_context("case '" + job.w.label + "' " + drawn_name + " (capturing rays)", loaded.error());
@@ -822,7 +860,7 @@ Result<std::vector<StabilityRow>> run_stability(const Catalogue& catalogue, cons
                 rays = *r;
             }
             std::vector<SurfaceImage> entries(w.frames.size());
-            RowJob job{catalogue, options, w, cr, **renderer, run, entries, rays, tick};
+            RowJob job{catalogue, options, w, cr, **renderer, run, entries, rays, tick, {}};
             for (const TechniqueInfo* t : techniques_of(*w.c)) {
                 if (t->min_es_major > run.variant_es) continue;
                 Result<StabilityRow> row = stability_row(job, *t);

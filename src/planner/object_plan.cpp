@@ -184,10 +184,11 @@ public:
 
 }  // namespace
 
-Result<std::unique_ptr<FramePlanner>> named_planner(const PreparedScene& scene, const Caps& caps) {
+Result<std::unique_ptr<FramePlanner>> named_planner(std::shared_ptr<const PreparedScene> prepared, const Caps& caps) {
+    if (!prepared) return make_error("named_planner: no prepared scene");
     auto p = std::make_unique<NamedPlanner>();
-    // Shares the prepared scene's parts, copies no image.
-    p->scene_ = std::make_shared<const PreparedScene>(scene);
+    p->scene_ = std::move(prepared);  // shared, not copied
+    const PreparedScene& scene = *p->scene_;
     const SceneDesc& desc = scene.desc;
     for (size_t i = 0; i < desc.materials.size(); ++i) {
         const MaterialDesc& m = desc.materials[i];

@@ -802,7 +802,7 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     // The planner first: it refuses a scene it cannot plan before anything
     // is uploaded, and says what each named material draws (plan_variant,
     // once per material).
-    Result<std::unique_ptr<FramePlanner>> planner = make_planner(*prepared, {});
+    Result<std::unique_ptr<FramePlanner>> planner = make_planner(prepared, {});
     if (!planner) return planner.error();
     gpu->planner = std::move(*planner);
     std::vector<TextureUpload> uploads;
@@ -861,7 +861,7 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         // the new material if it names its technique.
         std::vector<MaterialRelief> reliefs = scene_->planner->reliefs();
         reliefs[mi] = MaterialRelief{};  // measured again by the factory
-        Result<std::unique_ptr<FramePlanner>> planner = make_planner(p, std::move(reliefs));
+        Result<std::unique_ptr<FramePlanner>> planner = make_planner(*next, std::move(reliefs));
         if (!planner) return planner.error();
         std::vector<TextureUpload> uploads;
         std::vector<std::string> notes;
@@ -904,9 +904,9 @@ Result<std::vector<ObjectPlan>> Renderer::plan_view(const CameraDesc& camera, in
     return scene_->planner->plan(PlanView::from_camera(camera, width, height));
 }
 
-Result<std::unique_ptr<FramePlanner>> Renderer::make_planner(const PreparedScene& scene,
+Result<std::unique_ptr<FramePlanner>> Renderer::make_planner(const std::shared_ptr<const PreparedScene>& scene,
                                                              std::vector<MaterialRelief> reliefs) const {
-    if (effect_planner_) return effect_planner_(scene, caps_, planner_options_, std::move(reliefs));
+    if (effect_planner_) return effect_planner_(*scene, caps_, planner_options_, std::move(reliefs));
     return named_planner(scene, caps_);
 }
 

@@ -337,6 +337,34 @@ glm::mat4 TransformDesc::matrix() const {
     return glm::scale(m, scale);
 }
 
+TextureSource::TextureSource() = default;
+TextureSource::TextureSource(const TextureSource&) = default;
+TextureSource::TextureSource(TextureSource&&) noexcept = default;
+TextureSource& TextureSource::operator=(const TextureSource&) = default;
+TextureSource& TextureSource::operator=(TextureSource&&) noexcept = default;
+TextureSource::~TextureSource() = default;
+
+MaterialDesc::MaterialDesc() = default;
+MaterialDesc::MaterialDesc(const MaterialDesc&) = default;
+MaterialDesc::MaterialDesc(MaterialDesc&&) noexcept = default;
+MaterialDesc& MaterialDesc::operator=(const MaterialDesc&) = default;
+MaterialDesc& MaterialDesc::operator=(MaterialDesc&&) noexcept = default;
+MaterialDesc::~MaterialDesc() = default;
+
+ObjectDesc::ObjectDesc() = default;
+ObjectDesc::ObjectDesc(const ObjectDesc&) = default;
+ObjectDesc::ObjectDesc(ObjectDesc&&) noexcept = default;
+ObjectDesc& ObjectDesc::operator=(const ObjectDesc&) = default;
+ObjectDesc& ObjectDesc::operator=(ObjectDesc&&) noexcept = default;
+ObjectDesc::~ObjectDesc() = default;
+
+SceneDesc::SceneDesc() = default;
+SceneDesc::SceneDesc(const SceneDesc&) = default;
+SceneDesc::SceneDesc(SceneDesc&&) noexcept = default;
+SceneDesc& SceneDesc::operator=(const SceneDesc&) = default;
+SceneDesc& SceneDesc::operator=(SceneDesc&&) noexcept = default;
+SceneDesc::~SceneDesc() = default;
+
 size_t SceneDesc::material_index(const std::string& material_name) const {
     for (size_t i = 0; i < materials.size(); ++i)
         if (materials[i].name == material_name) return i;

@@ -65,6 +65,6 @@ VariantKey named_object_key(const VariantPlan& material_plan, const OutlineReque
 // and its JSON path). plan_variant runs once per material, when it is made;
 // each frame draws the outlines the materials ask for. Links none of the effect planner's
 // survey, cost table or JSON parser.
-Result<std::unique_ptr<FramePlanner>> named_planner(const PreparedScene& scene, const Caps& caps);
+Result<std::unique_ptr<FramePlanner>> named_planner(std::shared_ptr<const PreparedScene> scene, const Caps& caps);
 
 }  // namespace px

@@ -259,7 +259,7 @@ private:
     Result<int> apply_plans(const PlanView& view);
     // The effect planner where the renderer has one, else the named-technique
     // planner (planner/object_plan.h): the one place an object is planned.
-    Result<std::unique_ptr<FramePlanner>> make_planner(const PreparedScene& scene,
+    Result<std::unique_ptr<FramePlanner>> make_planner(const std::shared_ptr<const PreparedScene>& scene,
                                                        std::vector<MaterialRelief> reliefs) const;
     Status check_context(const char* what) const;
     Status draw_checked(const HostFrame& frame);

@@ -42,6 +42,15 @@ struct LightDesc {
 
 // Where a texture's data comes from: a file, a procedural field, or a colour.
 struct TextureSource {
+    // Out of line (scene.cpp): an app that copies descriptions calls the
+    // library's one copy instead of inlining every member's at each site.
+    TextureSource();
+    TextureSource(const TextureSource&);
+    TextureSource(TextureSource&&) noexcept;
+    TextureSource& operator=(const TextureSource&);
+    TextureSource& operator=(TextureSource&&) noexcept;
+    ~TextureSource();
+
     enum class Kind { none, file, procedural, color } kind = Kind::none;
     std::string path;                 // file (resolved against the scene file's folder)
     FieldSpec field;                  // procedural
@@ -89,6 +98,15 @@ struct UvTransform {
 };
 
 struct MaterialDesc {
+    // Out of line (scene.cpp): an app that copies descriptions calls the
+    // library's one copy instead of inlining every member's at each site.
+    MaterialDesc();
+    MaterialDesc(const MaterialDesc&);
+    MaterialDesc(MaterialDesc&&) noexcept;
+    MaterialDesc& operator=(const MaterialDesc&);
+    MaterialDesc& operator=(MaterialDesc&&) noexcept;
+    ~MaterialDesc();
+
     std::string name;
     TextureSource albedo;  // default: a light grey colour
     TextureSource height;  // default: flat at height 1 (no relief)
@@ -197,6 +215,15 @@ struct MeshDesc {
 };
 
 struct ObjectDesc {
+    // Out of line (scene.cpp): an app that copies descriptions calls the
+    // library's one copy instead of inlining every member's at each site.
+    ObjectDesc();
+    ObjectDesc(const ObjectDesc&);
+    ObjectDesc(ObjectDesc&&) noexcept;
+    ObjectDesc& operator=(const ObjectDesc&);
+    ObjectDesc& operator=(ObjectDesc&&) noexcept;
+    ~ObjectDesc();
+
     std::string name;
     MeshDesc mesh;
     TransformDesc transform;
@@ -204,6 +231,15 @@ struct ObjectDesc {
 };
 
 struct SceneDesc {
+    // Out of line (scene.cpp): an app that copies descriptions calls the
+    // library's one copy instead of inlining every member's at each site.
+    SceneDesc();
+    SceneDesc(const SceneDesc&);
+    SceneDesc(SceneDesc&&) noexcept;
+    SceneDesc& operator=(const SceneDesc&);
+    SceneDesc& operator=(SceneDesc&&) noexcept;
+    ~SceneDesc();
+
     std::string name;
     std::string base_dir;  // folder that relative texture paths resolve against
     std::string source;    // the scene file it was read from (empty: built in code)
