@@ -8,7 +8,8 @@
 #   tests/includes_resolve.sh SOURCE_DIR
 set -euo pipefail
 cd "${1:-$(dirname "$0")/..}"
-private="src/texture/container_shape.h"
+private="src/texture/container_shape.h
+src/planner/planner_detail.h"
 missing=0 checked=0
 while IFS= read -r file; do
     while IFS= read -r header; do

@@ -10,13 +10,13 @@
 set -euo pipefail
 source_dir=$(cd "${1:-$(dirname "$0")/../..}" && pwd)
 # The budget was 400,000 bytes. On 2026-12-06 the app measured 393,360
-# before, and 426,192 after the one GL state table, the variant field table
-# and the named-technique planner (issue 46) entered the host's path (with
-# the table as data and the MinSizeRel shaders without indentation): the
-# goal of 400,000 is NOT met and stays open (README "Size" says what grew).
-# The limit holds the measured size with a 1.4 % margin, so that further
-# growth still fails here.
-limit=${PX_FOOTPRINT_LIMIT:-432000}
+# before, 426,192 after the one GL state table, the variant field table and
+# the named-technique planner (issue 46) entered the host's path, and
+# 422,096 with the descriptions' special members out of line and the named
+# planner sharing the prepared scene: the goal of 400,000 is NOT met and
+# stays open (README "Size" says what grew). The limit holds the measured
+# size with a 1.4 % margin, so that further growth still fails here.
+limit=${PX_FOOTPRINT_LIMIT:-428000}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
