@@ -113,6 +113,80 @@ double distance_to_grid(double x, double period) {
     return std::abs(t - std::round(t)) * period;
 }
 
+// count: at least 1 and at most the size (bricks, lines, hemispheres, cones).
+Status check_count(const FieldSpec& spec, const std::string& pre) {
+    if (spec.count < 1)
+        return make_error(pre + "count must be ≥ 1, got " + std::to_string(spec.count));
+    if (spec.count > spec.size)
+        return make_error(pre + "count must be ≤ size (" + std::to_string(spec.size) +
+                          "), got " + std::to_string(spec.count));
+    return {};
+}
+
+Status check_bricks(const FieldSpec& spec, const std::string& pre) {
+    if (Status s = check_count(spec, pre); !s) return s;
+    // Rows alternate offset / not offset; an odd count would put two
+    // unshifted rows next to each other across the tile edge.
+    if (spec.count % 2 != 0)
+        return make_error(pre + "count (rows) must be even so the running bond continues "
+                                "across the tile edge, got " +
+                          std::to_string(spec.count));
+    // Joint (mortar) plus a bevel of mortar/2 on each side must leave a
+    // flat top: 2 * mortar < row height = 1 / count.
+    const double limit = 0.5 / spec.count;
+    if (!(spec.mortar > 0.0f && spec.mortar < limit))
+        return make_error(pre + "mortar must be in (0, " + num(limit) +
+                          ") (joint plus bevels under the row height), got " +
+                          num(spec.mortar));
+    return {};
+}
+
+Status check_text(const FieldSpec& spec, const std::string& pre) {
+    if (spec.text.empty()) return make_error(pre + "text must not be empty");
+    if (spec.text.size() > static_cast<size_t>(kMaxFieldTextLength))
+        return make_error(pre + "text must be at most " + std::to_string(kMaxFieldTextLength) +
+                          " characters, got " + std::to_string(spec.text.size()));
+    for (size_t i = 0; i < spec.text.size(); ++i) {
+        const char c = spec.text[i];
+        if (!find_glyph(c)) {
+            std::string hint = (c >= 'a' && c <= 'z') ? " (letters must be upper case)" : "";
+            return make_error(pre + "no glyph for character " + describe_char(c) +
+                              " at position " + std::to_string(i) +
+                              "; the 5x7 font has A-Z, 0-9 and space" + hint);
+        }
+    }
+    return {};
+}
+
+Status check_lines(const FieldSpec& spec, const std::string& pre) {
+    if (Status s = check_count(spec, pre); !s) return s;
+    if (spec.line_width < 1)
+        return make_error(pre + "line_width must be ≥ 1, got " + std::to_string(spec.line_width));
+    // At least one ground texel between neighbours, or lines merge.
+    // In 64 bits: count and line_width are each at most INT_MAX here.
+    if (const long long span = static_cast<long long>(spec.count) * (static_cast<long long>(spec.line_width) + 1);
+        span > spec.size)
+        return make_error(pre + "count * (line_width + 1) must be ≤ size so lines stay "
+                                "apart, got " +
+                          std::to_string(spec.count) + " * " +
+                          std::to_string(static_cast<long long>(spec.line_width) + 1) + " > " +
+                          std::to_string(spec.size));
+    return {};
+}
+
+Status check_sine(const FieldSpec& spec, const std::string& pre) {
+    // Whole periods per tile, or the tile would not repeat seamlessly;
+    // at most size/2 (Nyquist), or the samples alias.
+    const double f = spec.frequency;
+    if (!(f >= 1.0 && f == std::floor(f)))
+        return make_error(pre + "frequency must be a whole number ≥ 1 (periods per tile), got " +
+                          num(f));
+    if (f > spec.size / 2.0)
+        return make_error(pre + "frequency must be ≤ size/2 (" + num(spec.size / 2.0) +
+                          ") or it aliases, got " + num(f));
+    return {};
+}
+
 }  // namespace
 
 Status validate_field_spec(const FieldSpec& spec) {
@@ -120,82 +194,18 @@ Status validate_field_spec(const FieldSpec& spec) {
     if (spec.size < 1 || spec.size > kMaxTextureSize)
         return make_error(pre + "size must be in 1.." + std::to_string(kMaxTextureSize) + ", got " +
                           std::to_string(spec.size));
-    const auto need_count = [&]() -> Status {
-        if (spec.count < 1)
-            return make_error(pre + "count must be ≥ 1, got " + std::to_string(spec.count));
-        if (spec.count > spec.size)
-            return make_error(pre + "count must be ≤ size (" + std::to_string(spec.size) +
-                              "), got " + std::to_string(spec.count));
-        return {};
-    };
     switch (spec.kind) {
         case FieldKind::flat:
             // Written as !(in range) so NaN is rejected too.
             if (!(spec.level >= 0.0f && spec.level <= 1.0f))
                 return make_error(pre + "level must be in [0, 1], got " + num(spec.level));
             break;
-        case FieldKind::bricks: {
-            if (Status s = need_count(); !s) return s;
-            // Rows alternate offset / not offset; an odd count would put two
-            // unshifted rows next to each other across the tile edge.
-            if (spec.count % 2 != 0)
-                return make_error(pre + "count (rows) must be even so the running bond continues "
-                                        "across the tile edge, got " +
-                                  std::to_string(spec.count));
-            // Joint (mortar) plus a bevel of mortar/2 on each side must leave a
-            // flat top: 2 * mortar < row height = 1 / count.
-            const double limit = 0.5 / spec.count;
-            if (!(spec.mortar > 0.0f && spec.mortar < limit))
-                return make_error(pre + "mortar must be in (0, " + num(limit) +
-                                  ") (joint plus bevels under the row height), got " +
-                                  num(spec.mortar));
-            break;
-        }
-        case FieldKind::text:
-            if (spec.text.empty()) return make_error(pre + "text must not be empty");
-            if (spec.text.size() > static_cast<size_t>(kMaxFieldTextLength))
-                return make_error(pre + "text must be at most " + std::to_string(kMaxFieldTextLength) +
-                                  " characters, got " + std::to_string(spec.text.size()));
-            for (size_t i = 0; i < spec.text.size(); ++i) {
-                const char c = spec.text[i];
-                if (!find_glyph(c)) {
-                    std::string hint = (c >= 'a' && c <= 'z') ? " (letters must be upper case)" : "";
-                    return make_error(pre + "no glyph for character " + describe_char(c) +
-                                      " at position " + std::to_string(i) +
-                                      "; the 5x7 font has A-Z, 0-9 and space" + hint);
-                }
-            }
-            break;
-        case FieldKind::lines:
-            if (Status s = need_count(); !s) return s;
-            if (spec.line_width < 1)
-                return make_error(pre + "line_width must be ≥ 1, got " + std::to_string(spec.line_width));
-            // At least one ground texel between neighbours, or lines merge.
-            // In 64 bits: count and line_width are each at most INT_MAX here.
-            if (const long long span = static_cast<long long>(spec.count) * (static_cast<long long>(spec.line_width) + 1);
-                span > spec.size)
-                return make_error(pre + "count * (line_width + 1) must be ≤ size so lines stay "
-                                        "apart, got " +
-                                  std::to_string(spec.count) + " * " +
-                                  std::to_string(static_cast<long long>(spec.line_width) + 1) + " > " +
-                                  std::to_string(spec.size));
-            break;
+        case FieldKind::bricks: return check_bricks(spec, pre);
+        case FieldKind::text: return check_text(spec, pre);
+        case FieldKind::lines: return check_lines(spec, pre);
         case FieldKind::hemispheres:
-        case FieldKind::cones:
-            if (Status s = need_count(); !s) return s;
-            break;
-        case FieldKind::sine: {
-            // Whole periods per tile, or the tile would not repeat seamlessly;
-            // at most size/2 (Nyquist), or the samples alias.
-            const double f = spec.frequency;
-            if (!(f >= 1.0 && f == std::floor(f)))
-                return make_error(pre + "frequency must be a whole number ≥ 1 (periods per tile), got " +
-                                  num(f));
-            if (f > spec.size / 2.0)
-                return make_error(pre + "frequency must be ≤ size/2 (" + num(spec.size / 2.0) +
-                                  ") or it aliases, got " + num(f));
-            break;
-        }
+        case FieldKind::cones: return check_count(spec, pre);
+        case FieldKind::sine: return check_sine(spec, pre);
         case FieldKind::spike:
             break;
         case FieldKind::pit:

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "parallaxes/core/limits.h"
 
@@ -447,101 +448,149 @@ VariantKey default_variant(const TechniqueInfo& info, int es_major) {
     return base;
 }
 
-std::vector<VariantKey> enumerate_variants(int es_major) {
-    std::vector<VariantKey> out;
-    std::set<std::string> seen;
-    auto add = [&out, &seen](const VariantKey& k) {
+namespace {
+
+// The variants enumerated so far, canonical, in the order first added; a
+// key whose canonical form is already there is dropped.
+class VariantList {
+public:
+    void add(const VariantKey& k) {
         const VariantKey c = k.canonical();
-        if (seen.insert(c.id()).second) out.push_back(c);
-    };
+        if (seen_.insert(c.id()).second) out_.push_back(c);
+    }
+    std::vector<VariantKey> take() { return std::move(out_); }
+
+private:
+    std::vector<VariantKey> out_;
+    std::set<std::string> seen_;
+};
+
+// Every combination of packing, shadow, depth output, LOD and the exact
+// view vector.
+void add_option_grid(VariantList& list, const VariantKey& base) {
+    for (int packed = 0; packed < 2; ++packed)
+        for (ShadowMode shadow : {ShadowMode::none, ShadowMode::hard, ShadowMode::soft})
+            for (int depth = 0; depth < 2; ++depth)
+                for (int lod = 0; lod < 2; ++lod) {
+                    VariantKey k = base;
+                    k.packed_height = packed != 0;
+                    k.shadow = shadow;
+                    k.depth_write = depth != 0;
+                    k.lod = lod != 0;
+                    k.exact_view = false;  // canonical() keeps it on where the technique always has it
+                    list.add(k);
+                    k.exact_view = true;
+                    list.add(k);
+                }
+}
+
+// Compressed-texture layouts: two-channel normals, 11-bit heights.
+void add_compressed_layouts(VariantList& list, const VariantKey& base) {
+    for (int layout = 0; layout < 2; ++layout) {
+        VariantKey k = base;
+        k.packed_height = false;
+        k.normal_rg = true;
+        k.height_11bit = layout != 0;
+        k.shadow = ShadowMode::soft;
+        list.add(k);
+    }
+}
+
+// A bounded relief (canonical() keeps it for traced techniques), with
+// the options that touch the hit it tests: depth, LOD, debug output; and
+// the curved reliefs.
+void add_bounded_and_curved(VariantList& list, const VariantKey& base, int es_major) {
+    for (int debug : {0, es_major >= 3 ? 1 : 2}) {
+        VariantKey k = base;
+        k.bounded = true;
+        k.depth_write = true;
+        k.lod = true;
+        k.debug_output = static_cast<std::uint8_t>(debug);
+        list.add(k);
+        // Curved-relief silhouettes (canonical() keeps them for the linear searches).
+        k.bounded = false;
+        k.curved = true;
+        k.shadow = ShadowMode::soft;
+        list.add(k);
+        // The exact curved search, one shape each.
+        for (std::uint8_t shape : {kShapeSphere, kShapeCylinder, kShapeTorus}) {
+            k.shape = shape;
+            list.add(k);
+        }
+        // A bounded tube's (its ends in the search: PX_SHAPE_TUBE), and
+        // an ES 2.0 context without fragment highp's.
+        k.bounded = true;
+        k.shape = kShapeCylinder;
+        list.add(k);
+        if (es_major < 3) {
+            k.no_fragment_highp = true;
+            list.add(k);
+            // A context without GL_OES_standard_derivatives (no LOD there).
+            k.no_derivatives = true;
+            k.lod = false;
+            list.add(k);
+            k.no_derivatives = false;
+            k.lod = true;
+            k.bounded = false;
+            k.shape = kShapeTorus;
+            list.add(k);
+            k.no_fragment_highp = false;
+        }
+        k.bounded = false;
+        k.shape = 0;
+    }
+}
+
+// Debug outputs, with every option the technique has switched on.
+void add_debug_outputs(VariantList& list, const VariantKey& base, int es_major) {
+    for (int debug = 1; debug <= 4; ++debug) {
+        VariantKey k = base;
+        k.shadow = ShadowMode::soft;
+        k.depth_write = true;
+        k.lod = true;
+        k.debug_output = static_cast<std::uint8_t>(debug);
+        if (es_major >= 3 || debug >= 2) list.add(k);
+        // GLSL ES 1.00 without fragment highp: the 11-bit packing.
+        k.no_fragment_highp = true;
+        if (es_major < 3 && debug >= 2) list.add(k);
+        // The work counts (canonical() keeps them for searches only).
+        k.no_fragment_highp = false;
+        k.count_work = true;
+        if (es_major >= 3 || debug >= 2) list.add(k);
+        // The traced ray in place of the hit (canonical() keeps it for the float target only).
+        k.count_work = false;
+        k.capture_ray = true;
+        if (es_major >= 3 && debug == 1) list.add(k);
+        k.capture_ray = false;
+    }
+}
+
+// The PowerVR whitepaper's optimisation ladder (shaders_es/ladder/).
+void add_ladder(VariantList& list, const VariantKey& base, int es_major) {
+    for (int packed = 0; packed < 2; ++packed)
+        for (int step = 1; step <= kLadderSteps; ++step) {
+            VariantKey k = base;
+            k.packed_height = packed != 0;
+            k.ladder_step = static_cast<std::uint8_t>(step);
+            list.add(k);
+            for (int debug = 1; debug <= 4; ++debug) {
+                k.debug_output = static_cast<std::uint8_t>(debug);
+                if (es_major >= 3 || debug >= 2) list.add(k);
+            }
+        }
+}
+
+}  // namespace
+
+std::vector<VariantKey> enumerate_variants(int es_major) {
+    VariantList list;
     for (const TechniqueInfo& info : technique_table()) {
         if (info.min_es_major > es_major) continue;
         const VariantKey base = default_variant(info, es_major);
-        for (int packed = 0; packed < 2; ++packed)
-            for (ShadowMode shadow : {ShadowMode::none, ShadowMode::hard, ShadowMode::soft})
-                for (int depth = 0; depth < 2; ++depth)
-                    for (int lod = 0; lod < 2; ++lod) {
-                        VariantKey k = base;
-                        k.packed_height = packed != 0;
-                        k.shadow = shadow;
-                        k.depth_write = depth != 0;
-                        k.lod = lod != 0;
-                        k.exact_view = false;  // canonical() keeps it on where the technique always has it
-                        add(k);
-                        k.exact_view = true;
-                        add(k);
-                    }
-        // Compressed-texture layouts: two-channel normals, 11-bit heights.
-        for (int layout = 0; layout < 2; ++layout) {
-            VariantKey k = base;
-            k.packed_height = false;
-            k.normal_rg = true;
-            k.height_11bit = layout != 0;
-            k.shadow = ShadowMode::soft;
-            add(k);
-        }
-        // A bounded relief (canonical() keeps it for traced techniques), with
-        // the options that touch the hit it tests: depth, LOD, debug output.
-        for (int debug : {0, es_major >= 3 ? 1 : 2}) {
-            VariantKey k = base;
-            k.bounded = true;
-            k.depth_write = true;
-            k.lod = true;
-            k.debug_output = static_cast<std::uint8_t>(debug);
-            add(k);
-            // Curved-relief silhouettes (canonical() keeps them for the linear searches).
-            k.bounded = false;
-            k.curved = true;
-            k.shadow = ShadowMode::soft;
-            add(k);
-            // The exact curved search, one shape each.
-            for (std::uint8_t shape : {kShapeSphere, kShapeCylinder, kShapeTorus}) {
-                k.shape = shape;
-                add(k);
-            }
-            // A bounded tube's (its ends in the search: PX_SHAPE_TUBE), and
-            // an ES 2.0 context without fragment highp's.
-            k.bounded = true;
-            k.shape = kShapeCylinder;
-            add(k);
-            if (es_major < 3) {
-                k.no_fragment_highp = true;
-                add(k);
-                // A context without GL_OES_standard_derivatives (no LOD there).
-                k.no_derivatives = true;
-                k.lod = false;
-                add(k);
-                k.no_derivatives = false;
-                k.lod = true;
-                k.bounded = false;
-                k.shape = kShapeTorus;
-                add(k);
-                k.no_fragment_highp = false;
-            }
-            k.bounded = false;
-            k.shape = 0;
-        }
-        // Debug outputs, with every option the technique has switched on.
-        for (int debug = 1; debug <= 4; ++debug) {
-            VariantKey k = base;
-            k.shadow = ShadowMode::soft;
-            k.depth_write = true;
-            k.lod = true;
-            k.debug_output = static_cast<std::uint8_t>(debug);
-            if (es_major >= 3 || debug >= 2) add(k);
-            // GLSL ES 1.00 without fragment highp: the 11-bit packing.
-            k.no_fragment_highp = true;
-            if (es_major < 3 && debug >= 2) add(k);
-            // The work counts (canonical() keeps them for searches only).
-            k.no_fragment_highp = false;
-            k.count_work = true;
-            if (es_major >= 3 || debug >= 2) add(k);
-            // The traced ray in place of the hit (canonical() keeps it for the float target only).
-            k.count_work = false;
-            k.capture_ray = true;
-            if (es_major >= 3 && debug == 1) add(k);
-            k.capture_ray = false;
-        }
+        add_option_grid(list, base);
+        add_compressed_layouts(list, base);
+        add_bounded_and_curved(list, base, es_major);
+        add_debug_outputs(list, base, es_major);
         // Loop bounds at their extremes.
         if (info.options & (kOptSamples | kOptSteps)) {
             for (int samples : {1, info.max_samples_limit}) {
@@ -549,31 +598,19 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
                 k.max_samples = static_cast<std::uint16_t>(samples);
                 k.shadow = ShadowMode::soft;
                 k.shadow_samples = 128;
-                add(k);
+                list.add(k);
             }
         }
-        // The PowerVR whitepaper's optimisation ladder (shaders_es/ladder/).
-        if (info.id == Technique::offset_limited)
-            for (int packed = 0; packed < 2; ++packed)
-                for (int step = 1; step <= kLadderSteps; ++step) {
-                    VariantKey k = base;
-                    k.packed_height = packed != 0;
-                    k.ladder_step = static_cast<std::uint8_t>(step);
-                    add(k);
-                    for (int debug = 1; debug <= 4; ++debug) {
-                        k.debug_output = static_cast<std::uint8_t>(debug);
-                        if (es_major >= 3 || debug >= 2) add(k);
-                    }
-                }
+        if (info.id == Technique::offset_limited) add_ladder(list, base, es_major);
         if (info.options & kOptRefine) {
             for (int steps : {0, 16}) {
                 VariantKey k = base;
                 k.refine_steps = static_cast<std::uint8_t>(steps);
-                add(k);
+                list.add(k);
             }
         }
     }
-    return out;
+    return list.take();
 }
 
 }  // namespace px

@@ -455,6 +455,9 @@ private:
     // ---- expressions ----
     std::string symbol_name(const TIntermSymbol* s);
     std::string value(TIntermTyped* n, TPrecisionQualifier context);
+    std::string binary_value(TIntermBinary* b, TPrecisionQualifier p, TPrecisionQualifier context);
+    std::string unary_value(TIntermUnary* u, TPrecisionQualifier p);
+    std::string aggregate_value(TIntermAggregate* a, TPrecisionQualifier p);
     std::string lvalue(TIntermTyped* n);
     std::string chain(TIntermTyped* n, bool& from_input);
     std::string constant(TIntermConstantUnion* c, TPrecisionQualifier context);
@@ -864,90 +867,9 @@ std::string Emitter::value(TIntermTyped* n, TPrecisionQualifier context) {
         }
         return name;
     }
-    if (TIntermBinary* b = n->getAsBinaryNode()) {
-        const TOperator op = b->getOp();
-        if (op >= EOpAssign && op <= EOpRightShiftAssign) return "(" + assignment(b) + ")";
-        if (op == EOpIndexDirect || op == EOpIndexIndirect || op == EOpIndexDirectStruct || op == EOpVectorSwizzle) {
-            bool from_input = false;
-            const std::string text = chain(b, from_input);
-            return from_input ? wrap(rounding(p), type, text, "an input") : text;
-        }
-        if (op == EOpComma) return "(" + value(b->getLeft(), EpqNone) + ", " + value(b->getRight(), context) + ")";
-        const char* o = binary_operator(op);
-        if (!o) throw Unsupported{"binary operator #" + std::to_string(op)};
-        // Comparisons: the operands' own precision is the context of a constant among them.
-        const TPrecisionQualifier operand_context =
-            type.getBasicType() == EbtBool && is_float(b->getLeft()->getType()) ? EpqNone : p;
-        const std::string text = "(" + value(b->getLeft(), operand_context == EpqNone ? precision_of(b->getRight(), p) : p) +
-                                 " " + o + " " +
-                                 value(b->getRight(), operand_context == EpqNone ? precision_of(b->getLeft(), p) : p) + ")";
-        return wrap(rounding(p), type, text, "an operation");
-    }
-    if (TIntermUnary* u = n->getAsUnaryNode()) {
-        const TOperator op = u->getOp();
-        TIntermTyped* operand = u->getOperand();
-        std::string text;
-        switch (op) {
-            case EOpNegative: text = "(-" + value(operand, p) + ")"; break;
-            case EOpLogicalNot: return "(!" + value(operand, p) + ")";
-            case EOpBitwiseNot: return "(~" + value(operand, p) + ")";
-            case EOpPreIncrement: case EOpPreDecrement: case EOpPostIncrement: case EOpPostDecrement: {
-                const bool inc = op == EOpPreIncrement || op == EOpPostIncrement;
-                const bool pre = op == EOpPreIncrement || op == EOpPreDecrement;
-                const std::string l = lvalue(operand);
-                if (!is_float(type) || rounding(p) == Rounding::none)
-                    return pre ? std::string("(") + (inc ? "++" : "--") + l + ")" : "(" + l + (inc ? "++" : "--") + ")";
-                if (!pre) throw Unsupported{"a float post-increment or post-decrement under rounding"};
-                if (has_side_effects(operand)) throw Unsupported{"an increment of an l-value with side effects"};
-                return "(" + l + " = " + wrap(rounding(p), type, "(" + l + (inc ? " + 1.0)" : " - 1.0)"), "an increment") + ")";
-            }
-            default:
-                if (op >= EOpConvInt8ToBool && op < EOpConvUint64ToPtr) {
-                    // A conversion: the constructor of the result type.
-                    text = basic_name(type) + "(" + value(operand, EpqNone) + ")";
-                } else if (const char* f = unary_builtin(op)) {
-                    text = std::string(f) + "(" + value(operand, p) + ")";
-                } else {
-                    throw Unsupported{"unary operator #" + std::to_string(op)};
-                }
-        }
-        return wrap(rounding(p), type, text, "an operation");
-    }
-    if (TIntermAggregate* a = n->getAsAggregate()) {
-        const TOperator op = a->getOp();
-        if (op == EOpFunctionCall) return call(a);
-        if (op > EOpConstructGuardStart && op < EOpConstructGuardEnd) {
-            if (op == EOpConstructStruct) {
-                note_struct(type);
-                const TTypeList& members = *type.getStruct();
-                TIntermSequence& seq = a->getSequence();
-                std::string s = basic_name(type) + "(";
-                for (size_t i = 0; i < seq.size() && i < members.size(); ++i) {
-                    const TType& mt = *members[i].type;
-                    const TPrecisionQualifier mp = mt.getQualifier().precision != EpqNone ? mt.getQualifier().precision : default_float_;
-                    s += (i ? ", " : "") + wrap(rounding(mp), mt, value(seq[i]->getAsTyped(), mp), "a struct member");
-                }
-                return s + ")";
-            }
-            if (type.isArray()) throw Unsupported{"an array constructor"};
-            return wrap(rounding(p), type, basic_name(type) + "(" + args(a, p) + ")", "a constructor");
-        }
-        if (is_texture_lookup(op)) {
-            TIntermSequence& seq = a->getSequence();
-            TIntermTyped* sampler = seq.empty() ? nullptr : seq[0]->getAsTyped();
-            if (!sampler || sampler->getBasicType() != EbtSampler) throw Unsupported{"a texture lookup without a sampler"};
-            const char* f = aggregate_builtin(op);
-            if (!f) throw Unsupported{"texture function #" + std::to_string(op)};
-            const TPrecisionQualifier sp = precision_of(sampler, EpqLow);
-            return wrap(rounding(sp), type, std::string(f) + "(" + args(a, EpqHigh) + ")", "a texture lookup");
-        }
-        if (op == EOpModf || op == EOpFrexp) throw Unsupported{"modf or frexp (out parameters of built-ins)"};
-        const char* f = aggregate_builtin(op);
-        if (!f) throw Unsupported{"built-in #" + std::to_string(op)};
-        // Comparisons of vectors: bool results, the operands' precision.
-        const TPrecisionQualifier arg_context = type.getBasicType() == EbtBool ? EpqNone : p;
-        return wrap(rounding(p), type, std::string(f) + "(" + args(a, arg_context) + ")", "a built-in call");
-    }
+    if (TIntermBinary* b = n->getAsBinaryNode()) return binary_value(b, p, context);
+    if (TIntermUnary* u = n->getAsUnaryNode()) return unary_value(u, p);
+    if (TIntermAggregate* a = n->getAsAggregate()) return aggregate_value(a, p);
     if (TIntermSelection* sel = n->getAsSelectionNode()) {
         TIntermTyped* t = sel->getTrueBlock() ? sel->getTrueBlock()->getAsTyped() : nullptr;
         TIntermTyped* f = sel->getFalseBlock() ? sel->getFalseBlock()->getAsTyped() : nullptr;
@@ -955,6 +877,103 @@ std::string Emitter::value(TIntermTyped* n, TPrecisionQualifier context) {
         return "(" + value(sel->getCondition(), EpqNone) + " ? " + value(t, p) + " : " + value(f, p) + ")";
     }
     throw Unsupported{"an expression node of an unknown kind"};
+}
+
+// A binary node as a value (p its precision, context the one it is read
+// in): an assignment, an index or swizzle chain, a comma, an operation.
+std::string Emitter::binary_value(TIntermBinary* b, TPrecisionQualifier p, TPrecisionQualifier context) {
+    const TType& type = b->getType();
+    const TOperator op = b->getOp();
+    if (op >= EOpAssign && op <= EOpRightShiftAssign) return "(" + assignment(b) + ")";
+    if (op == EOpIndexDirect || op == EOpIndexIndirect || op == EOpIndexDirectStruct || op == EOpVectorSwizzle) {
+        bool from_input = false;
+        const std::string text = chain(b, from_input);
+        return from_input ? wrap(rounding(p), type, text, "an input") : text;
+    }
+    if (op == EOpComma) return "(" + value(b->getLeft(), EpqNone) + ", " + value(b->getRight(), context) + ")";
+    const char* o = binary_operator(op);
+    if (!o) throw Unsupported{"binary operator #" + std::to_string(op)};
+    // Comparisons: the operands' own precision is the context of a constant among them.
+    const TPrecisionQualifier operand_context =
+        type.getBasicType() == EbtBool && is_float(b->getLeft()->getType()) ? EpqNone : p;
+    const std::string text = "(" + value(b->getLeft(), operand_context == EpqNone ? precision_of(b->getRight(), p) : p) +
+                             " " + o + " " +
+                             value(b->getRight(), operand_context == EpqNone ? precision_of(b->getLeft(), p) : p) + ")";
+    return wrap(rounding(p), type, text, "an operation");
+}
+
+// A unary node as a value: a negation, a logical or bitwise not, an
+// increment or decrement (rounded where a float is), a conversion, a
+// built-in of one argument.
+std::string Emitter::unary_value(TIntermUnary* u, TPrecisionQualifier p) {
+    const TType& type = u->getType();
+    const TOperator op = u->getOp();
+    TIntermTyped* operand = u->getOperand();
+    std::string text;
+    switch (op) {
+        case EOpNegative: text = "(-" + value(operand, p) + ")"; break;
+        case EOpLogicalNot: return "(!" + value(operand, p) + ")";
+        case EOpBitwiseNot: return "(~" + value(operand, p) + ")";
+        case EOpPreIncrement: case EOpPreDecrement: case EOpPostIncrement: case EOpPostDecrement: {
+            const bool inc = op == EOpPreIncrement || op == EOpPostIncrement;
+            const bool pre = op == EOpPreIncrement || op == EOpPreDecrement;
+            const std::string l = lvalue(operand);
+            if (!is_float(type) || rounding(p) == Rounding::none)
+                return pre ? std::string("(") + (inc ? "++" : "--") + l + ")" : "(" + l + (inc ? "++" : "--") + ")";
+            if (!pre) throw Unsupported{"a float post-increment or post-decrement under rounding"};
+            if (has_side_effects(operand)) throw Unsupported{"an increment of an l-value with side effects"};
+            return "(" + l + " = " + wrap(rounding(p), type, "(" + l + (inc ? " + 1.0)" : " - 1.0)"), "an increment") + ")";
+        }
+        default:
+            if (op >= EOpConvInt8ToBool && op < EOpConvUint64ToPtr) {
+                // A conversion: the constructor of the result type.
+                text = basic_name(type) + "(" + value(operand, EpqNone) + ")";
+            } else if (const char* f = unary_builtin(op)) {
+                text = std::string(f) + "(" + value(operand, p) + ")";
+            } else {
+                throw Unsupported{"unary operator #" + std::to_string(op)};
+            }
+    }
+    return wrap(rounding(p), type, text, "an operation");
+}
+
+// An aggregate node as a value: a function call, a constructor, a texture
+// lookup (rounded as its sampler's precision), another built-in call.
+std::string Emitter::aggregate_value(TIntermAggregate* a, TPrecisionQualifier p) {
+    const TType& type = a->getType();
+    const TOperator op = a->getOp();
+    if (op == EOpFunctionCall) return call(a);
+    if (op > EOpConstructGuardStart && op < EOpConstructGuardEnd) {
+        if (op == EOpConstructStruct) {
+            note_struct(type);
+            const TTypeList& members = *type.getStruct();
+            TIntermSequence& seq = a->getSequence();
+            std::string s = basic_name(type) + "(";
+            for (size_t i = 0; i < seq.size() && i < members.size(); ++i) {
+                const TType& mt = *members[i].type;
+                const TPrecisionQualifier mp = mt.getQualifier().precision != EpqNone ? mt.getQualifier().precision : default_float_;
+                s += (i ? ", " : "") + wrap(rounding(mp), mt, value(seq[i]->getAsTyped(), mp), "a struct member");
+            }
+            return s + ")";
+        }
+        if (type.isArray()) throw Unsupported{"an array constructor"};
+        return wrap(rounding(p), type, basic_name(type) + "(" + args(a, p) + ")", "a constructor");
+    }
+    if (is_texture_lookup(op)) {
+        TIntermSequence& seq = a->getSequence();
+        TIntermTyped* sampler = seq.empty() ? nullptr : seq[0]->getAsTyped();
+        if (!sampler || sampler->getBasicType() != EbtSampler) throw Unsupported{"a texture lookup without a sampler"};
+        const char* f = aggregate_builtin(op);
+        if (!f) throw Unsupported{"texture function #" + std::to_string(op)};
+        const TPrecisionQualifier sp = precision_of(sampler, EpqLow);
+        return wrap(rounding(sp), type, std::string(f) + "(" + args(a, EpqHigh) + ")", "a texture lookup");
+    }
+    if (op == EOpModf || op == EOpFrexp) throw Unsupported{"modf or frexp (out parameters of built-ins)"};
+    const char* f = aggregate_builtin(op);
+    if (!f) throw Unsupported{"built-in #" + std::to_string(op)};
+    // Comparisons of vectors: bool results, the operands' precision.
+    const TPrecisionQualifier arg_context = type.getBasicType() == EbtBool ? EpqNone : p;
+    return wrap(rounding(p), type, std::string(f) + "(" + args(a, arg_context) + ")", "a built-in call");
 }
 
 // ---- statements --------------------------------------------------------------

@@ -111,6 +111,86 @@ Result<Texture> upload_max_atlas(const MaxAtlas& atlas, const Caps& caps, const 
     return t;
 }
 
+namespace {
+
+// An uncompressed format's upload: the format and internal format this
+// context takes for it (ES 2.0 has no sized ones, nor GL_RED).
+void uncompressed_upload_formats(const Caps& caps, TextureFormat texture_format, GLenum& format, GLint& internal) {
+    format = GL_RGBA;
+    internal = GL_RGBA;
+    switch (texture_format) {
+    case TextureFormat::r8:
+        format = caps.context_es3() ? GL_RED : GL_LUMINANCE;
+        internal = caps.context_es3() ? GL_R8 : GL_LUMINANCE;
+        break;
+    case TextureFormat::rg8:
+        format = GL_RG;
+        internal = caps.context_es3() ? GL_RG8 : GL_RG;
+        break;
+    case TextureFormat::rgb8:
+        format = GL_RGB;
+        internal = caps.context_es3() ? GL_RGB8 : GL_RGB;
+        break;
+    default:
+        format = GL_RGBA;
+        internal = caps.context_es3() ? GL_RGBA8 : GL_RGBA;
+        break;
+    }
+}
+
+// The first `levels` levels into the bound texture: as they are where the
+// context samples the format (direct), else decoded to RGBA8 on the CPU.
+// gpu_bytes: what the GPU was given.
+Status upload_levels(const TextureData& data, const Caps& caps, const std::string& what, bool direct, int levels,
+                     DecodeLevel decode, std::uint64_t& gpu_bytes) {
+    const FormatInfo& f = format_info(data.format);
+    for (int level = 0; level < levels; ++level) {
+        const TextureLevel& l = data.levels[static_cast<size_t>(level)];
+        const GLsizei w = static_cast<GLsizei>(l.width), h = static_cast<GLsizei>(l.height);
+        if (direct && f.compressed()) {
+            glCompressedTexImage2D(GL_TEXTURE_2D, level, upload_internal_format(caps, data.format), w, h, 0,
+                                   static_cast<GLsizei>(l.image_bytes), data.image(static_cast<size_t>(level)));
+            gpu_bytes += l.image_bytes;
+        } else if (direct) {
+            GLenum format = GL_RGBA;
+            GLint internal = GL_RGBA;
+            uncompressed_upload_formats(caps, data.format, format, internal);
+            glTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0, format, GL_UNSIGNED_BYTE,
+                         data.image(static_cast<size_t>(level)));
+            gpu_bytes += l.image_bytes;
+        } else {
+            Result<Image> rgba = decode(data, static_cast<size_t>(level));
+            if (!rgba) return with_context(what + " level " + std::to_string(level), rgba.error());
+            glTexImage2D(GL_TEXTURE_2D, level, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba->pixels.data());
+            gpu_bytes += rgba->pixels.size();
+        }
+    }
+    return {};
+}
+
+// How the texture went up, for TextureUpload::path: direct, or why it was
+// decoded; and what became of its mip chain where it is partial.
+std::string upload_path(const TextureData& data, bool direct, bool force_decode, bool mipmaps, bool use_mips,
+                        int given, int chain) {
+    const FormatInfo& f = format_info(data.format);
+    std::string path;
+    if (direct)
+        path = f.compressed() ? "direct (glCompressedTexImage2D)" : "direct (glTexImage2D)";
+    else if (force_decode)
+        path = "CPU decode to RGBA8 (decoding forced)";
+    else if (data.format == TextureFormat::rg8)
+        path = "expanded to RGBA8 (no GL_EXT_texture_rg)";
+    else
+        path = std::string("CPU decode to RGBA8 (this context does not sample ") + format_name(data.format) +
+               "; it needs " + format_requirement(data.format) + ")";
+    if (mipmaps && given < chain)
+        path += use_mips ? "; " + std::to_string(given) + " of " + std::to_string(chain) + " mip levels"
+                         : "; no mip chain: sampled without mipmaps";
+    return path;
+}
+
+}  // namespace
+
 Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
                                     bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode) {
     if (data.levels.empty() || data.width < 1 || data.height < 1) return make_error(what + ": empty texture");
@@ -124,7 +204,6 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
         return make_error(what + ": " + size +
                           " is not a power of two, and this OpenGL ES 2.0 context lacks GL_OES_texture_npot, "
                           "so it can neither repeat nor mipmap it");
-    const FormatInfo& f = format_info(data.format);
     const bool direct = !force_decode && context_samples(caps, data.format) &&
                         // ES 2.0 has no RG textures without GL_EXT_texture_rg: expand on the CPU.
                         !(data.format == TextureFormat::rg8 && !caps.context_es3() && !caps.has("GL_EXT_texture_rg"));
@@ -140,44 +219,8 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
     std::uint64_t gpu_bytes = 0, file_bytes = 0;
     for (int level = 0; level < given; ++level)
         file_bytes += data.levels[static_cast<size_t>(level)].image_bytes;
-    for (int level = 0; level < levels; ++level) {
-        const TextureLevel& l = data.levels[static_cast<size_t>(level)];
-        const GLsizei w = static_cast<GLsizei>(l.width), h = static_cast<GLsizei>(l.height);
-        if (direct && f.compressed()) {
-            glCompressedTexImage2D(GL_TEXTURE_2D, level, upload_internal_format(caps, data.format), w, h, 0,
-                                   static_cast<GLsizei>(l.image_bytes), data.image(static_cast<size_t>(level)));
-            gpu_bytes += l.image_bytes;
-        } else if (direct) {
-            GLenum format = GL_RGBA;
-            GLint internal = GL_RGBA;
-            switch (data.format) {
-            case TextureFormat::r8:
-                format = caps.context_es3() ? GL_RED : GL_LUMINANCE;
-                internal = caps.context_es3() ? GL_R8 : GL_LUMINANCE;
-                break;
-            case TextureFormat::rg8:
-                format = GL_RG;
-                internal = caps.context_es3() ? GL_RG8 : GL_RG;
-                break;
-            case TextureFormat::rgb8:
-                format = GL_RGB;
-                internal = caps.context_es3() ? GL_RGB8 : GL_RGB;
-                break;
-            default:
-                format = GL_RGBA;
-                internal = caps.context_es3() ? GL_RGBA8 : GL_RGBA;
-                break;
-            }
-            glTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0, format, GL_UNSIGNED_BYTE,
-                         data.image(static_cast<size_t>(level)));
-            gpu_bytes += l.image_bytes;
-        } else {
-            Result<Image> rgba = decode(data, static_cast<size_t>(level));
-            if (!rgba) return with_context(what + " level " + std::to_string(level), rgba.error());
-            glTexImage2D(GL_TEXTURE_2D, level, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba->pixels.data());
-            gpu_bytes += rgba->pixels.size();
-        }
-    }
+    if (Status uploaded = upload_levels(data, caps, what, direct, levels, decode, gpu_bytes); !uploaded)
+        return uploaded.error();
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -197,18 +240,7 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
         report->direct = direct;
         report->file_bytes = file_bytes;
         report->gpu_bytes = gpu_bytes;
-        if (direct)
-            report->path = f.compressed() ? "direct (glCompressedTexImage2D)" : "direct (glTexImage2D)";
-        else if (force_decode)
-            report->path = "CPU decode to RGBA8 (decoding forced)";
-        else if (data.format == TextureFormat::rg8)
-            report->path = "expanded to RGBA8 (no GL_EXT_texture_rg)";
-        else
-            report->path = std::string("CPU decode to RGBA8 (this context does not sample ") + format_name(data.format) +
-                           "; it needs " + format_requirement(data.format) + ")";
-        if (mipmaps && given < chain)
-            report->path += use_mips ? "; " + std::to_string(given) + " of " + std::to_string(chain) + " mip levels"
-                                     : "; no mip chain: sampled without mipmaps";
+        report->path = upload_path(data, direct, force_decode, mipmaps, use_mips, given, chain);
     }
     return t;
 }

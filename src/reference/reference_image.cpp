@@ -506,8 +506,10 @@ Result<ReferenceImage> render_reference(const PreparedScene& scene, int width, i
 
 namespace {
 
-Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int width, int height,
-                                                const ReferenceOptions& options, const PreparedScene* prepared) {
+// What the reference refuses before it builds anything: an empty image, no
+// soft samples, a scene that is not valid, an object that is not a plane.
+Status check_request(const SceneDesc& scene, int width, int height, const ReferenceOptions& options,
+                     const PreparedScene* prepared) {
     if (width < 1 || height < 1)
         return make_error("reference: image size " + std::to_string(width) + "x" + std::to_string(height) +
                           " is empty");
@@ -523,112 +525,102 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         if (o.mesh.kind != MeshKind::plane)
             return make_error("reference: object '" + o.name + "' is a " + mesh_kind_name(o.mesh.kind) +
                               "; the exact reference handles planes only");
+    return {};
+}
 
-    // Materials: only those a plane uses, built once each.
-    std::vector<MaterialData> materials(scene.materials.size());
-    std::vector<bool> built(scene.materials.size(), false);
-    Frame f;
-    f.width = width;
-    f.height = height;
-    f.options = options;
-    ReferenceImage out;
-    for (const ObjectDesc& o : scene.objects) {
-        size_t mi = scene.materials.size();
-        for (size_t i = 0; i < scene.materials.size(); ++i)
-            if (scene.materials[i].name == o.material) mi = i;
-        if (mi == scene.materials.size())
-            return make_error("reference: object '" + o.name + "' names unknown material '" + o.material + "'");
-        MaterialData& m = materials[mi];
-        if (!built[mi]) {
-            const MaterialDesc& desc = scene.materials[mi];
-            if (prepared) {
-                m.images = prepared->materials[mi]->images;
-            } else {
-                Result<MaterialImages> images = build_material_images(desc, scene.base_dir, options.images);
-                if (!images) return images.error();
-                m.images = std::move(*images);
-            }
-            m.traced = m.images.traced;
-            m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
-            m.uv_matrix = desc.uv.matrix<double>();
-            m.uv_offset = glm::dvec2(desc.uv.offset);
-            m.bounded = desc.bounded;
-            if (glm::determinant(m.uv_matrix) != 0.0) m.uv_inverse = glm::inverse(m.uv_matrix);
-            m.uv_frame = desc.uv.frame<double>();
-            m.height_scale = desc.height_scale;
-            m.polygon_height = desc.polygon_height();
-            if (!m.traced.texels.empty())
-                m.top_height = std::min(1.0, static_cast<double>(*std::max_element(m.traced.texels.begin(),
-                                                                                    m.traced.texels.end())));
-            m.specular = desc.specular;
-            m.shininess = desc.shininess;
-            built[mi] = true;
-        }
-        if (m.reads_height && out.texture_width == 0) {
-            out.texture_width = m.traced.width;
-            out.texture_height = m.traced.height;
-            out.height_scale = m.height_scale;
-            out.polygon_height = m.polygon_height;
-        }
-
-        out.object_texture_size.push_back(m.reads_height ? glm::ivec2(m.traced.width, m.traced.height)
-                                                         : glm::ivec2(0));
-
-        PlaneData p;
-        p.material = &m;
-        p.object = static_cast<int>(f.planes.size());
-        p.half_size = 0.5 * static_cast<double>(o.mesh.size);
-        p.drawn_half_size = p.half_size * drawn_length_scale(o.mesh, scene.materials[mi]);  // as build_widened_mesh
-        if (scene.materials[mi].bounded && scene.materials[mi].height_scale > 0.0f) {
-            // The relief's depth in mesh units, as the walls' (relief_depth in the renderer).
-            const double depth = static_cast<double>(scene.materials[mi].height_scale) *
-                                 static_cast<double>(o.mesh.size) / scene.materials[mi].uv.area_scale<double>();
-            const double polygon = scene.materials[mi].polygon_height();
-            if (std::isfinite(depth) && std::isfinite(polygon)) {
-                p.relief_below = std::max(polygon, 0.0) * depth;
-                p.relief_above = std::max(1.0 - polygon, 0.0) * depth;
-            }
-        }
-        p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
-        p.inverse_model = glm::inverse(p.model);
-        const glm::dmat3 model3(p.model);
-        const double det3 = glm::determinant(model3);
-        if (!(std::fabs(det3) > 0.0))
-            return make_error("reference: object '" + o.name + "' has a singular transform");
-        p.winding_sign = det3 < 0.0 ? -1.0 : 1.0;
-        const double area_scale = scene.materials[mi].uv.area_scale<double>();
-        p.units_per_tile = static_cast<double>(o.mesh.size) * std::cbrt(std::fabs(det3)) / area_scale;
-        if (!std::isfinite(p.units_per_tile) || !(p.units_per_tile > 0.0)) p.units_per_tile = 0.0;
-        // surface.vert's frame, with its fallbacks, from the vertices'
-        // tangent and normal (the mesh's, or the authored ones as make_plane
-        // gives them to every vertex, in float): n from the normal matrix (a
-        // normal under 1e-6 long: the model's +z); t Gram-Schmidt against it
-        // (under 1e-3 of it left, or a tangent under 1e-6 long: the model's
-        // +x, then +y); b = handedness * cross(n, t) (mesh tangent w = +1).
-        const glm::dvec3 authored_n(o.mesh.normal.value_or(glm::vec3(0.0f, 0.0f, 1.0f)));
-        const glm::dvec3 authored_t(o.mesh.tangent.value_or(glm::vec3(1.0f, 0.0f, 0.0f)));
-        p.n = glm::normalize(glm::inverseTranspose(model3) *
-                             (glm::dot(authored_n, authored_n) < 1e-12 ? glm::dvec3(0.0, 0.0, 1.0) : authored_n));
-        const auto perp = [&](const glm::dvec3& t) { return t - p.n * glm::dot(p.n, t); };
-        const auto degenerate = [](const glm::dvec3& t, const glm::dvec3& t_perp) {
-            return glm::dot(t_perp, t_perp) <= 1e-6 * glm::dot(t, t);
-        };
-        glm::dvec3 t = model3 * authored_t;
-        glm::dvec3 t_perp = perp(t);
-        if (glm::dot(authored_t, authored_t) < 1e-12 || degenerate(t, t_perp)) {
-            t = model3[0];
-            t_perp = perp(t);
-            if (degenerate(t, t_perp)) {
-                t = model3[1];
-                t_perp = perp(t);
-            }
-        }
-        p.t = glm::normalize(t_perp);
-        p.b = p.winding_sign * glm::cross(p.n, p.t);
-        f.planes.push_back(p);
+// Material mi's data: its images (the prepared scene's, or built here) and
+// what the trace and the shading read of its description.
+Status build_material(MaterialData& m, const SceneDesc& scene, size_t mi, const ReferenceOptions& options,
+                      const PreparedScene* prepared) {
+    const MaterialDesc& desc = scene.materials[mi];
+    if (prepared) {
+        m.images = prepared->materials[mi]->images;
+    } else {
+        Result<MaterialImages> images = build_material_images(desc, scene.base_dir, options.images);
+        if (!images) return images.error();
+        m.images = std::move(*images);
     }
+    m.traced = m.images.traced;
+    m.reads_height = (technique_info(desc.technique.technique).options & kOptHeight) != 0;
+    m.uv_matrix = desc.uv.matrix<double>();
+    m.uv_offset = glm::dvec2(desc.uv.offset);
+    m.bounded = desc.bounded;
+    if (glm::determinant(m.uv_matrix) != 0.0) m.uv_inverse = glm::inverse(m.uv_matrix);
+    m.uv_frame = desc.uv.frame<double>();
+    m.height_scale = desc.height_scale;
+    m.polygon_height = desc.polygon_height();
+    if (!m.traced.texels.empty())
+        m.top_height = std::min(1.0, static_cast<double>(*std::max_element(m.traced.texels.begin(),
+                                                                            m.traced.texels.end())));
+    m.specular = desc.specular;
+    m.shininess = desc.shininess;
+    return {};
+}
 
-    const CameraDesc& cam = scene.camera;
+// surface.vert's frame, with its fallbacks, from the vertices'
+// tangent and normal (the mesh's, or the authored ones as make_plane
+// gives them to every vertex, in float): n from the normal matrix (a
+// normal under 1e-6 long: the model's +z); t Gram-Schmidt against it
+// (under 1e-3 of it left, or a tangent under 1e-6 long: the model's
+// +x, then +y); b = handedness * cross(n, t) (mesh tangent w = +1).
+void set_tangent_frame(PlaneData& p, const ObjectDesc& o, const glm::dmat3& model3) {
+    const glm::dvec3 authored_n(o.mesh.normal.value_or(glm::vec3(0.0f, 0.0f, 1.0f)));
+    const glm::dvec3 authored_t(o.mesh.tangent.value_or(glm::vec3(1.0f, 0.0f, 0.0f)));
+    p.n = glm::normalize(glm::inverseTranspose(model3) *
+                         (glm::dot(authored_n, authored_n) < 1e-12 ? glm::dvec3(0.0, 0.0, 1.0) : authored_n));
+    const auto perp = [&](const glm::dvec3& t) { return t - p.n * glm::dot(p.n, t); };
+    const auto degenerate = [](const glm::dvec3& t, const glm::dvec3& t_perp) {
+        return glm::dot(t_perp, t_perp) <= 1e-6 * glm::dot(t, t);
+    };
+    glm::dvec3 t = model3 * authored_t;
+    glm::dvec3 t_perp = perp(t);
+    if (glm::dot(authored_t, authored_t) < 1e-12 || degenerate(t, t_perp)) {
+        t = model3[0];
+        t_perp = perp(t);
+        if (degenerate(t, t_perp)) {
+            t = model3[1];
+            t_perp = perp(t);
+        }
+    }
+    p.t = glm::normalize(t_perp);
+    p.b = p.winding_sign * glm::cross(p.n, p.t);
+}
+
+// One plane object: its size, its bounded relief's slab, its transform and
+// tangent frame; an error where the transform is singular.
+Result<PlaneData> plane_data(const ObjectDesc& o, const MaterialDesc& desc, const MaterialData& m, int object) {
+    PlaneData p;
+    p.material = &m;
+    p.object = object;
+    p.half_size = 0.5 * static_cast<double>(o.mesh.size);
+    p.drawn_half_size = p.half_size * drawn_length_scale(o.mesh, desc);  // as build_widened_mesh
+    if (desc.bounded && desc.height_scale > 0.0f) {
+        // The relief's depth in mesh units, as the walls' (relief_depth in the renderer).
+        const double depth = static_cast<double>(desc.height_scale) *
+                             static_cast<double>(o.mesh.size) / desc.uv.area_scale<double>();
+        const double polygon = desc.polygon_height();
+        if (std::isfinite(depth) && std::isfinite(polygon)) {
+            p.relief_below = std::max(polygon, 0.0) * depth;
+            p.relief_above = std::max(1.0 - polygon, 0.0) * depth;
+        }
+    }
+    p.model = glm::dmat4(o.transform.matrix());  // the float matrix the GPU gets, widened
+    p.inverse_model = glm::inverse(p.model);
+    const glm::dmat3 model3(p.model);
+    const double det3 = glm::determinant(model3);
+    if (!(std::fabs(det3) > 0.0))
+        return make_error("reference: object '" + o.name + "' has a singular transform");
+    p.winding_sign = det3 < 0.0 ? -1.0 : 1.0;
+    const double area_scale = desc.uv.area_scale<double>();
+    p.units_per_tile = static_cast<double>(o.mesh.size) * std::cbrt(std::fabs(det3)) / area_scale;
+    if (!std::isfinite(p.units_per_tile) || !(p.units_per_tile > 0.0)) p.units_per_tile = 0.0;
+    set_tangent_frame(p, o, model3);
+    return p;
+}
+
+// The camera's inverse view-projection, and each plane's footprint
+// homography from it (PlaneData::ndc_to_texel).
+void set_view(Frame& f, const CameraDesc& cam, int width, int height) {
     const double aspect = static_cast<double>(width) / static_cast<double>(height);
     const glm::dmat4 view = glm::lookAt(glm::dvec3(cam.position), glm::dvec3(cam.target), glm::dvec3(cam.up));
     const glm::dmat4 projection = glm::perspective(glm::radians(static_cast<double>(cam.fov_y_deg)), aspect,
@@ -656,9 +648,10 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         p.ndc_to_texel = glm::transpose(glm::dmat3(row_u, row_v, row_w));
         p.ndc_to_w = a_t[3];
     }
-    f.ambient = glm::dvec3(scene.ambient);
-    f.background = glm::dvec3(scene.background);
-    // As the renderer: the first kMaxLights lights, colour times intensity.
+}
+
+// As the renderer: the first kMaxLights lights, colour times intensity.
+void add_lights(Frame& f, const SceneDesc& scene) {
     const size_t light_count = std::min<size_t>(scene.lights.size(), static_cast<size_t>(kMaxLights));
     for (size_t i = 0; i < light_count; ++i) {
         const LightDesc& l = scene.lights[i];
@@ -669,7 +662,10 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
         d.angular_radius = glm::radians(static_cast<double>(l.angular_radius_deg));
         f.lights.push_back(d);
     }
+}
 
+// The image's buffers at their size, every pixel cleared.
+void size_output(ReferenceImage& out, int width, int height) {
     out.surface.width = width;
     out.surface.height = height;
     out.surface.samples.assign(static_cast<size_t>(width) * height, SurfaceSample{});
@@ -681,9 +677,12 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
     out.entry_uv.assign(static_cast<size_t>(width) * height, glm::dvec2(0.0));
     out.object_index.assign(static_cast<size_t>(width) * height, -1);
     out.texels_per_pixel.assign(static_cast<size_t>(width) * height, 0.0);
+}
 
-    // Rows interleaved over threads; each pixel depends on nothing but the
-    // frame, so the image is the same for any thread count.
+// Every pixel of the frame into out. Rows interleaved over threads; each
+// pixel depends on nothing but the frame, so the image is the same for any
+// thread count.
+void render_pixels(const Frame& f, ReferenceImage& out, int width, int height) {
     const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
     auto work = [&](int first) {
         std::vector<Candidate> candidates;  // this thread's scratch, reused for every pixel
@@ -708,6 +707,52 @@ Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int widt
     work(0);
     for (int i = started; i < threads; ++i) work(i);
     for (std::thread& t : pool) t.join();
+}
+
+Result<ReferenceImage> render_reference_checked(const SceneDesc& scene, int width, int height,
+                                                const ReferenceOptions& options, const PreparedScene* prepared) {
+    if (Status request = check_request(scene, width, height, options, prepared); !request) return request.error();
+
+    // Materials: only those a plane uses, built once each.
+    std::vector<MaterialData> materials(scene.materials.size());
+    std::vector<bool> built(scene.materials.size(), false);
+    Frame f;
+    f.width = width;
+    f.height = height;
+    f.options = options;
+    ReferenceImage out;
+    for (const ObjectDesc& o : scene.objects) {
+        size_t mi = scene.materials.size();
+        for (size_t i = 0; i < scene.materials.size(); ++i)
+            if (scene.materials[i].name == o.material) mi = i;
+        if (mi == scene.materials.size())
+            return make_error("reference: object '" + o.name + "' names unknown material '" + o.material + "'");
+        MaterialData& m = materials[mi];
+        if (!built[mi]) {
+            if (Status material = build_material(m, scene, mi, options, prepared); !material) return material.error();
+            built[mi] = true;
+        }
+        if (m.reads_height && out.texture_width == 0) {
+            out.texture_width = m.traced.width;
+            out.texture_height = m.traced.height;
+            out.height_scale = m.height_scale;
+            out.polygon_height = m.polygon_height;
+        }
+
+        out.object_texture_size.push_back(m.reads_height ? glm::ivec2(m.traced.width, m.traced.height)
+                                                         : glm::ivec2(0));
+
+        Result<PlaneData> plane = plane_data(o, scene.materials[mi], m, static_cast<int>(f.planes.size()));
+        if (!plane) return plane.error();
+        f.planes.push_back(*plane);
+    }
+
+    set_view(f, scene.camera, width, height);
+    f.ambient = glm::dvec3(scene.ambient);
+    f.background = glm::dvec3(scene.background);
+    add_lights(f, scene);
+    size_output(out, width, height);
+    render_pixels(f, out, width, height);
     return out;
 }
 

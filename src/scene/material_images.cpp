@@ -345,51 +345,46 @@ Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const s
     return built;
 }
 
-Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir,
-                                                       const TextureFileReaders* files) {
-    const std::string where = "material '" + echo(m.name) + "'";
-    if (!files) {
-        const std::pair<const TextureSource*, const char*> slots[] = {
-            {&m.height, "height"}, {&m.normal, "normal"}, {&m.albedo, "albedo"}};
-        for (auto [source, slot] : slots)
-            if (source->kind == TextureSource::Kind::file) return with_context(where + " " + slot, no_readers(*source).error());
+namespace {
+
+bool texture_file_source(const TextureSource& s) {
+    return s.kind == TextureSource::Kind::file && is_texture_file(s.path);
+}
+
+// A slot's texture file, read as it is. Kind and size from the header
+// first: an array of 2048 layers is refused before anything of it is
+// inflated. The scene's first_row, where given, overrides the file's.
+Result<TextureData> read_texture_source(const TextureSource& s, const char* slot, const std::string& where,
+                                        const std::string& base_dir, const TextureFileReaders* files) {
+    Result<TextureShape> shape = files->read_texture_shape(resolve(base_dir, s.path));
+    if (!shape) return with_context(where + " " + slot, shape.error());
+    if (Status one = single_image(*shape, s.path); !one) return with_context(where + " " + slot, one.error());
+    Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
+    if (!t) return with_context(where + " " + slot, t.error());
+    if (s.first_row != TextureSource::FirstRow::file) {
+        const bool top = s.first_row == TextureSource::FirstRow::top;
+        t->rows = top ? RowOrder::top_first : RowOrder::bottom_first;
+        t->rows_source = std::string("the scene's first_row \"") + (top ? "top" : "bottom") + "\" (the file says " +
+                         t->rows_source + ")";
     }
-    MaterialImages out;
-    const auto texture_file = [&](const TextureSource& s) {
-        return s.kind == TextureSource::Kind::file && is_texture_file(s.path);
-    };
-    const auto read_texture_source = [&](const TextureSource& s, const char* slot) -> Result<TextureData> {
-        // Kind and size from the header first: an array of 2048 layers is
-        // refused before anything of it is inflated.
-        Result<TextureShape> shape = files->read_texture_shape(resolve(base_dir, s.path));
-        if (!shape) return with_context(where + " " + slot, shape.error());
-        if (Status one = single_image(*shape, s.path); !one) return with_context(where + " " + slot, one.error());
-        Result<TextureData> t = files->read_texture_file(resolve(base_dir, s.path));
-        if (!t) return with_context(where + " " + slot, t.error());
-        if (s.first_row != TextureSource::FirstRow::file) {
-            const bool top = s.first_row == TextureSource::FirstRow::top;
-            t->rows = top ? RowOrder::top_first : RowOrder::bottom_first;
-            t->rows_source = std::string("the scene's first_row \"") + (top ? "top" : "bottom") + "\" (the file says " +
-                             t->rows_source + ")";
-        }
-        if (Status one = single_image(TextureShape{t->container, t->format, t->width, t->height, t->layers, t->faces,
-                                                   static_cast<std::uint32_t>(t->levels.size()), t->bytes.size()},
-                                      s.path);
-            !one)
-            return with_context(where + " " + slot, one.error());
-        return t;
-    };
-    // Texture files are never packed: each keeps its own layout (height in
-    // one channel, normals in two or three).
-    const bool any_texture_file = texture_file(m.height) || texture_file(m.normal) || texture_file(m.albedo);
-    const bool packed = m.pack_height_in_normal_alpha && !any_texture_file;
-    out.layout.packed_height = packed;
-    if (texture_file(m.height)) {
+    if (Status one = single_image(TextureShape{t->container, t->format, t->width, t->height, t->layers, t->faces,
+                                               static_cast<std::uint32_t>(t->levels.size()), t->bytes.size()},
+                                  s.path);
+        !one)
+        return with_context(where + " " + slot, one.error());
+    return t;
+}
+
+// The height field: a texture file's as the GPU samples it, else loaded
+// or made and quantised to 8 bits as it will be uploaded.
+Status read_height(MaterialImages& out, const MaterialDesc& m, const std::string& where,
+                   const std::string& base_dir, const TextureFileReaders* files) {
+    if (texture_file_source(m.height)) {
         if (m.height.convention == HeightConvention::depth)
             return make_error(where + " height: '" + echo_path(m.height.path) +
                               "' is a texture file, which the GPU samples as it is: it must hold height (white is "
                               "high); convert depth maps with `parallax convert --depth`");
-        Result<TextureData> t = read_texture_source(m.height, "height");
+        Result<TextureData> t = read_texture_source(m.height, "height", where, base_dir, files);
         if (!t) return t.error();
         Result<HeightField> f = files->height_field(*t);
         if (!f) return with_context(where + " height '" + echo_path(m.height.path) + "'", f.error());
@@ -404,8 +399,15 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         out.field = std::move(*field);
         out.traced = quantized_8bit(out.field);
     }
-    if (texture_file(m.normal)) {
-        Result<TextureData> t = read_texture_source(m.normal, "normal");
+    return {};
+}
+
+// The normal and albedo slots given as texture files, with their base
+// level decoded (bottom row first) for the CPU's uses.
+Status read_texture_files(MaterialImages& out, const MaterialDesc& m, const std::string& where,
+                          const std::string& base_dir, const TextureFileReaders* files) {
+    if (texture_file_source(m.normal)) {
+        Result<TextureData> t = read_texture_source(m.normal, "normal", where, base_dir, files);
         if (!t) return t.error();
         Result<Image> level0 = files->decode_level(*t, 0);
         if (!level0) return with_context(where + " normal '" + echo_path(m.normal.path) + "'", level0.error());
@@ -414,8 +416,8 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         out.normal = std::move(*level0);
         out.normal_texture = std::move(*t);
     }
-    if (texture_file(m.albedo)) {
-        Result<TextureData> t = read_texture_source(m.albedo, "albedo");
+    if (texture_file_source(m.albedo)) {
+        Result<TextureData> t = read_texture_source(m.albedo, "albedo", where, base_dir, files);
         if (!t) return t.error();
         Result<Image> level0 = files->decode_level(*t, 0);
         if (!level0) return with_context(where + " albedo '" + echo_path(m.albedo.path) + "'", level0.error());
@@ -423,9 +425,13 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         out.albedo = std::move(*level0);
         out.albedo_texture = std::move(*t);
     }
+    return {};
+}
 
-    // Normal map: derived from the height field so it matches the traced
-    // surface, unless the material gives one.
+// Normal map: derived from the height field so it matches the traced
+// surface, unless the material gives one.
+Status build_normal_map(MaterialImages& out, const MaterialDesc& m, const std::string& where,
+                        const std::string& base_dir, const TextureFileReaders* files, bool packed) {
     if (out.normal_texture) {
         // read above
     } else if (m.normal.kind == TextureSource::Kind::file) {
@@ -456,10 +462,14 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
     } else {
         out.normal = derive_normal_map(out.field, m.height_scale, packed);
     }
-    if (!packed) out.height = height_image(out.field);
-    if (files && (out.height_texture || out.normal_texture || out.albedo_texture)) out.decode = files->decode_level;
+    return {};
+}
 
-    if (!out.albedo_texture) switch (m.albedo.kind) {
+// The albedo where no texture file gives it: a default grey, a colour, an
+// image file or a procedural field through its colour ramp.
+Status build_albedo(MaterialImages& out, const MaterialDesc& m, const std::string& where,
+                    const std::string& base_dir, const TextureFileReaders* files) {
+    switch (m.albedo.kind) {
         case TextureSource::Kind::none:
             out.albedo = make_solid_image(4, 4, 204, 204, 204);
             break;
@@ -486,6 +496,36 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
             out.albedo = ramp_image(*f, ramp);
             break;
         }
+    }
+    return {};
+}
+
+}  // namespace
+
+Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir,
+                                                       const TextureFileReaders* files) {
+    const std::string where = "material '" + echo(m.name) + "'";
+    if (!files) {
+        const std::pair<const TextureSource*, const char*> slots[] = {
+            {&m.height, "height"}, {&m.normal, "normal"}, {&m.albedo, "albedo"}};
+        for (auto [source, slot] : slots)
+            if (source->kind == TextureSource::Kind::file) return with_context(where + " " + slot, no_readers(*source).error());
+    }
+    MaterialImages out;
+    // Texture files are never packed: each keeps its own layout (height in
+    // one channel, normals in two or three).
+    const bool any_texture_file =
+        texture_file_source(m.height) || texture_file_source(m.normal) || texture_file_source(m.albedo);
+    const bool packed = m.pack_height_in_normal_alpha && !any_texture_file;
+    out.layout.packed_height = packed;
+    if (Status height = read_height(out, m, where, base_dir, files); !height) return height.error();
+    if (Status read = read_texture_files(out, m, where, base_dir, files); !read) return read.error();
+    if (Status normal = build_normal_map(out, m, where, base_dir, files, packed); !normal) return normal.error();
+    if (!packed) out.height = height_image(out.field);
+    if (files && (out.height_texture || out.normal_texture || out.albedo_texture)) out.decode = files->decode_level;
+
+    if (!out.albedo_texture) {
+        if (Status albedo = build_albedo(out, m, where, base_dir, files); !albedo) return albedo.error();
     }
     return out;
 }

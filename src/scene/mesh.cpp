@@ -163,9 +163,10 @@ Result<MeshKind> parse_mesh_kind(const std::string& name) {
     return make_error("unknown mesh kind '" + echo(name) + "' (known: " + known + ")");
 }
 
-Status generate_tangents(Mesh& mesh) {
-    if (Status s = validate_for_tangents(mesh); !s) return s;
+namespace {
 
+// Each triangle's frame, in index order.
+std::vector<TriangleFrame> triangle_frames(const Mesh& mesh) {
     const std::size_t tri_count = mesh.indices.size() / 3;
     std::vector<TriangleFrame> tris(tri_count);
     for (std::size_t f = 0; f < tri_count; ++f) {
@@ -173,9 +174,13 @@ Status generate_tangents(Mesh& mesh) {
         tris[f] =
             triangle_frame(mesh.vertices[idx[0]], mesh.vertices[idx[1]], mesh.vertices[idx[2]]);
     }
+    return tris;
+}
 
-    // Effective unit normal per vertex; a zero normal falls back to the
-    // angle-weighted face normal so the frame is still defined.
+// Effective unit normal per vertex; a zero normal falls back to the
+// angle-weighted face normal so the frame is still defined.
+std::vector<glm::vec3> effective_normals(const Mesh& mesh, const std::vector<TriangleFrame>& tris) {
+    const std::size_t tri_count = tris.size();
     std::vector<glm::vec3> face_sum(mesh.vertices.size(), glm::vec3(0.0f));
     for (std::size_t f = 0; f < tri_count; ++f)
         if (tris[f].has_area)
@@ -189,16 +194,21 @@ Status generate_tangents(Mesh& mesh) {
                     : glm::length(fs) > 1e-12f ? glm::normalize(fs)
                                                : glm::vec3(0.0f, 0.0f, 1.0f);
     }
+    return normal;
+}
 
-    // The handedness a triangle asks of a corner: whether (dP/du, dP/dv, n) is
-    // right-handed. It equals the sign of the uv area for counter-clockwise
-    // triangles, but does not depend on winding.
-    auto corner_sign = [&](std::size_t f, std::uint32_t v) {
-        return glm::dot(normal[v], glm::cross(tris[f].t, tris[f].b)) >= 0.0f ? 1 : -1;
-    };
+// The handedness a triangle asks of a corner: whether (dP/du, dP/dv, n) is
+// right-handed. It equals the sign of the uv area for counter-clockwise
+// triangles, but does not depend on winding.
+int corner_sign(const std::vector<TriangleFrame>& tris, const std::vector<glm::vec3>& normal, std::size_t f,
+                std::uint32_t v) {
+    return glm::dot(normal[v], glm::cross(tris[f].t, tris[f].b)) >= 0.0f ? 1 : -1;
+}
 
-    // Mirrored uvs: where a vertex's triangles disagree on handedness, the
-    // minority side moves to a copy of the vertex (on a tie, the w = -1 side).
+// Mirrored uvs: where a vertex's triangles disagree on handedness, the
+// minority side moves to a copy of the vertex (on a tie, the w = -1 side).
+void split_mirrored_vertices(Mesh& mesh, const std::vector<TriangleFrame>& tris, std::vector<glm::vec3>& normal) {
+    const std::size_t tri_count = tris.size();
     const std::size_t original_count = mesh.vertices.size();
     std::vector<int> votes(original_count, 0);   // sum of corner signs
     std::vector<int> voters(original_count, 0);  // number of signed corners
@@ -206,7 +216,7 @@ Status generate_tangents(Mesh& mesh) {
         if (!tris[f].usable) continue;
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = mesh.indices[3 * f + c];
-            votes[v] += corner_sign(f, v);
+            votes[v] += corner_sign(tris, normal, f, v);
             ++voters[v];
         }
     }
@@ -223,36 +233,53 @@ Status generate_tangents(Mesh& mesh) {
             std::uint32_t& v = mesh.indices[3 * f + c];
             if (v >= original_count || copy_of[v] == 0) continue;
             const int majority = votes[v] >= 0 ? 1 : -1;
-            if (corner_sign(f, v) != majority) v = copy_of[v];
+            if (corner_sign(tris, normal, f, v) != majority) v = copy_of[v];
         }
     }
+}
 
-    // Accumulate angle-weighted unit dP/du and dP/dv: the weight makes the
-    // result independent of how the surface around the vertex is split into
-    // triangles.
+// Per vertex, over its usable corners: the angle-weighted unit dP/du and
+// dP/dv (the weight makes the result independent of how the surface
+// around the vertex is split into triangles), the handedness, and the
+// angle-weighted |dP/du|, |dP/dv| with the weight itself.
+struct FrameSums {
+    std::vector<glm::vec3> t_sum, b_sum;
+    std::vector<int> sign;
+    std::vector<glm::dvec3> lengths;
+};
+
+FrameSums frame_sums(const Mesh& mesh, const std::vector<TriangleFrame>& tris, const std::vector<glm::vec3>& normal) {
+    const std::size_t tri_count = tris.size();
     const std::size_t vert_count = mesh.vertices.size();
-    std::vector<glm::vec3> t_sum(vert_count, glm::vec3(0.0f));
-    std::vector<glm::vec3> b_sum(vert_count, glm::vec3(0.0f));
-    std::vector<int> sign(vert_count, 0);
-    std::vector<glm::dvec3> lengths(vert_count, glm::dvec3(0.0));  // angle-weighted |dP/du|, |dP/dv|, weight
+    FrameSums sums;
+    sums.t_sum.assign(vert_count, glm::vec3(0.0f));
+    sums.b_sum.assign(vert_count, glm::vec3(0.0f));
+    sums.sign.assign(vert_count, 0);
+    sums.lengths.assign(vert_count, glm::dvec3(0.0));
     for (std::size_t f = 0; f < tri_count; ++f) {
         if (!tris[f].usable) continue;
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = mesh.indices[3 * f + c];
-            t_sum[v] += tris[f].t * tris[f].angle[c];
-            b_sum[v] += tris[f].b * tris[f].angle[c];
-            lengths[v] += glm::dvec3(tris[f].t_len, tris[f].b_len, 1.0) * static_cast<double>(tris[f].angle[c]);
-            sign[v] = corner_sign(f, v);  // unanimous after the split
+            sums.t_sum[v] += tris[f].t * tris[f].angle[c];
+            sums.b_sum[v] += tris[f].b * tris[f].angle[c];
+            sums.lengths[v] += glm::dvec3(tris[f].t_len, tris[f].b_len, 1.0) * static_cast<double>(tris[f].angle[c]);
+            sums.sign[v] = corner_sign(tris, normal, f, v);  // unanimous after the split
         }
     }
+    return sums;
+}
 
-    for (std::size_t v = 0; v < vert_count; ++v) {
+// Each vertex's tangent and handedness from its sums.
+void set_tangents(Mesh& mesh, const std::vector<glm::vec3>& normal, const FrameSums& sums) {
+    const std::vector<glm::vec3>& t_sum = sums.t_sum;
+    const std::vector<glm::vec3>& b_sum = sums.b_sum;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
         const glm::vec3 n = normal[v];
         // Gram-Schmidt; fall back to t = w * cross(b, n) when the accumulated
         // tangent is (nearly) along the normal, then to any orthogonal vector.
         const glm::vec3 t_proj = t_sum[v] - n * glm::dot(n, t_sum[v]);
         const glm::vec3 b_proj = b_sum[v] - n * glm::dot(n, b_sum[v]);
-        const float group_w = sign[v] < 0 ? -1.0f : 1.0f;
+        const float group_w = sums.sign[v] < 0 ? -1.0f : 1.0f;
         glm::vec3 t;
         if (glm::length(t_proj) > 1e-4f * glm::length(t_sum[v]) && glm::length(t_proj) > 1e-20f)
             t = glm::normalize(t_proj);
@@ -265,11 +292,15 @@ Status generate_tangents(Mesh& mesh) {
         const float w = handed > 0.0f ? 1.0f : handed < 0.0f ? -1.0f : group_w;
         mesh.vertices[v].tangent = glm::vec4(t, w);
     }
+}
 
-    // World length per uv unit: each triangle's linear scale
-    // sqrt(world area / uv area), weighted by sqrt(uv area), which reduces to
-    // sum sqrt(world area) / sum sqrt(uv area). Lengths, not areas, so that
-    // large triangles do not dominate quadratically.
+// World length per uv unit: each triangle's linear scale
+// sqrt(world area / uv area), weighted by sqrt(uv area), which reduces to
+// sum sqrt(world area) / sum sqrt(uv area). Lengths, not areas, so that
+// large triangles do not dominate quadratically. Then the uv stretch
+// (Vertex::uv_stretch): the mean over the local lengths, snapped to 1
+// within float rounding (a plane's is 1 exactly).
+void set_uv_scale(Mesh& mesh, const std::vector<TriangleFrame>& tris, const std::vector<glm::dvec3>& lengths) {
     double world = 0.0, uv = 0.0;
     for (const TriangleFrame& f : tris) {
         if (!f.usable) continue;
@@ -277,9 +308,7 @@ Status generate_tangents(Mesh& mesh) {
         uv += std::sqrt(static_cast<double>(f.uv_area));
     }
     mesh.units_per_uv = uv > 0.0 ? static_cast<float>(world / uv) : 1.0f;
-    // The uv stretch (Vertex::uv_stretch): the mean over the local lengths,
-    // snapped to 1 within float rounding (a plane's is 1 exactly).
-    for (std::size_t v = 0; v < vert_count; ++v) {
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
         const glm::dvec3 l = lengths[v];
         if (!(l.z > 0.0) || !(l.x > 0.0) || !(l.y > 0.0)) continue;
         auto stretch = [&](double len) {
@@ -290,6 +319,18 @@ Status generate_tangents(Mesh& mesh) {
         };
         mesh.vertices[v].uv_stretch = glm::vec2(stretch(l.x), stretch(l.y));
     }
+}
+
+}  // namespace
+
+Status generate_tangents(Mesh& mesh) {
+    if (Status s = validate_for_tangents(mesh); !s) return s;
+    const std::vector<TriangleFrame> tris = triangle_frames(mesh);
+    std::vector<glm::vec3> normal = effective_normals(mesh, tris);
+    split_mirrored_vertices(mesh, tris, normal);
+    const FrameSums sums = frame_sums(mesh, tris, normal);
+    set_tangents(mesh, normal, sums);
+    set_uv_scale(mesh, tris, sums.lengths);
     return {};
 }
 
@@ -473,6 +514,109 @@ std::optional<FitFrame> fit_frame(const Vertex& v) {
     return FitFrame{normal, tangent, (v.tangent.w < 0.0f ? -1.0 : 1.0) * glm::cross(normal, tangent)};
 }
 
+// The uv bend's basis, ordered by degree: x, y, the quadric's three, the
+// cubic's four, the quartic's five.
+constexpr std::size_t kBendTerms = 14;
+
+// One set of normal equations for the quartic in (x, y), u and v its
+// two right-hand sides; the cubic's and the quadric's are its leading
+// 9 x 9 and 5 x 5 blocks (the basis is ordered by degree).
+struct BendEquations {
+    std::vector<double> equations, rhs_u, rhs_v;
+};
+
+// Vertex i's own two rings of neighbours, sorted and without repeats
+// (neighbours: each vertex's ring, sorted and without repeats).
+void two_rings(const std::vector<std::vector<std::uint32_t>>& neighbours, std::size_t i,
+               std::vector<std::uint32_t>& rings) {
+    rings.clear();
+    for (std::uint32_t j : neighbours[i]) {
+        rings.push_back(j);
+        rings.insert(rings.end(), neighbours[j].begin(), neighbours[j].end());
+    }
+    std::sort(rings.begin(), rings.end());
+    rings.erase(std::unique(rings.begin(), rings.end()), rings.end());
+}
+
+// The equations over the rings, in vertex i's tangent-plane offsets.
+BendEquations bend_equations(const Mesh& mesh, std::size_t i, const std::vector<std::uint32_t>& rings,
+                             const FitFrame& frame) {
+    constexpr std::size_t kTerms = kBendTerms;
+    const Vertex& v = mesh.vertices[i];
+    const glm::dvec3 p(v.position);
+    const glm::dvec3 &tangent = frame.tangent, &bitangent = frame.bitangent;
+    BendEquations eq{std::vector<double>(kTerms * kTerms, 0.0), std::vector<double>(kTerms, 0.0),
+                     std::vector<double>(kTerms, 0.0)};
+    std::vector<double>& equations = eq.equations, &rhs_u = eq.rhs_u, &rhs_v = eq.rhs_v;
+    for (std::uint32_t j : rings) {
+        if (j == i) continue;
+        const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
+        const double x = glm::dot(e, tangent), y = glm::dot(e, bitangent);
+        if (!(x * x + y * y > 0.0)) continue;
+        const double du = static_cast<double>(mesh.vertices[j].uv.x) - v.uv.x;
+        const double dv = static_cast<double>(mesh.vertices[j].uv.y) - v.uv.y;
+        const double x2 = x * x, y2 = y * y;
+        const double row[kTerms] = {x,      y,          x2,      x * y,       y2,     x2 * x, x2 * y,
+                                    x * y2, y2 * y,     x2 * x2, x2 * x * y,  x2 * y2, x * y2 * y, y2 * y2};
+        for (std::size_t a = 0; a < kTerms; ++a) {
+            for (std::size_t c = a; c < kTerms; ++c) equations[a * kTerms + c] += row[a] * row[c];
+            rhs_u[a] += row[a] * du;
+            rhs_v[a] += row[a] * dv;
+        }
+    }
+    for (std::size_t a = 0; a < kTerms; ++a)
+        for (std::size_t c = 0; c < a; ++c) equations[a * kTerms + c] = equations[c * kTerms + a];
+    return eq;
+}
+
+// The second-order parts of u and v from the leading k terms of the
+// equations; u and v share them: one elimination for both. None where
+// those terms do not determine them.
+std::optional<std::pair<glm::dvec3, glm::dvec3>> solve_bend(const BendEquations& eq, std::size_t k) {
+    constexpr std::size_t kTerms = kBendTerms;
+    const std::vector<double>& equations = eq.equations, &rhs_u = eq.rhs_u, &rhs_v = eq.rhs_v;
+    double m[kTerms * kTerms], r[2][kTerms], scale[kTerms];
+    for (std::size_t a = 0; a < k; ++a) {
+        const double d = equations[a * kTerms + a];
+        if (!(d > 0.0) || !std::isfinite(d)) return std::nullopt;
+        scale[a] = 1.0 / std::sqrt(d);
+    }
+    for (std::size_t a = 0; a < k; ++a) {
+        for (std::size_t c = 0; c < k; ++c) m[a * k + c] = equations[a * kTerms + c] * scale[a] * scale[c];
+        r[0][a] = rhs_u[a] * scale[a];
+        r[1][a] = rhs_v[a] * scale[a];
+    }
+    for (std::size_t col = 0; col < k; ++col) {
+        std::size_t pivot = col;
+        for (std::size_t a = col + 1; a < k; ++a)
+            if (std::fabs(m[a * k + col]) > std::fabs(m[pivot * k + col])) pivot = a;
+        if (!(std::fabs(m[pivot * k + col]) > 1e-9)) return std::nullopt;
+        if (pivot != col) {
+            for (std::size_t c = 0; c < k; ++c) std::swap(m[col * k + c], m[pivot * k + c]);
+            std::swap(r[0][col], r[0][pivot]);
+            std::swap(r[1][col], r[1][pivot]);
+        }
+        for (std::size_t a = col + 1; a < k; ++a) {
+            const double f = m[a * k + col] / m[col * k + col];
+            for (std::size_t c = col; c < k; ++c) m[a * k + c] -= f * m[col * k + c];
+            r[0][a] -= f * r[0][col];
+            r[1][a] -= f * r[1][col];
+        }
+    }
+    double x[2][kTerms];
+    for (std::size_t a = k; a-- > 0;) {
+        for (int w = 0; w < 2; ++w) {
+            double sum = r[w][a];
+            for (std::size_t c = a + 1; c < k; ++c) sum -= m[a * k + c] * x[w][c];
+            x[w][a] = sum / m[a * k + a];
+        }
+    }
+    const glm::dvec3 qu(x[0][2] * scale[2], x[0][3] * scale[3], x[0][4] * scale[4]);
+    const glm::dvec3 qv(x[1][2] * scale[2], x[1][3] * scale[3], x[1][4] * scale[4]);
+    if (!std::isfinite(qu.x + qu.y + qu.z + qv.x + qv.y + qv.z)) return std::nullopt;
+    return std::make_pair(qu, qv);
+}
+
 // Vertex::uv_bend_u/v: over each vertex's own two rings of neighbours (by
 // index, so that a seam's copies keep their own side's uv), mesh u and v
 // fitted as cubics in the tangent-plane offset (x, y), their second-order
@@ -487,87 +631,14 @@ void fit_uv_bend(Mesh& mesh, std::vector<std::vector<std::uint32_t>>& neighbours
     }
     std::vector<std::uint32_t> rings;
     for (std::size_t i = 0; i < n; ++i) {
-        rings.clear();
-        for (std::uint32_t j : neighbours[i]) {
-            rings.push_back(j);
-            rings.insert(rings.end(), neighbours[j].begin(), neighbours[j].end());
-        }
-        std::sort(rings.begin(), rings.end());
-        rings.erase(std::unique(rings.begin(), rings.end()), rings.end());
+        two_rings(neighbours, i, rings);
         Vertex& v = mesh.vertices[i];
-        const glm::dvec3 p(v.position);
         const std::optional<FitFrame> frame = fit_frame(v);
         if (!frame) continue;
-        const glm::dvec3 &tangent = frame->tangent, &bitangent = frame->bitangent;
-        // One set of normal equations for the quartic in (x, y), u and v its
-        // two right-hand sides; the cubic's and the quadric's are its leading
-        // 9 x 9 and 5 x 5 blocks (the basis is ordered by degree).
-        constexpr std::size_t kTerms = 14;
-        std::vector<double> equations(kTerms * kTerms, 0.0), rhs_u(kTerms, 0.0), rhs_v(kTerms, 0.0);
-        for (std::uint32_t j : rings) {
-            if (j == i) continue;
-            const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
-            const double x = glm::dot(e, tangent), y = glm::dot(e, bitangent);
-            if (!(x * x + y * y > 0.0)) continue;
-            const double du = static_cast<double>(mesh.vertices[j].uv.x) - v.uv.x;
-            const double dv = static_cast<double>(mesh.vertices[j].uv.y) - v.uv.y;
-            const double x2 = x * x, y2 = y * y;
-            const double row[kTerms] = {x,      y,          x2,      x * y,       y2,     x2 * x, x2 * y,
-                                        x * y2, y2 * y,     x2 * x2, x2 * x * y,  x2 * y2, x * y2 * y, y2 * y2};
-            for (std::size_t a = 0; a < kTerms; ++a) {
-                for (std::size_t c = a; c < kTerms; ++c) equations[a * kTerms + c] += row[a] * row[c];
-                rhs_u[a] += row[a] * du;
-                rhs_v[a] += row[a] * dv;
-            }
-        }
-        for (std::size_t a = 0; a < kTerms; ++a)
-            for (std::size_t c = 0; c < a; ++c) equations[a * kTerms + c] = equations[c * kTerms + a];
-        // u and v share the equations: one elimination for both.
-        const auto bend = [&](std::size_t k) -> std::optional<std::pair<glm::dvec3, glm::dvec3>> {
-            double m[kTerms * kTerms], r[2][kTerms], scale[kTerms];
-            for (std::size_t a = 0; a < k; ++a) {
-                const double d = equations[a * kTerms + a];
-                if (!(d > 0.0) || !std::isfinite(d)) return std::nullopt;
-                scale[a] = 1.0 / std::sqrt(d);
-            }
-            for (std::size_t a = 0; a < k; ++a) {
-                for (std::size_t c = 0; c < k; ++c) m[a * k + c] = equations[a * kTerms + c] * scale[a] * scale[c];
-                r[0][a] = rhs_u[a] * scale[a];
-                r[1][a] = rhs_v[a] * scale[a];
-            }
-            for (std::size_t col = 0; col < k; ++col) {
-                std::size_t pivot = col;
-                for (std::size_t a = col + 1; a < k; ++a)
-                    if (std::fabs(m[a * k + col]) > std::fabs(m[pivot * k + col])) pivot = a;
-                if (!(std::fabs(m[pivot * k + col]) > 1e-9)) return std::nullopt;
-                if (pivot != col) {
-                    for (std::size_t c = 0; c < k; ++c) std::swap(m[col * k + c], m[pivot * k + c]);
-                    std::swap(r[0][col], r[0][pivot]);
-                    std::swap(r[1][col], r[1][pivot]);
-                }
-                for (std::size_t a = col + 1; a < k; ++a) {
-                    const double f = m[a * k + col] / m[col * k + col];
-                    for (std::size_t c = col; c < k; ++c) m[a * k + c] -= f * m[col * k + c];
-                    r[0][a] -= f * r[0][col];
-                    r[1][a] -= f * r[1][col];
-                }
-            }
-            double x[2][kTerms];
-            for (std::size_t a = k; a-- > 0;) {
-                for (int w = 0; w < 2; ++w) {
-                    double sum = r[w][a];
-                    for (std::size_t c = a + 1; c < k; ++c) sum -= m[a * k + c] * x[w][c];
-                    x[w][a] = sum / m[a * k + a];
-                }
-            }
-            const glm::dvec3 qu(x[0][2] * scale[2], x[0][3] * scale[3], x[0][4] * scale[4]);
-            const glm::dvec3 qv(x[1][2] * scale[2], x[1][3] * scale[3], x[1][4] * scale[4]);
-            if (!std::isfinite(qu.x + qu.y + qu.z + qv.x + qv.y + qv.z)) return std::nullopt;
-            return std::make_pair(qu, qv);
-        };
-        std::optional<std::pair<glm::dvec3, glm::dvec3>> fit = bend(kTerms);
-        if (!fit) fit = bend(9);
-        if (!fit) fit = bend(5);
+        const BendEquations eq = bend_equations(mesh, i, rings, *frame);
+        std::optional<std::pair<glm::dvec3, glm::dvec3>> fit = solve_bend(eq, kBendTerms);
+        if (!fit) fit = solve_bend(eq, 9);
+        if (!fit) fit = solve_bend(eq, 5);
         const std::optional<glm::dvec3> bu = fit ? std::optional<glm::dvec3>(fit->first) : std::nullopt;
         const std::optional<glm::dvec3> bv = fit ? std::optional<glm::dvec3>(fit->second) : std::nullopt;
         if (bu && bv) {
@@ -577,10 +648,9 @@ void fit_uv_bend(Mesh& mesh, std::vector<std::vector<std::uint32_t>>& neighbours
     }
 }
 
-}  // namespace
-
-void fit_curvature(Mesh& mesh) {
-    mesh.chord_sag = chord_sag(mesh);
+// Each vertex's neighbours over the triangles, with repeats (a triangle
+// past the vertices is skipped).
+std::vector<std::vector<std::uint32_t>> mesh_neighbours(const Mesh& mesh) {
     const std::size_t n = mesh.vertices.size();
     std::vector<std::vector<std::uint32_t>> neighbours(n);
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
@@ -590,6 +660,63 @@ void fit_curvature(Mesh& mesh) {
             for (int b = 0; b < 3; ++b)
                 if (a != b) neighbours[v[a]].push_back(v[b]);
     }
+    return neighbours;
+}
+
+// Vertex::curvature of one vertex from the neighbours of its position
+// (group); left as it is where they do not determine it.
+void fit_vertex_curvature(Mesh& mesh, Vertex& v, const std::vector<std::uint32_t>& group) {
+    const glm::dvec3 p(v.position);
+    const std::optional<FitFrame> frame = fit_frame(v);
+    if (!frame) return;
+    const glm::dvec3 &normal = frame->normal, &tangent = frame->tangent, &bitangent = frame->bitangent;
+    // Goldfeather and Interrante's adjacent-normal cubic fit: the
+    // surface near the vertex as z = A x^2 + B x y + C y^2 + D x^3 +
+    // E x^2 y + F x y^2 + G y^3 below its tangent plane, through each
+    // neighbour's drop and normal (the normal (zx, zy, 1) gives the
+    // gradient). The cubic terms take up how the bend changes across
+    // the neighbourhood, which a one-sided ring (a grid's single
+    // diagonal) would otherwise fold into B (0.13 on the torus's tube).
+    LeastSquares cubic(7), quadric(3);
+    double rho4 = 0.0, rho2_drop = 0.0;
+    for (std::uint32_t j : group) {
+        const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
+        const double x = glm::dot(e, tangent), y = glm::dot(e, bitangent);
+        if (!(x * x + y * y > 0.0)) continue;  // at this vertex's position
+        const double drop = -glm::dot(e, normal);
+        const glm::dvec3 nj = glm::dvec3(mesh.vertices[j].normal);
+        const double up = glm::dot(nj, normal);
+        const double rho2 = x * x + y * y;
+        rho4 += rho2 * rho2;
+        rho2_drop += rho2 * drop;
+        cubic.add({x * x, x * y, y * y, x * x * x, x * x * y, x * y * y, y * y * y}, drop);
+        quadric.add({x * x, x * y, y * y}, drop);
+        if (!(up > 1e-3) || !std::isfinite(up)) continue;  // a normal turned past the tangent plane
+        const double zx = glm::dot(nj, tangent) / up, zy = glm::dot(nj, bitangent) / up;
+        cubic.add({2.0 * x, y, 0.0, 3.0 * x * x, 2.0 * x * y, y * y, 0.0}, zx);
+        cubic.add({0.0, x, 2.0 * y, 0.0, x * x, 2.0 * x * y, 3.0 * y * y}, zy);
+        quadric.add({2.0 * x, y, 0.0}, zx);
+        quadric.add({0.0, x, 2.0 * y}, zy);
+    }
+    if (!(rho4 > 0.0)) return;
+    glm::dvec3 c;
+    if (std::optional<std::vector<double>> fit = cubic.solve()) {
+        c = glm::dvec3((*fit)[0], (*fit)[1], (*fit)[2]);
+    } else if (std::optional<std::vector<double>> q = quadric.solve()) {
+        c = glm::dvec3((*q)[0], (*q)[1], (*q)[2]);
+    } else {  // too few directions: the same bend each way
+        const double k0 = rho2_drop / rho4;
+        c = glm::dvec3(k0, 0.0, k0);
+    }
+    if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) v.curvature = glm::vec3(c);
+}
+
+}  // namespace
+
+void fit_curvature(Mesh& mesh) {
+    mesh.chord_sag = chord_sag(mesh);
+    const std::size_t n = mesh.vertices.size();
+    std::vector<std::vector<std::uint32_t>> neighbours = mesh_neighbours(mesh);
     // Vertices at one position (seams, poles) share their neighbours. One
     // position: equal after rounding to a millionth of the mesh's extent
     // (a seam's two copies differ by sin(2 pi) in float).
@@ -612,52 +739,7 @@ void fit_curvature(Mesh& mesh) {
             group.insert(group.end(), neighbours[order[k]].begin(), neighbours[order[k]].end());
         std::sort(group.begin(), group.end());
         group.erase(std::unique(group.begin(), group.end()), group.end());
-        for (std::size_t k = start; k < end; ++k) {
-            Vertex& v = mesh.vertices[order[k]];
-            const glm::dvec3 p(v.position);
-            const std::optional<FitFrame> frame = fit_frame(v);
-            if (!frame) continue;
-            const glm::dvec3 &normal = frame->normal, &tangent = frame->tangent, &bitangent = frame->bitangent;
-            // Goldfeather and Interrante's adjacent-normal cubic fit: the
-            // surface near the vertex as z = A x^2 + B x y + C y^2 + D x^3 +
-            // E x^2 y + F x y^2 + G y^3 below its tangent plane, through each
-            // neighbour's drop and normal (the normal (zx, zy, 1) gives the
-            // gradient). The cubic terms take up how the bend changes across
-            // the neighbourhood, which a one-sided ring (a grid's single
-            // diagonal) would otherwise fold into B (0.13 on the torus's tube).
-            LeastSquares cubic(7), quadric(3);
-            double rho4 = 0.0, rho2_drop = 0.0;
-            for (std::uint32_t j : group) {
-                const glm::dvec3 e = glm::dvec3(mesh.vertices[j].position) - p;
-                const double x = glm::dot(e, tangent), y = glm::dot(e, bitangent);
-                if (!(x * x + y * y > 0.0)) continue;  // at this vertex's position
-                const double drop = -glm::dot(e, normal);
-                const glm::dvec3 nj = glm::dvec3(mesh.vertices[j].normal);
-                const double up = glm::dot(nj, normal);
-                const double rho2 = x * x + y * y;
-                rho4 += rho2 * rho2;
-                rho2_drop += rho2 * drop;
-                cubic.add({x * x, x * y, y * y, x * x * x, x * x * y, x * y * y, y * y * y}, drop);
-                quadric.add({x * x, x * y, y * y}, drop);
-                if (!(up > 1e-3) || !std::isfinite(up)) continue;  // a normal turned past the tangent plane
-                const double zx = glm::dot(nj, tangent) / up, zy = glm::dot(nj, bitangent) / up;
-                cubic.add({2.0 * x, y, 0.0, 3.0 * x * x, 2.0 * x * y, y * y, 0.0}, zx);
-                cubic.add({0.0, x, 2.0 * y, 0.0, x * x, 2.0 * x * y, 3.0 * y * y}, zy);
-                quadric.add({2.0 * x, y, 0.0}, zx);
-                quadric.add({0.0, x, 2.0 * y}, zy);
-            }
-            if (!(rho4 > 0.0)) continue;
-            glm::dvec3 c;
-            if (std::optional<std::vector<double>> fit = cubic.solve()) {
-                c = glm::dvec3((*fit)[0], (*fit)[1], (*fit)[2]);
-            } else if (std::optional<std::vector<double>> q = quadric.solve()) {
-                c = glm::dvec3((*q)[0], (*q)[1], (*q)[2]);
-            } else {  // too few directions: the same bend each way
-                const double k0 = rho2_drop / rho4;
-                c = glm::dvec3(k0, 0.0, k0);
-            }
-            if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) v.curvature = glm::vec3(c);
-        }
+        for (std::size_t k = start; k < end; ++k) fit_vertex_curvature(mesh, mesh.vertices[order[k]], group);
         start = end;
     }
     fit_uv_bend(mesh, neighbours);

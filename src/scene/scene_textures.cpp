@@ -33,18 +33,15 @@ std::uint64_t rgba8_chain_bytes(std::uint32_t w, std::uint32_t h) {
     return total;
 }
 
-}  // namespace
+// One texture to write: a material's slot.
+struct Job {
+    size_t material;
+    const char* slot;
+};
 
-Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, const ConvertOptions& options,
-                                                          const std::string& folder,
-                                                          void (*progress)(const char*, int, int, const std::string&)) {
-    std::error_code ec;
-    std::filesystem::create_directories(folder, ec);
-    if (ec) return make_error("cannot create folder '" + echo_path(folder) + "': " + ec.message());
-    struct Job {
-        size_t material;
-        const char* slot;
-    };
+// The slots converted, material by material: those given as files or made
+// procedurally, and every normal map a height derives.
+std::vector<Job> conversion_jobs(const SceneDesc& scene) {
     std::vector<Job> jobs;
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const MaterialDesc& m = scene.materials[i];
@@ -56,6 +53,35 @@ Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, cons
         if (converts(m.normal) || converts(m.height)) jobs.push_back({i, "normal"});
         if (converts(m.albedo)) jobs.push_back({i, "albedo"});
     }
+    return jobs;
+}
+
+// The scene reads the files from now on (absolute paths or relative to
+// the folder's parent are both fine: the path is used as written).
+void use_converted_files(SceneDesc& scene, const std::vector<ConvertedFile>& files) {
+    for (const ConvertedFile& f : files) {
+        for (MaterialDesc& m : scene.materials) {
+            if (m.name != f.material) continue;
+            TextureSource s;
+            s.kind = TextureSource::Kind::file;
+            s.path = std::filesystem::absolute(f.path).string();
+            if (f.slot == "height") m.height = s;
+            if (f.slot == "normal") m.normal = s;
+            if (f.slot == "albedo") m.albedo = s;
+            m.pack_height_in_normal_alpha = false;
+        }
+    }
+}
+
+}  // namespace
+
+Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, const ConvertOptions& options,
+                                                          const std::string& folder,
+                                                          void (*progress)(const char*, int, int, const std::string&)) {
+    std::error_code ec;
+    std::filesystem::create_directories(folder, ec);
+    if (ec) return make_error("cannot create folder '" + echo_path(folder) + "': " + ec.message());
+    const std::vector<Job> jobs = conversion_jobs(scene);
     std::vector<ConvertedFile> files;
     std::vector<MaterialImages> images(scene.materials.size());
     std::vector<bool> built(scene.materials.size(), false);
@@ -103,20 +129,7 @@ Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, cons
         files.push_back(f);
     }
     if (progress && total > 0) progress("convert", total, total, "done");
-    // The scene reads the files from now on (absolute paths or relative to
-    // the folder's parent are both fine: the path is used as written).
-    for (const ConvertedFile& f : files) {
-        for (MaterialDesc& m : scene.materials) {
-            if (m.name != f.material) continue;
-            TextureSource s;
-            s.kind = TextureSource::Kind::file;
-            s.path = std::filesystem::absolute(f.path).string();
-            if (f.slot == "height") m.height = s;
-            if (f.slot == "normal") m.normal = s;
-            if (f.slot == "albedo") m.albedo = s;
-            m.pack_height_in_normal_alpha = false;
-        }
-    }
+    use_converted_files(scene, files);
     return files;
 }
 

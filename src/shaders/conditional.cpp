@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <utility>
 
 namespace px {
 
@@ -359,32 +360,119 @@ struct Frame {
     size_t opened = 0;           // physical line of its #if
 };
 
+// One pass of resolve_conditionals: the macros as known so far, the
+// #if structures open, the text kept and where each kept line came from.
+class Resolver {
+public:
+    Resolver(const std::string& name, const std::vector<LineOrigin>& origins, std::vector<LineOrigin>* kept_origins)
+        : name_(name), origins_(origins), kept_origins_(kept_origins) {}
+
+    std::vector<Frame> frames;
+    std::string out;
+    size_t current = 0;  // physical line of the logical line being read
+
+    std::string where(size_t physical) const {
+        if (physical < origins_.size()) return origins_[physical].file + ":" + std::to_string(origins_[physical].line);
+        return name_ + ":" + std::to_string(physical + 1);
+    }
+
+    void keep(const std::string& s) {
+        out += s;
+        out += '\n';
+        if (!kept_origins_) return;
+        // One entry per physical line written (a spliced line keeps its splices).
+        const size_t lines = 1 + static_cast<size_t>(std::count(s.begin(), s.end(), '\n'));
+        for (size_t i = 0; i < lines; ++i) kept_origins_->push_back(origin_of(current + i));
+    }
+
+    // #if, #ifdef, #ifndef, #elif or #else: which branch is in the output,
+    // and which of their lines the driver still has to decide.
+    Status branch(const Directive& d, const LogicalLine& line, bool emit, bool certain) {
+        const std::string& dn = d.name;
+        const bool opens = dn != "elif" && dn != "else";
+        if (opens) {
+            Frame f;
+            f.parent_emit = emit;
+            f.parent_certain = certain;
+            f.opened = line.first;
+            frames.push_back(f);
+        } else {
+            if (frames.empty()) return make_error(where(line.first) + ": #" + dn + " without #if");
+            if (frames.back().seen_else)
+                return make_error(where(line.first) + ": #" + dn + " after #else (the #if at " +
+                                  where(frames.back().opened) + ")");
+            if (dn == "else") frames.back().seen_else = true;
+        }
+        Frame& f = frames.back();
+        if (!f.parent_emit || f.taken) {  // dead: not evaluated at all
+            f.emit = false;
+            return {};
+        }
+        Tri cond = Tri::yes;
+        if (dn == "if" || dn == "elif") {
+            cond = evaluate(d.rest, macros_);
+        } else if (dn == "ifdef" || dn == "ifndef") {
+            cond = is_identifier(d.rest) ? Condition::is_defined(macros_, d.rest) : Tri::unknown;
+            if (dn == "ifndef") cond = negate(cond);
+        }
+        if (cond == Tri::no) {
+            f.emit = false;
+        } else if (cond == Tri::yes) {
+            // Taken whenever it is reached; after a kept (driver-decided)
+            // branch it is the remaining alternative: an #else.
+            f.emit = true;
+            f.certain = f.parent_certain && !f.kept;
+            f.taken = true;
+            if (f.kept) keep(dn == "else" ? line.raw : "#else");
+        } else {
+            f.emit = true;
+            f.certain = false;
+            // The first branch the driver decides opens the kept structure.
+            if (!f.kept && dn == "elif") keep("#if " + d.rest);
+            else keep(line.raw);
+            f.kept = true;
+        }
+        return {};
+    }
+
+    // #define or #undef in the output: the macro's state from here on.
+    void define(const Directive& d, bool certain) {
+        size_t end = 0;
+        const std::string macro = directive_name(d.rest, end);
+        if (macro.empty()) return;
+        Macro m;
+        if (!certain) {
+            // Defined or not as the driver decides the branch around it.
+            m.state = Macro::State::unknown;
+        } else if (d.name == "undef") {
+            m.state = Macro::State::undefined;
+        } else {
+            m.state = Macro::State::defined;
+            m.function_like = end < d.rest.size() && d.rest[end] == '(';
+            m.value = trim(d.rest.substr(end));
+        }
+        macros_[macro] = m;
+    }
+
+private:
+    const std::string& name_;
+    const std::vector<LineOrigin>& origins_;
+    std::vector<LineOrigin>* kept_origins_;
+    Macros macros_;
+
+    LineOrigin origin_of(size_t physical) const {
+        if (physical < origins_.size()) return origins_[physical];
+        return LineOrigin{name_, static_cast<int>(physical + 1)};
+    }
+};
+
 }  // namespace
 
 Result<std::string> resolve_conditionals(const std::string& text, const std::string& name,
                                          const std::vector<LineOrigin>& origins,
                                          std::vector<LineOrigin>* kept_origins) {
-    auto where = [&](size_t physical) {
-        if (physical < origins.size()) return origins[physical].file + ":" + std::to_string(origins[physical].line);
-        return name + ":" + std::to_string(physical + 1);
-    };
-    Macros macros;
-    std::vector<Frame> frames;
-    std::string out;
-    out.reserve(text.size());
-    size_t current = 0;  // physical line of the logical line being read
-    auto origin_of = [&](size_t physical) {
-        if (physical < origins.size()) return origins[physical];
-        return LineOrigin{name, static_cast<int>(physical + 1)};
-    };
-    auto keep = [&](const std::string& s) {
-        out += s;
-        out += '\n';
-        if (!kept_origins) return;
-        // One entry per physical line written (a spliced line keeps its splices).
-        const size_t lines = 1 + static_cast<size_t>(std::count(s.begin(), s.end(), '\n'));
-        for (size_t i = 0; i < lines; ++i) kept_origins->push_back(origin_of(current + i));
-    };
+    Resolver r(name, origins, kept_origins);
+    r.out.reserve(text.size());
     // Block comments are followed across lines: a '#' inside one starts no
     // directive. Dropping lines never splits a comment: a directive starts
     // outside any (else it is none) and must end outside (checked below), so
@@ -392,96 +480,37 @@ Result<std::string> resolve_conditionals(const std::string& text, const std::str
     bool in_block = false;
 
     for (const LogicalLine& line : logical_lines(text)) {
-        current = line.first;
+        r.current = line.first;
         const bool starts_in_comment = in_block;
         const std::string code = strip_comments(line.joined, in_block);
-        const bool emit = frames.empty() || frames.back().emit;
-        const bool certain = frames.empty() || frames.back().certain;
+        const bool emit = r.frames.empty() || r.frames.back().emit;
+        const bool certain = r.frames.empty() || r.frames.back().certain;
         const std::optional<Directive> d = starts_in_comment ? std::nullopt : parse_directive(code);
         if (!d) {
-            if (emit) keep(line.raw);
+            if (emit) r.keep(line.raw);
             continue;
         }
         if (in_block)
-            return make_error(where(line.first) + ": a block comment that begins on a directive line must end on it");
+            return make_error(r.where(line.first) + ": a block comment that begins on a directive line must end on it");
 
         const std::string& dn = d->name;
         if (dn == "if" || dn == "ifdef" || dn == "ifndef" || dn == "elif" || dn == "else") {
-            const bool opens = dn != "elif" && dn != "else";
-            if (opens) {
-                Frame f;
-                f.parent_emit = emit;
-                f.parent_certain = certain;
-                f.opened = line.first;
-                frames.push_back(f);
-            } else {
-                if (frames.empty()) return make_error(where(line.first) + ": #" + dn + " without #if");
-                if (frames.back().seen_else)
-                    return make_error(where(line.first) + ": #" + dn + " after #else (the #if at " +
-                                      where(frames.back().opened) + ")");
-                if (dn == "else") frames.back().seen_else = true;
-            }
-            Frame& f = frames.back();
-            if (!f.parent_emit || f.taken) {  // dead: not evaluated at all
-                f.emit = false;
-                continue;
-            }
-            Tri cond = Tri::yes;
-            if (dn == "if" || dn == "elif") {
-                cond = evaluate(d->rest, macros);
-            } else if (dn == "ifdef" || dn == "ifndef") {
-                cond = is_identifier(d->rest) ? Condition::is_defined(macros, d->rest) : Tri::unknown;
-                if (dn == "ifndef") cond = negate(cond);
-            }
-            if (cond == Tri::no) {
-                f.emit = false;
-            } else if (cond == Tri::yes) {
-                // Taken whenever it is reached; after a kept (driver-decided)
-                // branch it is the remaining alternative: an #else.
-                f.emit = true;
-                f.certain = f.parent_certain && !f.kept;
-                f.taken = true;
-                if (f.kept) keep(dn == "else" ? line.raw : "#else");
-            } else {
-                f.emit = true;
-                f.certain = false;
-                // The first branch the driver decides opens the kept structure.
-                if (!f.kept && dn == "elif") keep("#if " + d->rest);
-                else keep(line.raw);
-                f.kept = true;
-            }
+            if (Status s = r.branch(*d, line, emit, certain); !s) return s.error();
             continue;
         }
         if (dn == "endif") {
-            if (frames.empty()) return make_error(where(line.first) + ": #endif without #if");
-            if (frames.back().parent_emit && frames.back().kept) keep(line.raw);
-            frames.pop_back();
+            if (r.frames.empty()) return make_error(r.where(line.first) + ": #endif without #if");
+            if (r.frames.back().parent_emit && r.frames.back().kept) r.keep(line.raw);
+            r.frames.pop_back();
             continue;
         }
         if (!emit) continue;
-        if (dn == "define" || dn == "undef") {
-            size_t end = 0;
-            const std::string macro = directive_name(d->rest, end);
-            if (!macro.empty()) {
-                Macro m;
-                if (!certain) {
-                    // Defined or not as the driver decides the branch around it.
-                    m.state = Macro::State::unknown;
-                } else if (dn == "undef") {
-                    m.state = Macro::State::undefined;
-                } else {
-                    m.state = Macro::State::defined;
-                    m.function_like = end < d->rest.size() && d->rest[end] == '(';
-                    m.value = trim(d->rest.substr(end));
-                }
-                macros[macro] = m;
-            }
-        }
-        keep(line.raw);
+        if (dn == "define" || dn == "undef") r.define(*d, certain);
+        r.keep(line.raw);
     }
-    if (!frames.empty())
-        return make_error(where(frames.back().opened) + ": #if without #endif");
-    return out;
+    if (!r.frames.empty())
+        return make_error(r.where(r.frames.back().opened) + ": #if without #endif");
+    return std::move(r.out);
 }
 
 }  // namespace px

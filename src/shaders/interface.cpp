@@ -123,6 +123,24 @@ std::optional<bool> ladder_needs(Uniform uniform, const VariantKey& k, const Use
     }
 }
 
+// The maps the shading and the trace read their normals and height from.
+bool map_needed(Uniform uniform, const VariantKey& k, const Uses& u) {
+    switch (uniform) {
+        // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
+        // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
+        case Uniform::normal_map:
+            return (u.shading && has(k, kOptNormals)) || (u.traced && k.packed_height && k.es_major >= 3);
+        // The traced height's own texture: a separate height map, or on GLSL
+        // ES 1.00 a base-level copy of the packed one.
+        // GLSL ES 1.00's exact walk reads its atlas instead, so there only a
+        // shadow ray reads it.
+        case Uniform::height_map:
+            if (has(k, kOptSteps) && k.es_major < 3) return u.traced && u.shadow;
+            return u.traced && (!k.packed_height || k.es_major < 3);
+        default: return true;
+    }
+}
+
 }  // namespace
 
 bool needed(Uniform uniform, const VariantKey& key) {
@@ -197,17 +215,9 @@ bool needed(Uniform uniform, const VariantKey& key) {
         case Uniform::object_camera:
         case Uniform::shape_uv_matrix:
         case Uniform::shape_uv_offset: return k.curved && k.shape != 0;
-        // Shading reads normals; on GLSL ES 3.00 a packed normal map is also
-        // the traced height (surface_common.glsl PX_HEIGHT_SAMPLER).
+        // The normal and height maps (map_needed says when).
         case Uniform::normal_map:
-            return (u.shading && has(k, kOptNormals)) || (u.traced && k.packed_height && k.es_major >= 3);
-        // The traced height's own texture: a separate height map, or on GLSL
-        // ES 1.00 a base-level copy of the packed one.
-        // GLSL ES 1.00's exact walk reads its atlas instead, so there only a
-        // shadow ray reads it.
-        case Uniform::height_map:
-            if (has(k, kOptSteps) && k.es_major < 3) return u.traced && u.shadow;
-            return u.traced && (!k.packed_height || k.es_major < 3);
+        case Uniform::height_map: return map_needed(uniform, k, u);
     }
     return true;
 }
