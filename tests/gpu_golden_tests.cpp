@@ -32,11 +32,12 @@ namespace {
 
 const std::string kGoldenDir = std::string(PX_SOURCE_DIR) + "/tests/golden";
 
-// The scene's entry of tolerances.json, with its "es2"/"es3" sub-entry (if
+// The scene's entry of tolerances.json, with its "es2"/"es3" sub-entry and
+// then its entry for the CPU the tests were built for ("arm64", "armhf"; if
 // any) over it; the file's reader and the measure are the library's
 // (assets/image_compare.h), shared with `parallax compare`.
 Tolerance tolerance_for(const std::string& scene, int es_major) {
-    Result<Tolerance> t = load_tolerances(kGoldenDir + "/tolerances.json", scene, es_major);
+    Result<Tolerance> t = load_tolerances(kGoldenDir + "/tolerances.json", scene, es_major, compiled_cpu());
     if (t) return *t;
     ADD_FAILURE() << t.error().message;
     return Tolerance{0, 0.0, 0.0};

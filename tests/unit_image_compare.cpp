@@ -141,6 +141,57 @@ TEST(Tolerances, ReadsAnEntryAndItsEsOverride) {
     EXPECT_EQ(t->pixel_threshold, 4);
 }
 
+// A CPU's override applies over the entry and its ES version's, and holds
+// its own ES versions' overrides; other CPUs' are checked but not applied.
+TEST(Tolerances, ACpusOverrideAppliesOnThatCpuAlone) {
+    const std::string file = R"({"s": {"pixel_threshold": 8, "max_differing_share": 0.001, "max_mean_difference": 0.2,
+        "es2": {"max_mean_difference": 0.25},
+        "arm64": {"max_differing_share": 0.004, "_why": "measured", "es2": {"pixel_threshold": 10}},
+        "armhf": {"max_mean_difference": 1.0}}})";
+    Result<Tolerance> t = parse_tolerances(file, "t.json", "s", 2, "x86_64");
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_EQ(t->pixel_threshold, 8);
+    EXPECT_DOUBLE_EQ(t->max_differing_share, 0.001);
+    EXPECT_DOUBLE_EQ(t->max_mean_difference, 0.25);
+    t = parse_tolerances(file, "t.json", "s", 2, "arm64");
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_EQ(t->pixel_threshold, 10);
+    EXPECT_DOUBLE_EQ(t->max_differing_share, 0.004);
+    EXPECT_DOUBLE_EQ(t->max_mean_difference, 0.25);
+    t = parse_tolerances(file, "t.json", "s", 3, "arm64");
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_EQ(t->pixel_threshold, 8);
+    EXPECT_DOUBLE_EQ(t->max_differing_share, 0.004);
+    EXPECT_DOUBLE_EQ(t->max_mean_difference, 0.2);
+    t = parse_tolerances(file, "t.json", "s", 3, "armhf");
+    ASSERT_TRUE(t.ok()) << t.error().message;
+    EXPECT_DOUBLE_EQ(t->max_mean_difference, 1.0);
+    EXPECT_DOUBLE_EQ(t->max_differing_share, 0.001);
+    // Checked on every CPU, applied or not.
+    const std::string bad = R"({"s": {"pixel_threshold": 8, "max_differing_share": 0.001, "max_mean_difference": 0.2,
+        "arm64": {"es3": {"pixel_threshold": 300}}}})";
+    t = parse_tolerances(bad, "t.json", "s", 2, "x86_64");
+    ASSERT_FALSE(t.ok());
+    EXPECT_EQ(t.error().message,
+              "t.json: s.arm64.es3.pixel_threshold: expected an integer in 0..255 (levels), got number 300");
+    const std::string misspelt = R"({"s": {"pixel_threshold": 8, "max_differing_share": 0.001, "max_mean_difference": 0.2,
+        "armhf": {"max_share": 0.1}}})";
+    t = parse_tolerances(misspelt, "t.json", "s", 2, "armhf");
+    ASSERT_FALSE(t.ok());
+    EXPECT_EQ(t.error().message, "t.json: s.armhf: unknown field 'max_share' (an override holds pixel_threshold, "
+                                 "max_differing_share, max_mean_difference; a CPU's also es2 and es3)");
+}
+
+TEST(Tolerances, TheCompiledCpuIsOneAFileCanName) {
+    const std::string cpu = compiled_cpu();
+    EXPECT_TRUE(cpu == "x86_64" || cpu == "i386" || cpu == "arm64" || cpu == "armhf") << cpu;
+#if defined(__aarch64__)
+    EXPECT_EQ(cpu, "arm64");
+#elif defined(__x86_64__)
+    EXPECT_EQ(cpu, "x86_64");
+#endif
+}
+
 // The message a file gives for `scene`, or "" when it parses.
 std::string error_of(const std::string& text, const std::string& scene = "s", int es = 3) {
     Result<Tolerance> t = parse_tolerances(text, "t.json", scene, es);
@@ -198,8 +249,11 @@ TEST(Tolerances, MissingFileIsNamed) {
 TEST(Tolerances, ProjectFileCoversEveryBuiltinScene) {
     for (const std::string& scene : builtin_scene_names())
         for (int es : {2, 3}) {
-            Result<Tolerance> t = load_tolerances(std::string(PX_SOURCE_DIR) + "/tests/golden/tolerances.json", scene, es);
-            EXPECT_TRUE(t.ok()) << t.error().message;
+            for (const char* cpu : {"x86_64", "arm64", "armhf"}) {
+                Result<Tolerance> t =
+                    load_tolerances(std::string(PX_SOURCE_DIR) + "/tests/golden/tolerances.json", scene, es, cpu);
+                EXPECT_TRUE(t.ok()) << t.error().message;
+            }
         }
 }
 

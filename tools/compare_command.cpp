@@ -123,6 +123,10 @@ void add_tolerance_options(CLI::App* cmd, GoldenOptions& o) {
     cmd->add_option("--tolerances", o.tolerances,
                     "Tolerance file (JSON; tests/golden/tolerances.json is the project's): take the limits from its "
                     "entry for the scene");
+    cmd->add_option("--cpu", o.cpu,
+                    "Apply the tolerance entry's override for this CPU: x86_64, i386, arm64 or armhf (default: the "
+                    "CPU parallax was built for)")
+        ->capture_default_str();
     cmd->add_option("--threshold", o.threshold,
                     "A pixel differs when a colour channel is off by more than this many levels (default 8)");
     cmd->add_option("--max-share", o.max_share, "Largest share of differing pixels that passes, 0..1 (default 0.001)");
@@ -135,10 +139,12 @@ void add_tolerance_options(CLI::App* cmd, GoldenOptions& o) {
 Result<Tolerance> resolve_tolerance(const GoldenOptions& o) {
     Tolerance t;
     if (o.es != 0 && o.es != 2 && o.es != 3) return make_error("--es " + std::to_string(o.es) + ": expected 2 or 3");
+    if (o.cpu != "x86_64" && o.cpu != "i386" && o.cpu != "arm64" && o.cpu != "armhf" && o.cpu != compiled_cpu())
+        return make_error("--cpu " + echo(o.cpu) + ": expected x86_64, i386, arm64 or armhf");
     if (o.tolerances.empty() && !o.scene.empty()) return make_error("--scene names an entry of --tolerances FILE: give both");
     if (!o.tolerances.empty()) {
         if (o.scene.empty()) return make_error("--tolerances " + echo_path(o.tolerances) + " needs --scene NAME (its entry)");
-        Result<Tolerance> from_file = load_tolerances(o.tolerances, o.scene, o.es);
+        Result<Tolerance> from_file = load_tolerances(o.tolerances, o.scene, o.es, o.cpu);
         if (!from_file) return from_file.error();
         t = *from_file;
     }

@@ -22,6 +22,7 @@ struct GoldenOptions {
     std::string tolerances;  // a tolerance file; empty: none
     std::string scene;       // its entry
     int es = 0;              // apply the entry's "es2"/"es3" override; 0: none
+    std::string cpu = compiled_cpu();  // apply the entry's override for this CPU ("arm64", ...)
     std::string threshold;   // flags as given (empty: not given), checked by resolve_tolerance
     std::string max_share;
     std::string max_mean;
@@ -29,7 +30,7 @@ struct GoldenOptions {
     bool json = false;       // the verdict as a JSON object instead of a line
 };
 
-// --tolerances, --threshold, --max-share, --max-mean and --diff (the caller
+// --tolerances, --cpu, --threshold, --max-share, --max-mean and --diff (the caller
 // adds --scene and --es where it has them).
 void add_tolerance_options(CLI::App* cmd, GoldenOptions& o);
 

@@ -21,6 +21,8 @@ using json = nlohmann::json;
 
 constexpr std::size_t kMaxToleranceFileBytes = std::size_t{1} << 20;
 constexpr const char* kFields[] = {"pixel_threshold", "max_differing_share", "max_mean_difference"};
+// The CPUs an entry may hold overrides for (Debian's architecture names).
+constexpr const char* kToleranceCpus[] = {"x86_64", "i386", "arm64", "armhf"};
 
 // How a JSON value reads after "got": its type, and its value when short.
 std::string describe(const json& j) {
@@ -73,32 +75,61 @@ Status read_field(const json& entry, const char* field, const std::string& path,
     return {};
 }
 
-// A scene's entry: the three fields required, then its "es2"/"es3" objects
-// checked (both, whichever is applied) and the one for es_major applied.
-Result<Tolerance> read_entry(const json& entry, const std::string& path, int es_major) {
+// One override object (an "es2"/"es3" or a CPU's) read into `into`: it holds
+// the three fields and, in a CPU's, its own "es2"/"es3" (`nested`) and notes
+// named with a leading '_'; anything else is an error, since a misspelt
+// field would silently not apply.
+Status read_override(const json& sub, const std::string& path, bool nested, Tolerance& into) {
+    if (!sub.is_object()) return make_error(path + ": expected an object, got " + describe(sub));
+    for (auto it = sub.begin(); it != sub.end(); ++it) {
+        const std::string& key = it.key();
+        const bool field = std::find(std::begin(kFields), std::end(kFields), key) != std::end(kFields);
+        if (field || (nested && (key == "es2" || key == "es3" || (!key.empty() && key[0] == '_')))) continue;
+        return make_error(path + ": unknown field '" + echo(key) + "' (an override holds pixel_threshold, " +
+                          "max_differing_share, max_mean_difference" + (nested ? "; a CPU's also es2 and es3)" : ")"));
+    }
+    for (const char* field : kFields)
+        if (Status s = read_field(sub, field, path, into); !s) return s.error();
+    return {};
+}
+
+// The "es2"/"es3" overrides of `entry` over `base`: both checked, the one for
+// es_major applied.
+Result<Tolerance> apply_es(const json& entry, const std::string& path, int es_major, const Tolerance& base) {
+    Tolerance applied = base;
+    for (int es : {2, 3}) {
+        const std::string key = "es" + std::to_string(es);
+        if (!entry.contains(key)) continue;
+        Tolerance scratch = base;
+        if (Status s = read_override(entry.at(key), path + "." + key, false, es == es_major ? applied : scratch); !s)
+            return s.error();
+    }
+    return applied;
+}
+
+// A scene's entry: the three fields required, then its "es2"/"es3" objects,
+// then its CPUs' objects (each with its own "es2"/"es3"), every one checked
+// whichever is applied, the ones for es_major and cpu applied in that order.
+Result<Tolerance> read_entry(const json& entry, const std::string& path, int es_major, const std::string& cpu) {
     if (!entry.is_object()) return make_error(path + ": expected an object, got " + describe(entry));
     Tolerance t;
     for (const char* field : kFields) {
         if (!entry.contains(field)) return make_error(path + ": missing \"" + field + "\"");
         if (Status s = read_field(entry, field, path, t); !s) return s.error();
     }
-    Tolerance overridden = t;
-    for (int es : {2, 3}) {
-        const std::string key = "es" + std::to_string(es);
-        if (!entry.contains(key)) continue;
-        const json& sub = entry.at(key);
-        if (!sub.is_object()) return make_error(path + "." + key + ": expected an object, got " + describe(sub));
-        // An override holds nothing else: a misspelt field would silently not apply.
-        for (auto it = sub.begin(); it != sub.end(); ++it)
-            if (std::find(std::begin(kFields), std::end(kFields), it.key()) == std::end(kFields))
-                return make_error(path + "." + key + ": unknown field '" + echo(it.key()) +
-                                  "' (an override holds pixel_threshold, max_differing_share, max_mean_difference)");
-        Tolerance scratch = t;
-        Tolerance& into = es == es_major ? overridden : scratch;
-        for (const char* field : kFields)
-            if (Status s = read_field(sub, field, path + "." + key, into); !s) return s.error();
+    Result<Tolerance> applied = apply_es(entry, path, es_major, t);
+    if (!applied) return applied;
+    for (const char* name : kToleranceCpus) {
+        if (!entry.contains(name)) continue;
+        const json& sub = entry.at(name);
+        const std::string at = path + "." + name;
+        Tolerance over = *applied;
+        if (Status s = read_override(sub, at, true, over); !s) return s.error();
+        Result<Tolerance> with_es = apply_es(sub, at, es_major, over);
+        if (!with_es) return with_es;
+        if (cpu == name) applied = with_es;
     }
-    return overridden;
+    return applied;
 }
 
 // The scenes a file has, for "unknown scene" errors.
@@ -137,8 +168,22 @@ Status check_comparable(const Image& image, const std::string& name) {
 
 }  // namespace
 
+const char* compiled_cpu() {
+#if defined(__x86_64__)
+    return "x86_64";
+#elif defined(__i386__)
+    return "i386";
+#elif defined(__aarch64__)
+    return "arm64";
+#elif defined(__arm__)
+    return "armhf";
+#else
+    return "other";
+#endif
+}
+
 Result<Tolerance> parse_tolerances(const std::string& json_text, const std::string& origin, const std::string& scene,
-                                   int es_major) {
+                                   int es_major, const std::string& cpu) {
     json doc;
     try {
         doc = json::parse(json_text, nullptr, true, /*ignore_comments=*/true);
@@ -157,15 +202,16 @@ Result<Tolerance> parse_tolerances(const std::string& json_text, const std::stri
     // Members named with a leading '_' are notes ("_comment", "_made_on"), never entries.
     if (!doc.contains(scene) || (!scene.empty() && scene[0] == '_'))
         return make_error(origin + ": no entry for scene '" + echo(scene) + "' (the file has: " + scene_names(doc) + ")");
-    Result<Tolerance> t = read_entry(doc.at(scene), echo(scene), es_major);
+    Result<Tolerance> t = read_entry(doc.at(scene), echo(scene), es_major, cpu);
     if (!t) return with_context(origin, t.error());
     return t;
 }
 
-Result<Tolerance> load_tolerances(const std::string& path, const std::string& scene, int es_major) {
+Result<Tolerance> load_tolerances(const std::string& path, const std::string& scene, int es_major,
+                                  const std::string& cpu) {
     Result<std::vector<std::uint8_t>> bytes = read_file_bounded(path, kMaxToleranceFileBytes, "tolerance file");
     if (!bytes) return bytes.error();
-    return parse_tolerances(std::string(bytes->begin(), bytes->end()), echo_path(path), scene, es_major);
+    return parse_tolerances(std::string(bytes->begin(), bytes->end()), echo_path(path), scene, es_major, cpu);
 }
 
 Result<ImageComparison> compare_images(const Image& actual, const Image& golden, const Tolerance& tolerance,

@@ -25,18 +25,27 @@ struct Tolerance {
 
 // A scene's entry in a tolerance file: a JSON object whose members are
 // scene names, each an object with pixel_threshold, max_differing_share and
-// max_mean_difference (all three required), and optionally "es2" / "es3"
-// objects that override any of them for that OpenGL ES version (applied
-// when es_major is 2 or 3; es_major 0 applies none; both are checked).
-// Other members of an entry are ignored, and so are members of the file
-// whose names start with '_' (the "_comment" notes, "_made_on"): they are
-// never a scene's entry. An override holds those three fields only. Errors name `origin` and the JSON path:
-// malformed JSON (with line and column), an unknown scene (with the ones
-// the file has), a wrong type, a negative or out-of-range value.
+// max_mean_difference (all three required), and optionally overrides of any
+// of them: "es2" / "es3" for that OpenGL ES version (applied when es_major
+// is 2 or 3; es_major 0 applies none), and "x86_64", "i386", "arm64" or
+// "armhf" for the CPU the renderer ran on (applied when `cpu` names it; a
+// CPU's object may hold its own "es2" / "es3"). They apply in that order:
+// the entry, its ES version's, its CPU's, its CPU's ES version's. Every
+// override is checked, applied or not. Other members of an entry are
+// ignored, and so are members of the file whose names start with '_' (the
+// "_comment" notes, "_made_on"): they are never a scene's entry. An
+// override holds those three fields only (a CPU's also its "es2"/"es3" and
+// '_' notes). Errors name `origin` and the JSON path: malformed JSON (with
+// line and column), an unknown scene (with the ones the file has), a wrong
+// type, a negative or out-of-range value.
 Result<Tolerance> parse_tolerances(const std::string& json_text, const std::string& origin,
-                                   const std::string& scene, int es_major);
+                                   const std::string& scene, int es_major, const std::string& cpu = {});
 // The same from a file (at most 1 MiB); errors name the file.
-Result<Tolerance> load_tolerances(const std::string& path, const std::string& scene, int es_major);
+Result<Tolerance> load_tolerances(const std::string& path, const std::string& scene, int es_major,
+                                  const std::string& cpu = {});
+// The CPU this library was compiled for, as a tolerance file names it:
+// "x86_64", "i386", "arm64", "armhf" (or "other").
+const char* compiled_cpu();
 
 // What compare_images measured, and whether it is within its tolerance.
 struct ImageComparison {
