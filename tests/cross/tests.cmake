@@ -15,7 +15,11 @@ endif()
 set(PX_GTEST_SKIPPED "\\[  SKIPPED \\]")
 set(PX_CROSS_CACHE ${CMAKE_BINARY_DIR}/mesa_shader_cache)
 file(MAKE_DIRECTORY ${PX_CROSS_CACHE})
-set(PX_CROSS_ENV "MESA_SHADER_CACHE_DIR=${PX_CROSS_CACHE};XDG_CACHE_HOME=${CMAKE_BINARY_DIR}/test_xdg_cache")
+# llvmpipe's 8-bit filtering path (its default) is off the float one on arm64
+# by 1 to 4 % of the goldens' pixels, and the linear searches then miss the
+# catalogue's error bounds on grazing and uv cases (8 and 7 rows failed):
+# the cross set runs the float path, as the x86 goldens do.
+set(PX_CROSS_ENV "GALLIVM_PERF=no_aos_sampling;MESA_SHADER_CACHE_DIR=${PX_CROSS_CACHE};XDG_CACHE_HOME=${CMAKE_BINARY_DIR}/test_xdg_cache")
 
 # The command line for the test scripts, which run it as a program: a
 # wrapper that starts it under the emulator.
@@ -36,7 +40,7 @@ set_tests_properties(unit unit_reports unit_emulation unit_costs PROPERTIES LABE
 foreach(es 2 3)
   add_test(NAME gpu_golden_es${es} COMMAND px_gpu_tests --gtest_filter=*Golden*)
   set_tests_properties(gpu_golden_es${es} PROPERTIES
-    ENVIRONMENT "PX_TEST_ES=${es};GALLIVM_PERF=no_aos_sampling;${PX_CROSS_ENV}"
+    ENVIRONMENT "PX_TEST_ES=${es};${PX_CROSS_ENV}"
     SKIP_REGULAR_EXPRESSION "${PX_GTEST_SKIPPED}" LABELS "cross;gpu;golden")
 endforeach()
 
