@@ -139,7 +139,7 @@ void add_tolerance_options(CLI::App* cmd, GoldenOptions& o) {
 Result<Tolerance> resolve_tolerance(const GoldenOptions& o) {
     Tolerance t;
     if (o.es != 0 && o.es != 2 && o.es != 3) return make_error("--es " + std::to_string(o.es) + ": expected 2 or 3");
-    if (o.cpu != "x86_64" && o.cpu != "i386" && o.cpu != "arm64" && o.cpu != "armhf" && o.cpu != compiled_cpu())
+    if (!is_tolerance_cpu(o.cpu) && o.cpu != compiled_cpu())
         return make_error("--cpu " + echo(o.cpu) + ": expected x86_64, i386, arm64 or armhf");
     if (o.tolerances.empty() && !o.scene.empty()) return make_error("--scene names an entry of --tolerances FILE: give both");
     if (!o.tolerances.empty()) {

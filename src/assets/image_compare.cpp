@@ -168,6 +168,10 @@ Status check_comparable(const Image& image, const std::string& name) {
 
 }  // namespace
 
+bool is_tolerance_cpu(const std::string& cpu) {
+    return std::find(std::begin(kToleranceCpus), std::end(kToleranceCpus), cpu) != std::end(kToleranceCpus);
+}
+
 const char* compiled_cpu() {
 #if defined(__x86_64__)
     return "x86_64";

@@ -46,6 +46,8 @@ Result<Tolerance> load_tolerances(const std::string& path, const std::string& sc
 // The CPU this library was compiled for, as a tolerance file names it:
 // "x86_64", "i386", "arm64", "armhf" (or "other").
 const char* compiled_cpu();
+// Whether a tolerance file can hold overrides for `cpu`.
+bool is_tolerance_cpu(const std::string& cpu);
 
 // What compare_images measured, and whether it is within its tolerance.
 struct ImageComparison {
