@@ -11,6 +11,6 @@ set(PX_CROSS_QEMU qemu-arm)
 # its float path (GALLIVM_PERF=no_aos_sampling) drops the filter weights.
 # On a CPU without NEON (cortex-r5f: VFPv3-D16, Debian armhf's baseline)
 # llvmpipe generates VFP code and both paths are exact
-# (tools/cross/linear_sampling.sh armhf; README "ARM builds").
+# (tools/cross/reproduce.sh linear_sampling armhf; README "ARM builds").
 set(PX_QEMU_CPU cortex-r5f CACHE STRING "The CPU qemu-arm emulates for the tests (empty: qemu's default, with NEON)")
 include(${CMAKE_CURRENT_LIST_DIR}/debian-cross.cmake)

@@ -1,6 +1,7 @@
 #include "parallaxes/render/offscreen_target.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "parallaxes/gl/caps.h"
@@ -8,6 +9,31 @@
 #include "parallaxes/gl/state.h"
 
 namespace px {
+namespace {
+
+// Mesa's llvmpipe on 64-bit ARM (Mesa 22.3.6, LLVM 15, under qemu-aarch64 7.2
+// on every emulated CPU) crashes in its generated fragment code on the first
+// depth-tested draw into a multisampled target whose shader does not write
+// gl_FragDepth: tools/cross/msaa_depth.c reproduces it in 100 lines (README,
+// "ARM builds"). Measured on 22.3 only: later versions are not held back.
+// Returns why multisampling is off for this context, or "" where it is not.
+std::string multisampling_withheld(const Caps& caps) {
+#if defined(__aarch64__)
+    if (caps.renderer.rfind("llvmpipe", 0) != 0) return "";
+    const size_t at = caps.version.find("Mesa ");
+    if (at == std::string::npos) return "";
+    int major = 0, minor = 0;
+    if (std::sscanf(caps.version.c_str() + at + 5, "%d.%d", &major, &minor) != 2) return "";
+    if (major > 22 || (major == 22 && minor > 3)) return "";
+    return "llvmpipe of Mesa " + std::to_string(major) + "." + std::to_string(minor) +
+           " on 64-bit ARM crashes drawing depth-tested multisampled targets (tools/cross/msaa_depth.c)";
+#else
+    (void)caps;
+    return "";
+#endif
+}
+
+}  // namespace
 
 Result<OffscreenTarget> OffscreenTarget::create(int width, int height, int samples) {
     if (samples < 1 || samples > 64)
@@ -29,6 +55,10 @@ Result<OffscreenTarget> OffscreenTarget::create(int width, int height, int sampl
     if (!caps.context_es3()) {
         t.sampling_note_ = std::to_string(samples) +
                            " samples asked for; an OpenGL ES 2.0 context has no multisampled renderbuffers: 1 sample";
+        return t;
+    }
+    if (const std::string why = multisampling_withheld(caps); !why.empty()) {
+        t.sampling_note_ = std::to_string(samples) + " samples asked for; " + why + ": 1 sample";
         return t;
     }
     GLint max_samples = 0;

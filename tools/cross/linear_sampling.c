@@ -7,7 +7,7 @@
  * LINEAR must equal NEAREST there, and at an offset of half a texel it
  * must be the average of two neighbours).
  * Exit 0: both right; 1: a filter gave wrong texels; 2: no context.
- *   tools/cross/linear_sampling.sh arm64|armhf|native builds and runs it
+ *   tools/cross/reproduce.sh linear_sampling arm64|armhf|native builds and runs it
  */
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
