@@ -292,7 +292,9 @@ void encode_single_block(const std::uint16_t v[16], std::uint8_t* out) {
         lo = std::min(lo, static_cast<int>(v[i] / 257));
         hi = std::max(hi, static_cast<int>((v[i] + 256) / 257));
     }
-    long best = std::numeric_limits<long>::max();
+    // 64-bit sums: a 16-bit value's squared error reaches 4.3e9, past a
+    // 32-bit long (armhf: BcRoundTrip.Bc4Bc5Unorm16 picked wrong indices).
+    std::int64_t best = std::numeric_limits<std::int64_t>::max();
     int br0 = 1, br1 = 0;
     std::uint64_t bbits = 0;
     for (int r0 = std::max(0, hi - 2); r0 <= std::min(255, hi + 2); ++r0)
@@ -300,15 +302,15 @@ void encode_single_block(const std::uint16_t v[16], std::uint8_t* out) {
             if (r0 <= r1) continue;
             int num[8], den;
             single_palette(r0, r1, num, den);
-            long pal[8];
-            for (int k = 0; k < 8; ++k) pal[k] = (257L * num[k] + den / 2) / den;
-            long err = 0;
+            std::int64_t pal[8];
+            for (int k = 0; k < 8; ++k) pal[k] = (std::int64_t{257} * num[k] + den / 2) / den;
+            std::int64_t err = 0;
             std::uint64_t bits = 0;
             for (int i = 0; i < 16; ++i) {
-                long be = std::numeric_limits<long>::max();
+                std::int64_t be = std::numeric_limits<std::int64_t>::max();
                 int bk = 0;
                 for (int k = 0; k < 8; ++k) {
-                    const long d = pal[k] - v[i];
+                    const std::int64_t d = pal[k] - v[i];
                     if (d * d < be) {
                         be = d * d;
                         bk = k;
