@@ -6,6 +6,7 @@
 // measured llvmpipe time on a bench scene (docs/profiling.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -27,6 +28,7 @@
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/profiling/measurement/bench.h"
 #include "parallaxes/profiling/costs/cost_model.h"
+#include "parallaxes/profiling/costs/model_calibration.h"
 #include "parallaxes/profiling/costs/process.h"
 #include "parallaxes/profiling/costs/shader_profile.h"
 #include "parallaxes/profiling/reports/stability_catalogue.h"
@@ -54,6 +56,8 @@ struct ProfileArgs {
     int frames = 5;
     std::string doc;        // write docs/profiling.md from this run
     double vendor_timeout = 120.0;  // seconds for all vendor compiler runs together
+    std::string gpu;                // --gpu: real GPU compilers ("mali-g57,adreno-630", "all", "list")
+    double gpu_timeout = 20.0;      // seconds per variant for one real GPU compiler
     std::string nir_child;  // internal: the child that prints NIR for these variants (ids, ';'-separated)
     std::string command;
     bool calibrate = false;    // the model against a real compiler (profile_calibration.h)
@@ -246,6 +250,57 @@ std::string run_vendor_tools(std::vector<profiling::VariantProfile>& profiles, p
     }
     // A tool's path comes from $PATH: printable, valid UTF-8, like what the tools print.
     return profiling::clean_tool_text(line);
+}
+
+// --- Real GPU compilers ----------------------------------------------------
+
+// Every variant through each --gpu target's driver (one qemu run per target
+// for all of them), into the profiles; one line per target for the report.
+Result<std::vector<std::string>> run_gpu_compilers(std::vector<profiling::VariantProfile*> profiles, const ProfileArgs& a,
+                                                   const std::vector<const ShaderFiles*>& files) {
+    Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(a.gpu);
+    if (!targets) return targets.error();
+    Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
+    if (!tools) return tools.error();
+    std::vector<profiling::ShaderPair> pairs;
+    for (size_t i = 0; i < profiles.size(); ++i) {
+        Result<VariantSources> sources = assemble_variant(profiles[i]->key, files.empty() ? nullptr : files[i]);
+        if (!sources) return with_context(profiles[i]->name, sources.error());
+        pairs.push_back({sources->vertex.text, sources->fragment.text});
+    }
+    std::vector<std::string> lines;
+    for (const profiling::GpuTarget& t : *targets) {
+        if (a.es > t.es_max) {
+            lines.push_back(t.gpu + ": " + t.driver + " runs OpenGL ES 2.0 only; not run on these ES " +
+                            std::to_string(a.es) + ".0 variants");
+            continue;
+        }
+        std::fprintf(stderr, "parallax: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n",
+                     pairs.size(), t.gpu.c_str(), t.driver.c_str());
+        const auto start = std::chrono::steady_clock::now();
+        Result<profiling::GpuRun> run = profiling::compile_on_gpu(*tools, t, a.es, pairs, a.gpu_timeout);
+        if (!run) return run.error();
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        int failed = 0;
+        for (size_t i = 0; i < profiles.size(); ++i) {
+            profiling::GpuFigures f;
+            f.target = t.name;
+            f.gpu = t.gpu;
+            f.program = run->programs[i];
+            f.summary = profiling::summarise(t, f.program);
+            if (!f.program.error.empty()) {
+                ++failed;
+                std::fprintf(stderr, "parallax: warning: %s on %s: %s\n", t.gpu.c_str(), profiles[i]->name.c_str(),
+                             f.program.error.c_str());
+            }
+            profiles[i]->gpu.push_back(std::move(f));
+        }
+        char took[32];
+        std::snprintf(took, sizeof took, "%.1f", seconds);
+        lines.push_back(t.gpu + ": " + t.driver + " of " + run->context + ", " + std::to_string(pairs.size() - failed) +
+                        " of " + std::to_string(pairs.size()) + " variant(s) compiled, " + took + " s");
+    }
+    return lines;
 }
 
 // --- Time and error on a bench scene ----------------------------------------
@@ -447,7 +502,9 @@ int run_against(const ProfileArgs& a, const std::vector<VariantKey>& keys, const
             std::fprintf(stderr, "parallax: warning: shaders_es/%s differs from the shaders this program was built "
                                  "with: rebuild for the changed lines to match\n", s.path);
     }
+    // Both builds of every variant first, so that --gpu compiles them in one go.
     std::ostringstream out;
+    std::vector<profiling::VariantProfile> nows, thens;
     for (const VariantKey& key : keys) {
         Result<profiling::VariantProfile> now = profiling::profile_variant(key, model);
         if (!now) return fail(now.error().message);
@@ -457,12 +514,32 @@ int run_against(const ProfileArgs& a, const std::vector<VariantKey>& keys, const
             continue;
         }
         then->name = key.describe() + " @ " + a.against;
-        out << profiling::compare_report(*then, *now, format, context);
+        nows.push_back(std::move(*now));
+        thens.push_back(std::move(*then));
+    }
+    profiling::ReportContext with_gpu = context;
+    if (!a.gpu.empty()) {
+        std::vector<profiling::VariantProfile*> all;
+        std::vector<const ShaderFiles*> files;
+        for (size_t i = 0; i < nows.size(); ++i) {
+            all.push_back(&thens[i]);
+            files.push_back(&*old_files);
+            all.push_back(&nows[i]);
+            files.push_back(nullptr);
+        }
+        Result<std::vector<std::string>> gpu = run_gpu_compilers(all, a, files);
+        if (!gpu) return fail(gpu.error().message);
+        with_gpu.gpu_lines = *gpu;
+    }
+    for (size_t i = 0; i < nows.size(); ++i) {
+        const profiling::VariantProfile& now = nows[i];
+        const profiling::VariantProfile& then = thens[i];
+        out << profiling::compare_report(then, now, format, with_gpu);
         if (format != profiling::ReportFormat::json) {
-            const profiling::OpCounts added = lines_cost(now->fragment, changed->new_lines);
-            const profiling::OpCounts removed = lines_cost(then->fragment, changed->old_lines);
-            const profiling::OpCounts added_v = lines_cost(now->vertex, changed->new_lines);
-            const profiling::OpCounts removed_v = lines_cost(then->vertex, changed->old_lines);
+            const profiling::OpCounts added = lines_cost(now.fragment, changed->new_lines);
+            const profiling::OpCounts removed = lines_cost(then.fragment, changed->old_lines);
+            const profiling::OpCounts added_v = lines_cost(now.vertex, changed->new_lines);
+            const profiling::OpCounts removed_v = lines_cost(then.vertex, changed->old_lines);
             out << (format == profiling::ReportFormat::markdown ? "\n- " : "")
                 << "Changed lines, fragment stage: " << ops_text(removed) << " before, " << ops_text(added) << " now\n"
                 << (format == profiling::ReportFormat::markdown ? "- " : "")
@@ -489,6 +566,13 @@ Result<std::vector<profiling::VariantProfile>> profile_all(const std::vector<Var
         profiles.push_back(std::move(*p));
     }
     context.vendor_line = run_vendor_tools(profiles, vendor);
+    if (!a.gpu.empty()) {
+        std::vector<profiling::VariantProfile*> all;
+        for (profiling::VariantProfile& p : profiles) all.push_back(&p);
+        Result<std::vector<std::string>> gpu = run_gpu_compilers(all, a, {});
+        if (!gpu) return gpu.error();
+        context.gpu_lines = *gpu;
+    }
     if (!a.no_nir) {
         Status nir = capture_nir(profiles, a.es);
         if (!nir) return nir.error();
@@ -695,9 +779,77 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
     return 0;
 }
 
+// --make-calibration-set with --gpu: the selected variants' fragment shaders
+// and one real compiler's per-pipe cycles of them, as a calibration set that
+// --calibrate --calibration-set fits the cost model to (half fits, half is
+// held out). Panfrost's pipes are named as the model's: Bifrost's arith,
+// texture, vary, ldst as A, T, V, LS; Valhall's A is the busiest of fma, cvt
+// and sfu, as malioc's A column is.
+Result<std::vector<VariantKey>> profile_keys(const ProfileArgs& a);
+
+int run_gpu_calibration_set(const ProfileArgs& a) {
+    Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(a.gpu);
+    if (!targets) return fail(targets.error().message);
+    if (targets->size() != 1 || targets->front().pipes.empty())
+        return fail("--make-calibration-set with --gpu: name one GPU whose compiler estimates cycles per pipe "
+                    "(mali-g52, mali-g57)");
+    const profiling::GpuTarget& t = targets->front();
+    if (const std::string unwritable = check_output_file(a.calibration.make_set); !unwritable.empty())
+        return fail("--make-calibration-set: " + unwritable);
+    Result<std::vector<VariantKey>> keys = profile_keys(a);
+    if (!keys) return fail(keys.error().message);
+    Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
+    if (!tools) return fail(tools.error().message);
+    std::vector<profiling::ShaderPair> pairs;
+    for (const VariantKey& k : *keys) {
+        Result<VariantSources> sources = assemble_variant(k);
+        if (!sources) return fail(k.describe() + ": " + sources.error().message);
+        pairs.push_back({sources->vertex.text, sources->fragment.text});
+    }
+    std::fprintf(stderr, "parallax: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", pairs.size(),
+                 t.gpu.c_str(), t.driver.c_str());
+    Result<profiling::GpuRun> run = profiling::compile_on_gpu(*tools, t, a.es, pairs, a.gpu_timeout);
+    if (!run) return fail(run.error().message);
+    profiling::CalibrationSet set;
+    set.gpu = t.gpu;
+    set.compiler = t.driver + " (" + run->context + ")";
+    set.source = "this project's shader variants (parallax shaders), compiled by " + t.driver +
+                 " under qemu-aarch64 with drm-shim (tools/cross/make_gpu_compilers.sh)";
+    set.made_by = a.command;
+    int left_out = 0;
+    for (size_t i = 0; i < keys->size(); ++i) {
+        const profiling::GpuStage* f = run->programs[i].fragment();
+        const std::string name = (*keys)[i].describe() + ".frag";
+        if (!f) {
+            std::fprintf(stderr, "parallax: %s: %s; left out\n", name.c_str(), run->programs[i].error.c_str());
+            ++left_out;
+            continue;
+        }
+        profiling::VendorCycles figures;
+        figures.tool = set.compiler;
+        figures.target = t.gpu;
+        const auto get = [&](const char* words) { return f->figure(words).value_or(0.0); };
+        const bool valhall = f->figure("fma").has_value();
+        const double arith = valhall ? std::max({get("fma"), get("cvt"), get("sfu")}) : get("arith");
+        figures.pipes = {"A", "LS", "V", "T"};
+        figures.total = {arith, get(valhall ? "ls" : "ldst"), get(valhall ? "v" : "vary"), get(valhall ? "t" : "texture")};
+        Result<profiling::CalibrationShader> entry =
+            profiling::calibration_entry(name, pairs[i].fragment, ShaderStage::fragment, figures);
+        if (!entry) return fail(entry.error().message);
+        set.shaders.push_back(std::move(*entry));
+    }
+    if (set.shaders.empty()) return fail("--make-calibration-set: no variant compiled with " + t.gpu);
+    if (Status w = write_file_atomically(a.calibration.make_set, profiling::calibration_set_json(set)); !w)
+        return fail(w.error().message);
+    std::fprintf(stderr, "wrote %s: %zu fragment shaders (%d left out), %s on %s\n", a.calibration.make_set.c_str(),
+                 set.shaders.size(), left_out, set.compiler.c_str(), set.gpu.c_str());
+    return 0;
+}
+
 // --calibrate and --make-calibration-set (profile_calibration.h); -1 where
 // neither was asked for. Their options are refused without them.
 int run_calibration_modes(const ProfileArgs& a) {
+    if (!a.gpu.empty() && !a.calibration.make_set.empty()) return run_gpu_calibration_set(a);
     if (a.calibrate || !a.calibration.make_set.empty()) {
         if (a.calibrate && !a.calibration.make_set.empty())
             return fail("--calibrate and --make-calibration-set: one at a time (make the set, then calibrate on it)");
@@ -780,6 +932,21 @@ Status write_profile_outputs(const ProfileArgs& a, const std::vector<profiling::
 
 int run_profile(ProfileArgs a) {
     if (!a.nir_child.empty()) return run_nir_child(a);
+    if (a.gpu == "list") {
+        std::fputs(profiling::gpu_targets_text().c_str(), stdout);
+        return 0;
+    }
+    if (!a.gpu.empty()) {
+        // Every name checked, and each GPU against the ES version, before any work.
+        Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(a.gpu);
+        if (!targets) return fail(targets.error().message);
+        for (const profiling::GpuTarget& t : *targets)
+            if (a.es > t.es_max && a.doc.empty())  // --doc profiles ES 2.0 variants too
+                return fail("--gpu " + t.name + ": " + t.gpu + " (" + t.driver +
+                            ") runs OpenGL ES 2.0 only: profile its variants with --es 2");
+        if (!(a.gpu_timeout > 0.0 && a.gpu_timeout <= 3600.0))
+            return fail("--gpu-timeout: must be within (0, 3600] seconds");
+    }
     if (const int calibration = run_calibration_modes(a); calibration >= 0) return calibration;
     Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
     if (!format) return fail("--format: " + format.error().message);
@@ -836,6 +1003,12 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--vendor-timeout", args->vendor_timeout,
                     "Seconds for all vendor compiler runs together (one run gets at most half); a compiler that runs "
                     "out of time is not started again")
+        ->capture_default_str();
+    cmd->add_option("--gpu", args->gpu,
+                    "Real mobile GPU compilers (Mesa's arm64 drivers under qemu-aarch64; "
+                    "tools/cross/make_gpu_compilers.sh): comma-separated names, 'all', or 'list'");
+    cmd->add_option("--gpu-timeout", args->gpu_timeout,
+                    "Seconds a real GPU compiler may take per variant (under emulation) before it is given up")
         ->capture_default_str();
     cmd->add_option("--doc", args->doc, "Write the profiling document (docs/profiling.md) from one run");
     cmd->add_flag("--calibrate", args->calibrate,

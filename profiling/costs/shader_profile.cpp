@@ -178,6 +178,61 @@ nlohmann::json nir_json(const NirCost& n) {
             {"loops", n.loops}, {"branches", n.branches}, {"ssa_values", n.ssa_values}};
 }
 
+std::string figure_text(double v, int digits) { return v >= 0.0 ? fixed(v, digits) : "-"; }
+
+// The GPU figures compared between two variants, per target both have.
+struct GpuMetric {
+    std::string name;
+    double a, b;
+    int digits;
+};
+std::vector<GpuMetric> gpu_metrics(const VariantProfile& a, const VariantProfile& b) {
+    std::vector<GpuMetric> out;
+    for (const GpuFigures& ga : a.gpu)
+        for (const GpuFigures& gb : b.gpu) {
+            if (ga.target != gb.target) continue;
+            const GpuSummary &x = ga.summary, &y = gb.summary;
+            const auto add = [&](const std::string& what, double va, double vb, int digits) {
+                if (va >= 0.0 && vb >= 0.0) out.push_back({ga.gpu + ": " + what, va, vb, digits});
+            };
+            add("fragment instructions", x.instructions, y.instructions, 0);
+            add("fragment cycles (compiler's estimate)", x.cycles, y.cycles, 2);
+            add("fragment threads", x.threads, y.threads, 0);
+            add("fragment registers", x.registers, y.registers, 0);
+            add("fragment loops left", x.loops, y.loops, 0);
+            add("fragment spills", x.spills, y.spills, 0);
+            add("vertex instructions", x.vertex_instructions, y.vertex_instructions, 0);
+        }
+    return out;
+}
+
+nlohmann::json optional_figure(double v) { return v >= 0.0 ? nlohmann::json(v) : nlohmann::json(); }
+
+nlohmann::json gpu_json(const GpuFigures& g) {
+    const GpuSummary& m = g.summary;
+    nlohmann::json j = {{"target", g.target}, {"gpu", g.gpu},
+                        {"summary", {{"fragment_instructions", optional_figure(m.instructions)},
+                                     {"fragment_cycles", optional_figure(m.cycles)},
+                                     {"bound", m.bound},
+                                     {"threads", optional_figure(m.threads)},
+                                     {"registers", optional_figure(m.registers)},
+                                     {"spills", m.spills >= 0 ? nlohmann::json(m.spills) : nlohmann::json()},
+                                     {"fills", m.fills >= 0 ? nlohmann::json(m.fills) : nlohmann::json()},
+                                     {"loops", optional_figure(m.loops)},
+                                     {"vertex_instructions", optional_figure(m.vertex_instructions)}}},
+                        {"stages", nlohmann::json::array()}};
+    if (!g.program.error.empty()) j["error"] = g.program.error;
+    for (const GpuStage& st : g.program.stages) {
+        nlohmann::json figures = nlohmann::json::object();
+        for (const GpuFigure& f : st.figures) figures[f.words] = f.value;
+        nlohmann::json stage = {{"stage", st.stage}, {"fragment", st.fragment}, {"figures", figures}, {"line", st.line}};
+        if (st.spills >= 0) stage["spills"] = st.spills;
+        if (st.fills >= 0) stage["fills"] = st.fills;
+        j["stages"].push_back(stage);
+    }
+    return j;
+}
+
 nlohmann::json profile_json(const VariantProfile& p) {
     nlohmann::json j = {{"variant", p.name},
                         {"key_hash", p.key.hash()},
@@ -193,6 +248,7 @@ nlohmann::json profile_json(const VariantProfile& p) {
         j["vendor"].push_back({{"tool", v.tool}, {"target", v.target}, {"work_registers", v.work_registers},
                                {"fp16_percent", v.fp16_percent}, {"pipes", v.pipes}, {"total", v.total}, {"shortest", v.shortest},
                                {"longest", v.longest}, {"bound", v.bound}, {"cycles", v.cycles}});
+    for (const GpuFigures& g : p.gpu) j["gpu"].push_back(gpu_json(g));
     if (p.measured)
         j["measured"] = {{"scene", p.measured->scene}, {"angle_deg", p.measured->angle_deg},
                          {"ns_per_pixel", p.measured->ns_per_pixel}, {"ratio_to_normal", p.measured->ratio_to_normal},
@@ -203,6 +259,7 @@ nlohmann::json profile_json(const VariantProfile& p) {
 
 nlohmann::json context_json(const ReportContext& c) {
     nlohmann::json j = {{"command", c.command}, {"renderer", c.renderer}, {"vendor", c.vendor_line}};
+    if (!c.gpu_lines.empty()) j["gpu"] = c.gpu_lines;
     if (c.model) {
         j["model"] = c.model->name;
         j["model_calibration"] = c.model->calibration.summary();
@@ -217,6 +274,7 @@ std::string header_lines(const ReportContext& c, ReportFormat format) {
     if (!c.renderer.empty()) s << bullet << "NIR and timing: " << c.renderer << "\n";
     if (c.model) s << bullet << "Cost model: " << c.model->name << "; " << c.model->calibration.summary() << "\n";
     if (!c.vendor_line.empty()) s << bullet << "Vendor compilers: " << c.vendor_line << "\n";
+    for (const std::string& line : c.gpu_lines) s << bullet << "Real GPU compiler: " << line << "\n";
     return s.str();
 }
 
@@ -344,6 +402,38 @@ std::string profile_report(const std::vector<VariantProfile>& profiles, ReportFo
          "path's arithmetic. reads (dep): texture reads in the code, and how many wait on another read's result. "
          "round trips: reads the longest path waits for one after another. waits: texture waits in program order "
          "(each loop once), reads issued back to back sharing one.\n";
+    const std::string gpu = gpu_report(profiles, format);
+    if (!gpu.empty()) s << (format == ReportFormat::markdown ? "\n" : "\n") << gpu;
+    return s.str();
+}
+
+std::string gpu_report(const std::vector<VariantProfile>& profiles, ReportFormat format) {
+    std::vector<std::vector<std::string>> rows;
+    for (const VariantProfile& p : profiles)
+        for (const GpuFigures& g : p.gpu) {
+            const GpuSummary& m = g.summary;
+            if (!g.program.error.empty() && m.instructions < 0.0) {
+                rows.push_back({p.name, g.gpu, "failed: " + g.program.error.substr(0, 120), "", "", "", "", "", "", ""});
+                continue;
+            }
+            rows.push_back({p.name, g.gpu, figure_text(m.instructions, 0), figure_text(m.cycles, 2),
+                            m.bound.empty() ? "-" : m.bound, figure_text(m.threads, 0), figure_text(m.registers, 0),
+                            m.spills >= 0 ? std::to_string(m.spills) + ":" + std::to_string(m.fills) : "-",
+                            figure_text(m.loops, 0), figure_text(m.vertex_instructions, 0)});
+        }
+    if (rows.empty()) return "";
+    std::ostringstream s;
+    s << (format == ReportFormat::markdown ? "**Real GPU compilers**\n\n" : "Real GPU compilers:\n");
+    s << render_table({"variant", "GPU", "FS instr", "FS cycles", "bound", "threads", "registers", "spills:fills",
+                       "loops", "VS instr"},
+                      rows, format);
+    s << (format == ReportFormat::markdown ? "\n" : "")
+      << "Each figure is the driver's own (Mesa's shader-db statistics, or ir3's disassembly summary): FS instr its "
+         "\"inst\"/\"instr\"; FS cycles its \"cycles\" per fragment (Bifrost and Valhall only), bound the pipe whose "
+         "cycles equal it; threads, registers (Midgard \"registers\", V3D \"max-temps\", Adreno \"full\"), spills:fills "
+         "and loops (left after unrolling; a loop counts one pass) as printed; VS instr every vertex stage it compiled "
+         "(Panfrost's position and varying shaders, V3D's and Adreno's binning shader) together. The JSON report keeps "
+         "each stage's line as printed.\n";
     return s.str();
 }
 
@@ -357,6 +447,9 @@ std::string compare_report(const VariantProfile& a, const VariantProfile& b, Rep
             deltas.push_back({{"metric", m.name}, {"a", *va}, {"b", *vb}, {"delta", *vb - *va},
                               {"ratio", *va != 0.0 ? nlohmann::json(*vb / *va) : nlohmann::json()}});
         }
+        for (const GpuMetric& m : gpu_metrics(a, b))
+            deltas.push_back({{"metric", m.name}, {"a", m.a}, {"b", m.b}, {"delta", m.b - m.a},
+                              {"ratio", m.a != 0.0 ? nlohmann::json(m.b / m.a) : nlohmann::json()}});
         return nlohmann::json{{"context", context_json(context)}, {"a", profile_json(a)}, {"b", profile_json(b)},
                               {"deltas", deltas}}
                    .dump(2) +
@@ -370,6 +463,11 @@ std::string compare_report(const VariantProfile& a, const VariantProfile& b, Rep
         rows.push_back({m.name, fixed(*va, m.digits), fixed(*vb, m.digits), (d > 0 ? "+" : "") + fixed(d, m.digits),
                         *va != 0.0 ? fixed(*vb / *va, 2) : "-"});
     }
+    for (const GpuMetric& m : gpu_metrics(a, b)) {
+        const double d = m.b - m.a;
+        rows.push_back({m.name, fixed(m.a, m.digits), fixed(m.b, m.digits), (d > 0 ? "+" : "") + fixed(d, m.digits),
+                        m.a != 0.0 ? fixed(m.b / m.a, 2) : "-"});
+    }
     std::ostringstream s;
     s << header_lines(context, format);
     s << (format == ReportFormat::markdown ? "- " : "") << "A: " << a.name << "\n"
@@ -378,6 +476,65 @@ std::string compare_report(const VariantProfile& a, const VariantProfile& b, Rep
     s << render_table({"metric", "A", "B", "B - A", "B / A"}, rows, format);
     return s.str();
 }
+
+namespace {
+
+// The ladder on each real compiler: per step, its fragment instructions and
+// cycles (where the compiler estimates them) and whether the step saved
+// against the step before it.
+std::string ladder_gpu_section(const std::vector<VariantProfile>& steps, ReportFormat format) {
+    std::vector<std::string> targets;
+    for (const VariantProfile& p : steps)
+        for (const GpuFigures& g : p.gpu)
+            if (std::find(targets.begin(), targets.end(), g.gpu) == targets.end()) targets.push_back(g.gpu);
+    if (targets.empty()) return "";
+    std::vector<std::string> header = {"step", "change"};
+    for (const std::string& t : targets) {
+        header.push_back(t + " FS instr");
+        header.push_back(t + " FS cycles");
+    }
+    std::vector<std::vector<std::string>> rows;
+    std::vector<const GpuSummary*> previous(targets.size(), nullptr);
+    std::vector<std::string> saved(steps.size() * targets.size());
+    for (const VariantProfile& p : steps) {
+        const LadderStep& info = ladder_step_info(p.key.ladder_step);
+        std::vector<std::string> row = {info.step ? std::to_string(info.step) : "shipped", info.name};
+        for (size_t t = 0; t < targets.size(); ++t) {
+            const GpuFigures* g = nullptr;
+            for (const GpuFigures& x : p.gpu)
+                if (x.gpu == targets[t]) g = &x;
+            if (!g || g->summary.instructions < 0.0) {
+                row.push_back(g ? "failed" : "-");
+                row.push_back("-");
+                continue;
+            }
+            const GpuSummary& m = g->summary;
+            std::string instr = figure_text(m.instructions, 0), cyc = figure_text(m.cycles, 2);
+            if (previous[t] && info.step) {
+                const double di = m.instructions - previous[t]->instructions;
+                instr += " (" + std::string(di > 0 ? "+" : "") + fixed(di, 0) + ")";
+                if (m.cycles >= 0.0 && previous[t]->cycles >= 0.0) {
+                    const double dc = m.cycles - previous[t]->cycles;
+                    cyc += " (" + std::string(dc > 0 ? "+" : "") + fixed(dc, 2) + ")";
+                }
+            }
+            row.push_back(instr);
+            row.push_back(cyc);
+            if (info.step) previous[t] = &m;
+        }
+        rows.push_back(row);
+    }
+    std::ostringstream s;
+    s << (format == ReportFormat::markdown ? "**The ladder on real compilers**\n\n" : "The ladder on real compilers:\n");
+    s << render_table(header, rows, format);
+    s << (format == ReportFormat::markdown ? "\n" : "")
+      << "In brackets: the change from the step before (negative saves). Cycles are the compiler's own estimate "
+         "(Bifrost, Valhall); elsewhere instructions are all it says.\n";
+    if (format == ReportFormat::markdown) s << "\n";
+    return s.str();
+}
+
+}  // namespace
 
 std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat format, const ReportContext& context) {
     if (format == ReportFormat::json) {
@@ -421,6 +578,7 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
     if (format == ReportFormat::markdown) s << "\n";
     s << render_table(header, rows, format);
     if (format == ReportFormat::markdown) s << "\n";
+    s << ladder_gpu_section(steps, format);
     // The spread of what was measured and estimated across the whitepaper's steps.
     double t_lo = 1e300, t_hi = 0, r_lo = 1e300, r_hi = 0, c_first = 0, c_last = 0;
     int measured = 0;

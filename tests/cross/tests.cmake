@@ -58,14 +58,15 @@ endforeach()
 
 # The command line, through the same scripts as on x86: render and compare
 # with the goldens (render --golden, compare, their errors), stability on a
-# subset of the catalogue, plan and render --verify.
+# subset of the catalogue, plan and render --verify. Label "ci": the ones
+# .ci/run runs (tools/cross/ci_arm64.sh), which need parallax alone.
 add_test(NAME compare_cli COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/compare_cli.sh ${PX_CROSS_CLI} ${CMAKE_SOURCE_DIR})
-set_tests_properties(compare_cli PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu")
+set_tests_properties(compare_cli PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu;ci")
 add_test(NAME stability_es3 COMMAND parallax_cli stability --es 3 --precision native --cases grazing*)
 add_test(NAME stability_es2 COMMAND parallax_cli stability --es 2 --precision native --cases uv_*)
 set_tests_properties(stability_es3 stability_es2 PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu;stability")
 add_test(NAME plan_verify COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/plan_verify.sh ${PX_CROSS_CLI})
-set_tests_properties(plan_verify PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu")
+set_tests_properties(plan_verify PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu;ci")
 
 # The bug that shows on ARM alone: llvmpipe (Mesa 22.3) on 64-bit ARM
 # crashes drawing a depth-tested multisampled target (tools/cross/msaa_depth.c
@@ -80,4 +81,4 @@ endif()
 add_test(NAME render_multisampled COMMAND bash -c
   "out=$(\"$0\" render bricks --es 3 --size 64x64 -o \"$1\") && printf '%s\\n' \"$out\" && grep -Eq \"$2\" <<<\"$out\""
   ${PX_CROSS_CLI} ${CMAKE_BINARY_DIR}/render_multisampled.png "${PX_MSAA_EXPECT}")
-set_tests_properties(render_multisampled PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu")
+set_tests_properties(render_multisampled PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu;ci")

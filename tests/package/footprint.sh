@@ -6,6 +6,9 @@
 # 400000) or when the app links the JSON parser, the effect planner, or any
 # file reader or codec. Not part of `make test` (it builds the library a
 # second time, about three minutes on two cores): .ci/run calls it.
+# PX_FOOTPRINT_ARCH=arm64 or armhf builds it for that CPU instead
+# (cmake/toolchains/, the sysroot of tools/cross/make_sysroot.sh) and runs
+# the app under qemu-user; the limit is the same.
 #   tests/package/footprint.sh [SOURCE_DIR]
 set -euo pipefail
 source_dir=$(cd "${1:-$(dirname "$0")/../..}" && pwd)
@@ -19,20 +22,35 @@ source_dir=$(cd "${1:-$(dirname "$0")/../..}" && pwd)
 limit=${PX_FOOTPRINT_LIMIT:-428000}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+cross=() run=() tools=""
+case "${PX_FOOTPRINT_ARCH:-}" in
+    "") ;;
+    arm64|armhf)
+        arch=$PX_FOOTPRINT_ARCH
+        triplet=$([ "$arch" = arm64 ] && echo aarch64-linux-gnu || echo arm-linux-gnueabihf)
+        sysroot=${PX_SYSROOT:-$HOME/.cache/parallaxes/sysroot/$arch}
+        cross=(-DCMAKE_TOOLCHAIN_FILE="$source_dir/cmake/toolchains/$arch.cmake")
+        run=("$([ "$arch" = arm64 ] && echo qemu-aarch64 || echo qemu-arm)" -L "$sysroot")
+        [ "$arch" = armhf ] && run+=(-cpu cortex-r5f)  # linear filtering is right without NEON (README)
+        tools="$triplet-" ;;
+    *) echo "PX_FOOTPRINT_ARCH: '$PX_FOOTPRINT_ARCH' is not arm64 or armhf" >&2; exit 2 ;;
+esac
 
-cmake -S "$source_dir" -B "$work/build" -DCMAKE_BUILD_TYPE=MinSizeRel -DPX_BUILD_TESTS=OFF >"$work/configure.log" ||
+cmake -S "$source_dir" -B "$work/build" "${cross[@]}" -DCMAKE_BUILD_TYPE=MinSizeRel -DPX_BUILD_TESTS=OFF >"$work/configure.log" ||
     { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/build" -j "$(nproc)" --target parallax_core parallax_gl parallax_render parallax_platform \
     >"$work/build.log" 2>&1 || { tail -30 "$work/build.log"; exit 1; }
 # Only the library is built: install its component without the tools.
 cmake --install "$work/build" --prefix "$work/prefix" >"$work/install.log" 2>&1 || { cat "$work/install.log"; exit 1; }
-cmake -S "$source_dir/examples/host_app" -B "$work/host" -DCMAKE_PREFIX_PATH="$work/prefix" \
+# ParallaxES_DIR: a cross toolchain looks for packages in its sysroot alone.
+cmake -S "$source_dir/examples/host_app" -B "$work/host" "${cross[@]}" -DCMAKE_PREFIX_PATH="$work/prefix" \
+    -DParallaxES_DIR="$(dirname "$(find "$work/prefix" -name ParallaxESConfig.cmake | head -1)")" \
     -DCMAKE_BUILD_TYPE=MinSizeRel >"$work/host.log" 2>&1 || { cat "$work/host.log"; exit 1; }
 cmake --build "$work/host" >>"$work/host.log" 2>&1 || { cat "$work/host.log"; exit 1; }
 app="$work/host/host_app"
-"$app" --es 3 --frames 2
+"${run[@]}" "$app" --es 3 --frames 2
 
-symbols=$(nm -C "$app")
+symbols=$(${tools}nm -C "$app")
 grep -q "px::Renderer::draw" <<<"$symbols" || { echo "FAIL: no px::Renderer::draw in host_app (nm read nothing?)"; exit 1; }
 leaks='nlohmann|px::ScenePlanner|px::CostTable|px::measure_relief|px::effect_planner|px::decode_(etc|astc|bc|pvrtc|rgba8)'
 leaks+='|px::read_(ktx1|ktx2|pvr3|texture)|px::load_image|stbi_|jpeg_|ZSTD_|astcenc_'
@@ -41,9 +59,9 @@ if [ -n "$leaked" ]; then
     echo "FAIL: host_app links code it does not use ($(wc -l <<<"$leaked") symbols), first:"
     sed -n 1,5p <<<"$leaked"; exit 1
 fi
-strip -o "$work/host_app.stripped" "$app"
+${tools}strip -o "$work/host_app.stripped" "$app"
 bytes=$(stat -c %s "$work/host_app.stripped")
 if [ "$bytes" -gt "$limit" ]; then
     echo "FAIL: host_app is $bytes bytes stripped (MinSizeRel), past the limit of $limit"; exit 1
 fi
-echo "ok: host_app $bytes bytes stripped (library MinSizeRel, --gc-sections), limit $limit; no parser, planner or codec symbols"
+echo "ok: host_app${PX_FOOTPRINT_ARCH:+ for $PX_FOOTPRINT_ARCH} $bytes bytes stripped (library MinSizeRel, --gc-sections), limit $limit; no parser, planner or codec symbols"

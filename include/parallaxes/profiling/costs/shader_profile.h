@@ -11,6 +11,7 @@
 
 #include "parallaxes/effects/variant.h"
 #include "parallaxes/profiling/costs/cost_model.h"
+#include "parallaxes/profiling/costs/gpu_compilers.h"
 #include "parallaxes/profiling/costs/shader_costs.h"
 #include "parallaxes/shaders/shader_source.h"
 
@@ -25,6 +26,13 @@ struct VendorFigures {  // a vendor compiler's figures for one stage, as reporte
     std::vector<double> total, shortest, longest;  // NaN where the tool prints N/A
     std::string bound;     // the longest path's; the total's where the longest is N/A
     double cycles = -1.0;  // a single figure where the tool gives one
+};
+
+struct GpuFigures {  // one real GPU compiler's statistics for a variant (profile --gpu)
+    std::string target;   // GpuTarget::name, "mali-g57"
+    std::string gpu;      // "Mali-G57 (Valhall)"
+    GpuProgram program;   // every stage the driver compiled, in its own words; or the error
+    GpuSummary summary;
 };
 
 struct Measured {
@@ -45,6 +53,7 @@ struct VariantProfile {
     std::optional<NirCost> nir_vertex, nir_fragment;
     std::string nir_note;  // why NIR is absent, when it is
     std::vector<VendorFigures> vendor_fragment;
+    std::vector<GpuFigures> gpu;  // one per --gpu target
     std::optional<Measured> measured;
 };
 
@@ -62,6 +71,7 @@ struct ReportContext {
     std::string command;        // how the report was made
     std::string renderer;       // GL_RENDERER of the timing and NIR context, empty when none
     std::string vendor_line;    // "no vendor compiler on PATH (...)" or the tools used
+    std::vector<std::string> gpu_lines;  // per --gpu target: what the driver's context said, and how it ran
     const CostModel* model = nullptr;
 };
 
@@ -84,6 +94,10 @@ std::string ladder_report(const std::vector<VariantProfile>& steps, ReportFormat
 // measured time relative to normal mapping (BenchRow::ratio_to_normal), and a sentence naming where they agree within a factor of 2
 // and where they part.
 std::string agreement_report(const std::vector<VariantProfile>& profiles, const std::string& baseline, ReportFormat format);
+
+// The real GPU compilers' figures (profile --gpu): one row per variant and
+// GPU; empty when no profile has any.
+std::string gpu_report(const std::vector<VariantProfile>& profiles, ReportFormat format);
 
 // The cost model's parameters and assumptions, for reports.
 std::string model_section(const CostModel& model, ReportFormat format);

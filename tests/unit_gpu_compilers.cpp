@@ -1,0 +1,187 @@
+// Unit tests for the real GPU compilers' output readers
+// (include/parallaxes/profiling/costs/gpu_compilers.h), on what Mesa 22.3.6's
+// Panfrost, V3D, Freedreno and Lima printed for this project's shaders under
+// qemu-aarch64 (tests/data/gpu/README.md says how each file was made). The
+// expected figures are read off the driver's line in each file by eye.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "parallaxes/profiling/costs/gpu_compilers.h"
+
+namespace px::profiling {
+namespace {
+
+const std::string kData = std::string(PX_SOURCE_DIR) + "/tests/data/gpu/";
+
+std::string read_sample(const std::string& name) {
+    std::ifstream in(kData + name, std::ios::binary);
+    EXPECT_TRUE(in) << "cannot read " << kData + name;
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+GpuTarget target(const std::string& name) {
+    Result<std::vector<GpuTarget>> t = parse_gpu_targets(name);
+    EXPECT_TRUE(t) << name;
+    return t ? t->front() : GpuTarget{};
+}
+
+GpuProgram parse_one(const std::string& gpu, const std::string& file, std::string* context = nullptr) {
+    Result<GpuRun> run = parse_probe_output(target(gpu), read_sample(file), 1);
+    EXPECT_TRUE(run) << (run ? "" : run.error().message);
+    if (!run) return {};
+    if (context) *context = run->context;
+    return run->programs.at(0);
+}
+
+TEST(GpuCompilers, BifrostShaderDbLine) {
+    std::string context;
+    const GpuProgram p = parse_one("mali-g52", "mali-g52_normal_es3.txt", &context);
+    EXPECT_EQ(context, "Mali-G52 (Panfrost) | OpenGL ES 3.1 Mesa 22.3.6");
+    EXPECT_TRUE(p.error.empty()) << p.error;
+    // Panfrost compiles the vertex shader twice (index-driven vertex shading).
+    ASSERT_EQ(p.stages.size(), 3u);
+    EXPECT_EQ(p.stages[0].stage, "MESA_SHADER_POSITION");
+    EXPECT_EQ(p.stages[1].stage, "MESA_SHADER_VARYING");
+    const GpuSummary s = summarise(target("mali-g52"), p);
+    EXPECT_EQ(s.instructions, 369);
+    EXPECT_DOUBLE_EQ(s.cycles, 11.25);
+    EXPECT_EQ(s.bound, "arith");
+    EXPECT_EQ(s.threads, 2);
+    EXPECT_EQ(s.loops, 0);
+    EXPECT_EQ(s.spills, 0);
+    EXPECT_EQ(s.fills, 0);
+    EXPECT_EQ(s.vertex_instructions, 58 + 273);
+    EXPECT_EQ(p.fragment()->figure("tuples").value_or(-1), 275);
+    EXPECT_EQ(p.fragment()->figure("texture").value_or(-1), 1.0);
+    EXPECT_NE(p.fragment()->line.find("369 inst, 275 tuples, 53 clauses"), std::string::npos);
+}
+
+TEST(GpuCompilers, ValhallBoundPipeIsTheOneThatSetsTheCycles) {
+    const GpuProgram p = parse_one("mali-g57", "mali-g57_pom_es3.txt");
+    const GpuSummary s = summarise(target("mali-g57"), p);
+    EXPECT_EQ(s.instructions, 1161);
+    EXPECT_DOUBLE_EQ(s.cycles, 10.53125);
+    EXPECT_EQ(s.bound, "cvt");  // 10.531250 cvt, beside 5.656250 fma and 8.750000 t
+    EXPECT_EQ(s.threads, 1);
+}
+
+TEST(GpuCompilers, MidgardRegistersAndNoCycles) {
+    const GpuProgram p = parse_one("mali-t860", "mali-t860_normal_es3.txt");
+    const GpuSummary s = summarise(target("mali-t860"), p);
+    EXPECT_EQ(s.instructions, 252);
+    EXPECT_LT(s.cycles, 0.0);  // Midgard's shader-db line has no cycle estimate
+    EXPECT_EQ(s.bound, "");
+    EXPECT_EQ(s.registers, 6);
+    EXPECT_EQ(s.vertex_instructions, 195);
+}
+
+TEST(GpuCompilers, V3dAllVertexStagesCount) {
+    const GpuProgram p = parse_one("v3d-4.2", "v3d-4.2_normal_es3.txt");
+    const GpuSummary s = summarise(target("v3d-4.2"), p);
+    EXPECT_EQ(s.instructions, 356);
+    EXPECT_EQ(s.threads, 4);
+    EXPECT_EQ(s.registers, 29);  // max-temps
+    EXPECT_EQ(s.vertex_instructions, 347 + 77);  // VERTEX and VERTEX_BIN
+    EXPECT_EQ(p.fragment()->figure("sfu-stalls").value_or(-1), 7);
+}
+
+TEST(GpuCompilers, Ir3SummaryLinesOfTheProgramAloneNotMesasBlitShaders) {
+    std::string context;
+    const GpuProgram p = parse_one("adreno-630", "adreno-630_normal_es3.txt", &context);
+    EXPECT_EQ(context, "FD630 | OpenGL ES 3.2 Mesa 22.3.6");
+    ASSERT_EQ(p.stages.size(), 3u);  // VERT, BVERT, FRAG of the program; the TTN blits before it are not
+    EXPECT_EQ(p.stages[0].stage, "VERT");
+    EXPECT_EQ(p.stages[1].stage, "BVERT");
+    const GpuSummary s = summarise(target("adreno-630"), p);
+    EXPECT_EQ(s.instructions, 507);
+    EXPECT_EQ(s.registers, 6);  // "6 full"
+    EXPECT_EQ(s.loops, 0);
+    EXPECT_EQ(s.vertex_instructions, 283 + 109);
+    EXPECT_EQ(p.fragment()->figure("nops").value_or(-1), 225);
+    EXPECT_EQ(p.fragment()->figure("(ss)").value_or(-1), 20);
+}
+
+TEST(GpuCompilers, LimaSpillsAreRead) {
+    const GpuProgram p = parse_one("mali-450", "mali-450_normal_es2.txt");
+    const GpuSummary s = summarise(target("mali-450"), p);
+    EXPECT_EQ(s.instructions, 126);
+    EXPECT_EQ(s.spills, 1);
+    EXPECT_EQ(s.fills, 5);
+    EXPECT_EQ(s.vertex_instructions, 170);
+}
+
+TEST(GpuCompilers, AProgramWithoutItsEndIsMarkedAndAnErrorIsKept) {
+    const std::string out =
+        "px-probe context Mali-G52 (Panfrost) | OpenGL ES 3.1 Mesa 22.3.6\n"
+        "px-probe begin 0\npx-probe end 0 error fragment shader: 0:3(1): error: syntax error\n"
+        "px-probe begin 1\n"
+        "SHADER-DB: MESA_SHADER_FRAGMENT shader: 3 inst, 1.000000 cycles, 1.000000 arith, 0.000000 texture, "
+        "0.000000 vary, 0.000000 ldst, 2 threads, 0 loops, 0:0 spills:fills\n";
+    Result<GpuRun> run = parse_probe_output(target("mali-g52"), out, 2);
+    ASSERT_TRUE(run) << run.error().message;
+    EXPECT_NE(run->programs[0].error.find("syntax error"), std::string::npos);
+    EXPECT_EQ(run->programs[1].error, "the probe did not finish this program");
+}
+
+TEST(GpuCompilers, AStatisticsLineThatDoesNotParseIsRefusedQuoted) {
+    const std::string out =
+        "px-probe context x\npx-probe begin 0\n"
+        "SHADER-DB: MESA_SHADER_FRAGMENT shader: many inst, 2 threads\npx-probe end 0 ok\n";
+    Result<GpuRun> run = parse_probe_output(target("mali-g52"), out, 1);
+    ASSERT_FALSE(run);
+    EXPECT_NE(run.error().message.find("'many inst'"), std::string::npos) << run.error().message;
+    const std::string spills =
+        "px-probe begin 0\nSHADER-DB: MESA_SHADER_FRAGMENT shader: 3 inst, 0-0 spills:fills\npx-probe end 0 ok\n";
+    EXPECT_FALSE(parse_probe_output(target("mali-g52"), spills, 1));
+    // A program number past the ones given.
+    EXPECT_FALSE(parse_probe_output(target("mali-g52"), "px-probe begin 7\n", 1));
+}
+
+TEST(GpuCompilers, NamesAreCheckedAndListed) {
+    Result<std::vector<GpuTarget>> two = parse_gpu_targets("Mali-G57, adreno-630,mali-g57");
+    ASSERT_TRUE(two);
+    ASSERT_EQ(two->size(), 2u);
+    EXPECT_EQ((*two)[0].name, "mali-g57");
+    EXPECT_EQ((*two)[1].name, "adreno-630");
+    Result<std::vector<GpuTarget>> all = parse_gpu_targets("all");
+    ASSERT_TRUE(all);
+    EXPECT_EQ(all->size(), gpu_targets().size());
+    Result<std::vector<GpuTarget>> bad = parse_gpu_targets("mali-g78");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("'mali-g78'"), std::string::npos);
+    EXPECT_NE(bad.error().message.find("mali-450"), std::string::npos);  // the known names
+    EXPECT_FALSE(parse_gpu_targets(" , "));
+    const std::string list = gpu_targets_text();
+    for (const GpuTarget& t : gpu_targets()) EXPECT_NE(list.find(t.name), std::string::npos) << t.name;
+}
+
+TEST(GpuCompilers, MissingCompilersNameTheCommandThatMakesThem) {
+    const std::string dir = std::string(::testing::TempDir()) + "/px_no_gpu_compilers";
+    std::filesystem::create_directories(dir);
+    const char* before = std::getenv("PX_GPU_COMPILERS");
+    const std::string saved = before ? before : "";
+    setenv("PX_GPU_COMPILERS", dir.c_str(), 1);
+    Result<GpuCompilers> found = find_gpu_compilers();
+    if (before) setenv("PX_GPU_COMPILERS", saved.c_str(), 1);
+    else unsetenv("PX_GPU_COMPILERS");
+    ASSERT_FALSE(found);
+    EXPECT_NE(found.error().message.find("tools/cross/make_gpu_compilers.sh"), std::string::npos) << found.error().message;
+    EXPECT_NE(found.error().message.find(dir), std::string::npos);
+}
+
+TEST(GpuCompilers, AnEs2OnlyGpuRefusesEs3Variants) {
+    GpuCompilers none;
+    Result<GpuRun> r = compile_on_gpu(none, target("mali-450"), 3, {{"v", "f"}});
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("OpenGL ES 2.0 only"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace px::profiling
