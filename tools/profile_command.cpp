@@ -825,6 +825,21 @@ int run_gpu_calibration_set(const ProfileArgs& a) {
             ++left_out;
             continue;
         }
+        // A debug output's shader writes what the search found, and the
+        // compiler drops the shading it no longer needs, which the analysis
+        // of glslang's unoptimised SPIR-V still counts: left out.
+        if ((*keys)[i].debug_output) {
+            ++left_out;
+            continue;
+        }
+        // The compiler's figures count a loop it kept once; the analysis
+        // counts every trip: only fully unrolled (or loop-free) shaders compare.
+        if (const double loops = f->figure("loops").value_or(0.0); loops > 0.0) {
+            std::fprintf(stderr, "parallax: %s: the compiler kept %g loop(s) (its cycles count one pass); left out\n",
+                         name.c_str(), loops);
+            ++left_out;
+            continue;
+        }
         profiling::VendorCycles figures;
         figures.tool = set.compiler;
         figures.target = t.gpu;

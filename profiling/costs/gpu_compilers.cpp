@@ -166,14 +166,14 @@ std::string shell_word(const std::string& s) {
 const std::vector<GpuTarget>& gpu_targets() {
     static const std::vector<GpuTarget> targets = {
         {"mali-g52", "Mali-G52 (Bifrost)", "Panfrost", "panfrost", {"PAN_GPU_ID=0x7212", "BIFROST_MESA_DEBUG=shaderdb"}, 3,
-         false, {"arith", "texture", "vary", "ldst"}},
+         false, {"arith", "texture", "vary", "ldst"}, "Mali-G52"},
         {"mali-g57", "Mali-G57 (Valhall)", "Panfrost", "panfrost", {"PAN_GPU_ID=0x9093", "BIFROST_MESA_DEBUG=shaderdb"}, 3,
-         false, {"fma", "cvt", "sfu", "v", "t", "ls"}},
+         false, {"fma", "cvt", "sfu", "v", "t", "ls"}, "Mali-G57"},
         {"mali-t860", "Mali-T860 (Midgard)", "Panfrost", "panfrost", {"PAN_GPU_ID=0x860", "MIDGARD_MESA_DEBUG=shaderdb"}, 3,
-         false, {}},
-        {"adreno-630", "Adreno 630", "Freedreno (ir3)", "freedreno", {"FD_GPU_ID=630", "FD_MESA_DEBUG=serialc", "IR3_SHADER_DEBUG=disasm"}, 3, true, {}},
-        {"v3d-4.2", "VideoCore VI, V3D 4.2 (Raspberry Pi 4)", "V3D", "v3d", {"V3D_DEBUG=shaderdb"}, 3, false, {}},
-        {"mali-450", "Mali-450 (Utgard)", "Lima", "lima", {"LIMA_DEBUG=shaderdb"}, 2, false, {}},
+         false, {}, "Mali-T860"},
+        {"adreno-630", "Adreno 630", "Freedreno (ir3)", "freedreno", {"FD_GPU_ID=630", "FD_MESA_DEBUG=serialc", "IR3_SHADER_DEBUG=disasm"}, 3, true, {}, "FD630"},
+        {"v3d-4.2", "VideoCore VI, V3D 4.2 (Raspberry Pi 4)", "V3D", "v3d", {"V3D_DEBUG=shaderdb"}, 3, false, {}, "V3D 4.2"},
+        {"mali-450", "Mali-450 (Utgard)", "Lima", "lima", {"LIMA_DEBUG=shaderdb"}, 2, false, {}, "Mali450"},
     };
     return targets;
 }
@@ -333,17 +333,22 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
         files.push_back(base + ".vert");
         files.push_back(base + ".frag");
     }
-    // One run per program (2 to 3 s of start-up each under qemu): a compiler
-    // that hangs on one costs that program's limit, not the others'; after
-    // two in a row the rest are not started.
+    // Up to 16 programs a run (each run costs 2 to 3 s of start-up under
+    // qemu). A program the compiler does not finish (a hang, past the run's
+    // limit, or a crash) is marked and the next run starts after it; after
+    // two such in a row the rest are not started.
+    constexpr std::size_t kBatch = 16;
     GpuRun all;
     all.programs.resize(pairs.size());
-    int hangs_in_a_row = 0;
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-        if (hangs_in_a_row >= 2) {
-            all.programs[i].error = "skipped: the compiler did not finish the two variants before it";
-            continue;
+    int stuck_in_a_row = 0;
+    std::size_t next = 0;
+    while (next < pairs.size()) {
+        if (stuck_in_a_row >= 2) {
+            for (std::size_t i = next; i < pairs.size(); ++i)
+                all.programs[i].error = "skipped: the compiler did not finish the two variants before it";
+            break;
         }
+        const std::size_t count = std::min(kBatch, pairs.size() - next);
         std::vector<std::string> argv = {tools.qemu, "-L", tools.sysroot, "-E",
                                          "LD_PRELOAD=" + tools.dir + "/lib" + target.shim + "_noop_drm_shim.so",
                                          "-E", "MESA_SHADER_CACHE_DISABLE=true", "-E", "MESA_GLSL_CACHE_DISABLE=true"};
@@ -353,17 +358,21 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
         }
         argv.push_back(tools.dir + "/shader_probe");
         argv.push_back(std::to_string(es_major));
-        argv.push_back(files[2 * i]);
-        argv.push_back(files[2 * i + 1]);
+        argv.insert(argv.end(), files.begin() + static_cast<long>(2 * next),
+                    files.begin() + static_cast<long>(2 * (next + count)));
         ProcessOptions options;
-        options.timeout_s = kStartSeconds + seconds_per_program;
+        options.timeout_s = kStartSeconds + seconds_per_program * static_cast<double>(count);
         options.max_output = 64u << 20;  // ir3's disassembly is long
         options.remove_env = {"LD_PRELOAD"};
         Result<ProcessResult> r = run_process(argv, options);
         if (!r) return make_error(target.gpu + ": cannot run qemu-aarch64: " + r.error().message);
-        Result<GpuRun> part = parse_probe_output(target, r->output, 1);
+        Result<GpuRun> part = parse_probe_output(target, r->output, count);
         if (!part) return part.error();
         if (all.context.empty()) all.context = part->context;
+        if (!part->context.empty() && part->context.find(target.renderer) == std::string::npos)
+            return make_error(target.gpu + ": the driver that loaded is '" + part->context + "', not " + target.renderer +
+                              "'s (is " + tools.dir + "/lib" + target.shim +
+                              "_noop_drm_shim.so the right shim? tools/cross/make_gpu_compilers.sh makes it)");
         if (part->context.empty() && !r->timed_out) {
             std::string command;
             for (const std::string& word : argv) command += (command.empty() ? "" : " ") + shell_word(word);
@@ -371,20 +380,25 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
                               (r->signal ? "signal " + std::to_string(r->signal) : "exit " + std::to_string(r->exit_status)) +
                               ") before it had a context; run by hand: " + command.substr(0, 700));
         }
-        all.programs[i] = part->programs[0];
-        if (r->timed_out) {
-            all.programs[i].stages.clear();
-            all.programs[i].error = "the compiler did not finish it within " +
-                                    std::to_string(static_cast<int>(options.timeout_s)) + " s";
-            ++hangs_in_a_row;
-        } else {
-            hangs_in_a_row = 0;
-            if (all.programs[i].error == "the probe did not finish this program")
-                all.programs[i].error = "the driver ended the run on it (" +
-                                        (r->signal ? "signal " + std::to_string(r->signal)
-                                                   : "exit " + std::to_string(r->exit_status)) +
-                                        ")";
+        std::size_t done = 0;
+        while (done < count && part->programs[done].error != "the probe did not finish this program") {
+            all.programs[next + done] = part->programs[done];
+            stuck_in_a_row = 0;
+            ++done;
         }
+        if (done == count) {
+            next += count;
+            continue;
+        }
+        GpuProgram& stuck = all.programs[next + done];
+        stuck.error = r->timed_out ? "the compiler did not finish it: the run's limit of " +
+                                         std::to_string(static_cast<int>(options.timeout_s)) + " s passed"
+                                   : "the driver ended the run on it (" +
+                                         (r->signal ? "signal " + std::to_string(r->signal)
+                                                    : "exit " + std::to_string(r->exit_status)) +
+                                         ")";
+        ++stuck_in_a_row;
+        next += done + 1;
     }
     return all;
 }

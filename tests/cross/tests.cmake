@@ -82,3 +82,16 @@ add_test(NAME render_multisampled COMMAND bash -c
   "out=$(\"$0\" render bricks --es 3 --size 64x64 -o \"$1\") && printf '%s\\n' \"$out\" && grep -Eq \"$2\" <<<\"$out\""
   ${PX_CROSS_CLI} ${CMAKE_BINARY_DIR}/render_multisampled.png "${PX_MSAA_EXPECT}")
 set_tests_properties(render_multisampled PROPERTIES ENVIRONMENT "${PX_CROSS_ENV}" LABELS "cross;gpu;ci")
+
+# armhf under qemu-arm 7.2: llvmpipe's drawing is wrong on every emulated
+# CPU (README "ARM builds", armhf): with NEON (qemu's default) linear
+# filtering returns wrong texels (tools/cross/reproduce.sh linear_sampling);
+# without it (cortex-r5f, the toolchain's default) normal mapping is right
+# but every technique that offsets by the height draws those surfaces black
+# (the goldens 4 to 66 % of pixels off). The GPU tests are registered and
+# disabled there (ctest lists them as "Not Run (Disabled)"); the GL-free
+# unit tests run.
+if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(arm|armv[4-7].*|armhf)$")
+  set_tests_properties(gpu_golden_es2 gpu_golden_es3 gpu_es2 gpu_es3 compare_cli stability_es3 stability_es2
+                       plan_verify render_multisampled PROPERTIES DISABLED TRUE)
+endif()

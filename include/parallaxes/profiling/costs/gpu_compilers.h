@@ -32,6 +32,7 @@ struct GpuTarget {
     int es_max = 3;       // Lima: OpenGL ES 2.0 only
     bool ir3 = false;     // statistics from ir3's disassembly (Adreno), not shader-db lines
     std::vector<std::string> pipes;  // per-pipe cycle figures, in the compiler's words ("arith", "texture", ...)
+    std::string renderer;  // what GL_RENDERER must hold when that driver loaded: "Mali-G57", "FD630"
 };
 
 // Every GPU --gpu knows, in --gpu list's order.
@@ -103,9 +104,11 @@ struct ShaderPair {
 };
 
 // Compiles every pair with `target`'s driver (qemu-aarch64, the shim
-// preloaded, Mesa's shader caches off), one run per pair: a program the
-// compiler does not finish within `seconds_per_program` (plus 20 s for
-// start-up) is marked so; after two such in a row the rest are skipped.
+// preloaded, Mesa's shader caches off), up to 16 pairs a run, each run
+// limited to 20 s plus `seconds_per_program` per pair: a program the
+// compiler does not finish (the limit passes, or the driver crashes) is
+// marked so and the next run starts after it; after two such in a row the
+// rest are skipped.
 Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                               const std::vector<ShaderPair>& pairs, double seconds_per_program = 60.0);
 
