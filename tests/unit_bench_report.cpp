@@ -240,7 +240,9 @@ TEST(BenchReportJson, ParsesBackWithEveryField) {
     for (size_t i = 0; i < rows.size(); ++i) {
         const BenchRow& r = run.rows[i];
         const nlohmann::json& j = rows[i];
-        EXPECT_EQ(j.size(), r.iteration_histogram.empty() ? 25u : 26u) << "fields in row " << i;
+        EXPECT_EQ(j.size(), r.iteration_histogram.empty() ? 28u : 29u) << "fields in row " << i;
+        EXPECT_TRUE(j.at("gpu_cycles").is_null());  // no --gpu: NaN
+        EXPECT_TRUE(j.at("gpu_cycles_per_pixel").is_null());
         EXPECT_EQ(j.at("input_floor_p95").get<double>(), r.input_floor_p95);
         EXPECT_TRUE(j.at("own_ray_error_p95").is_null());  // not measured: NaN
         EXPECT_EQ(j.at("scene"), r.scene);
@@ -645,6 +647,47 @@ TEST(BenchReportMarkdown, WorkSectionListsCountedRowsOnly) {
     const nlohmann::json doc = nlohmann::json::parse(read_text(json));
     EXPECT_EQ(doc.at("rows")[0].at("iteration_histogram").size(), 13u);
     EXPECT_EQ(doc.at("rows")[0].at("iterations_p99").get<double>(), 40.0);
+}
+
+// bench --gpu: a section only when the run has GPU figures; per pixel is the
+// compiler's cycles where it kept no loop, times the counted iterations
+// where it kept one, "–" where a kept loop's iterations are not counted;
+// the ratio is to normal mapping's at the same scene and angle.
+TEST(BenchReportMarkdown, GpuSectionPutsTheCompilersCostBesideTheError) {
+    TempDir dir;
+    BenchRun run = synthetic_run();
+    const std::string plain = dir.file("plain.md");
+    ASSERT_TRUE(write_report_md(run, plain).ok());
+    EXPECT_FALSE(contains(read_text(plain), "## On a real GPU compiler"));
+    run.gpu = "Mali-G57 (Valhall): Panfrost of Mali-G57 (Panfrost) | OpenGL ES 3.1 Mesa 22.3.6";
+    BenchRow& normal = run.rows[0];   // bricks 75 normal
+    BenchRow& pom32 = run.rows[3];    // bricks 75 pom 32
+    BenchRow& maxmip = run.rows[7];   // bricks 75 maxmip
+    BenchRow& relief = run.rows[6];   // bricks 75 relief 16: a kept loop, not counted
+    normal.gpu_cycles = normal.gpu_cycles_per_pixel = 2.5;
+    normal.gpu_loops = 0;
+    pom32.gpu_cycles = pom32.gpu_cycles_per_pixel = 10;
+    pom32.gpu_loops = 0;
+    maxmip.gpu_cycles = 40;
+    maxmip.gpu_loops = 1;
+    maxmip.gpu_cycles_per_pixel = 40 * 6;
+    relief.gpu_cycles = 3.5;
+    relief.gpu_loops = 1;
+    const std::string path = dir.file("report.md");
+    ASSERT_TRUE(write_report_md(run, path).ok());
+    const std::string gpu = section(read_text(path), "## On a real GPU compiler");
+    EXPECT_TRUE(contains(gpu, "Mali-G57 (Valhall)")) << gpu;
+    EXPECT_TRUE(contains(gpu, "| bricks | 75° | pom | 32 | 0.4 | 10 | 0 | 10 | 4 | 3.00× |")) << gpu;
+    EXPECT_TRUE(contains(gpu, "| bricks | 75° | maxmip | 0 | 0.008 | 40 | 1 | 240 | 96 | 2.60× |")) << gpu;
+    EXPECT_TRUE(contains(gpu, "| bricks | 75° | relief | 16 | 0.44 | 3.5 | 1 | – | – | 2.40× |")) << gpu;
+    EXPECT_EQ(count(gpu, "\n| "), 6u) << gpu;  // header, rule and the four rows with figures
+    const std::string json = dir.file("bench.json");
+    ASSERT_TRUE(write_json(run, json).ok());
+    const nlohmann::json doc = nlohmann::json::parse(read_text(json));
+    EXPECT_EQ(doc.at("gpu").get<std::string>(), run.gpu);
+    EXPECT_EQ(doc.at("rows")[7].at("gpu_cycles_per_pixel").get<double>(), 240.0);
+    EXPECT_TRUE(doc.at("rows")[6].at("gpu_cycles_per_pixel").is_null());
+    EXPECT_TRUE(doc.at("rows")[1].at("gpu_cycles").is_null());
 }
 
 // A run on a real GPU (the bench on NVIDIA's EGL, 2026-12-04) does not call

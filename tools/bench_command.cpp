@@ -2,6 +2,7 @@
 //                [--size WxH] [--frames N] [--quick] [--out DIR]
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -14,6 +15,8 @@
 #include "parallaxes/core/counters.h"
 #include "parallaxes/core/files.h"
 #include "parallaxes/profiling/measurement/bench.h"
+#include "parallaxes/profiling/costs/gpu_compilers.h"
+#include "parallaxes/shaders/shader_source.h"
 #include "parallaxes/profiling/measurement/planner_table.h"
 #include "parallaxes/profiling/measurement/showcase.h"
 #include "plan_report.h"
@@ -53,7 +56,49 @@ struct BenchArgs {
     std::string textures_scene; // --textures-scene: its scene (default: the built-in lettering scene)
     std::string search_model;   // a folder of fit_*.json and judge_*.json scenes
     int es = 3;                 // the sweep's OpenGL ES version
+    std::string gpu;            // --gpu: one real GPU compiler's cost of each setting's variant
 };
+
+// --gpu: each drawn variant compiled with that GPU's real compiler
+// (profiling/costs/gpu_compilers.h), its cycles into the rows.
+Status add_gpu_costs(profiling::BenchRun& run, const std::string& name, int es) {
+    Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(name);
+    if (!targets) return targets.error();
+    if (targets->size() != 1) return make_error("--gpu: one GPU at a time for bench");
+    const profiling::GpuTarget& t = targets->front();
+    Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
+    if (!tools) return tools.error();
+    std::vector<std::string> names;
+    for (const profiling::BenchRow& r : run.rows)
+        if (!r.variant.empty() && std::find(names.begin(), names.end(), r.variant) == names.end()) names.push_back(r.variant);
+    std::vector<profiling::ShaderPair> pairs;
+    for (const std::string& n : names) {
+        Result<VariantKey> key = VariantKey::parse(n);
+        if (!key) return make_error("--gpu: the drawn variant '" + n + "' does not parse: " + key.error().message);
+        Result<VariantSources> sources = assemble_variant(*key);
+        if (!sources) return with_context(n, sources.error());
+        pairs.push_back({sources->vertex.text, sources->fragment.text});
+    }
+    std::fprintf(stderr, "bench: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", pairs.size(),
+                 t.gpu.c_str(), t.driver.c_str());
+    Result<profiling::GpuRun> compiled = profiling::compile_on_gpu(*tools, t, es, pairs);
+    if (!compiled) return compiled.error();
+    run.gpu = t.gpu + ": " + t.driver + " of " + compiled->context;
+    for (profiling::BenchRow& r : run.rows) {
+        const auto at = std::find(names.begin(), names.end(), r.variant);
+        if (at == names.end()) continue;
+        const profiling::GpuProgram& program = compiled->programs[static_cast<std::size_t>(at - names.begin())];
+        if (!program.error.empty())
+            std::fprintf(stderr, "bench: warning: %s on %s: %s\n", t.gpu.c_str(), r.variant.c_str(), program.error.c_str());
+        const profiling::GpuSummary m = profiling::summarise(t, program);
+        if (m.cycles < 0.0) continue;
+        r.gpu_cycles = m.cycles;
+        r.gpu_loops = m.loops;
+        if (m.loops <= 0.0) r.gpu_cycles_per_pixel = m.cycles;
+        else if (r.iterations_median > 0.0) r.gpu_cycles_per_pixel = m.cycles * r.iterations_median;
+    }
+    return {};
+}
 
 
 // The planner's cost table: the grid of include/parallaxes/profiling/measurement/planner_table.h, or the
@@ -155,6 +200,17 @@ int run(BenchArgs a) {
     if (a.es != 3 && (!a.planner_table.empty() || !a.showcase.empty() || !a.search_model.empty() || a.textures))
         return fail("--es 2 is for the sweep only: --planner-table, --showcase, --search-model and --textures run on "
                     "OpenGL ES 3.0");
+    if (!a.gpu.empty()) {
+        if (!a.planner_table.empty() || !a.showcase.empty() || !a.search_model.empty() || a.textures)
+            return fail("--gpu is for the sweep only");
+        // The names and the compilers checked before anything is measured.
+        Result<std::vector<profiling::GpuTarget>> t = profiling::parse_gpu_targets(a.gpu);
+        if (!t) return fail(t.error().message);
+        if (t->size() != 1) return fail("--gpu: one GPU at a time for bench");
+        if (a.es > t->front().es_max)
+            return fail("--gpu " + t->front().name + ": " + t->front().gpu + " runs OpenGL ES 2.0 only: add --es 2");
+        if (Result<profiling::GpuCompilers> c = profiling::find_gpu_compilers(); !c) return fail(c.error().message);
+    }
     if (!a.planner_table.empty()) return run_planner_table(a, o);
     // Every other mode writes into --out at the end: refuse a folder that
     // cannot be written before measuring anything.
@@ -177,6 +233,8 @@ int run(BenchArgs a) {
                                            show_progress("bench", done, total, what);
                                        });
     if (!result) return fail(result.error().message);
+    if (!a.gpu.empty())
+        if (Status g = add_gpu_costs(*result, a.gpu, a.es); !g) return fail(g.error().message);
 
     const std::string base = a.out + "/";
     for (const auto& [writer, name] :
@@ -207,6 +265,9 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     for (int i = 0; i < argc; ++i) command << (i ? " " : "") << (i == 0 ? "parallax" : argv[i]);
     args->command = command.str();
     CLI::App* cmd = app.add_subcommand("bench", "Sweep error against the exact reference beside frame time");
+    cmd->add_option("--gpu", args->gpu,
+                    "One real mobile GPU compiler (parallax profile --gpu list; mali-g52 or mali-g57 estimate cycles): "
+                    "its cost of each setting's variant beside the error, in the report");
     cmd->add_option("--scenes", args->scenes, "Bench scenes (default: all)")->delimiter(',');
     cmd->add_option("--techniques", args->techniques, "Techniques, and displaced_mesh (default: all)")->delimiter(',');
     cmd->add_option("--samples", args->samples, "max_samples settings (default " + sample_grid_text() + ")")->delimiter(',');

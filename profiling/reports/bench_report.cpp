@@ -88,7 +88,7 @@ struct Measure {
 };
 
 // The floating-point fields after scene, angle_deg, technique, samples, pixels.
-constexpr std::array<Measure, 20> kMeasures{{
+constexpr std::array<Measure, 23> kMeasures{{
     {"uv_error_mean", &BenchRow::uv_error_mean},
     {"uv_error_p95", &BenchRow::uv_error_p95},
     {"input_floor_p95", &BenchRow::input_floor_p95},
@@ -109,6 +109,9 @@ constexpr std::array<Measure, 20> kMeasures{{
     {"iterations_p99", &BenchRow::iterations_p99},
     {"iterations_max", &BenchRow::iterations_max},
     {"fetches_median", &BenchRow::fetches_median},
+    {"gpu_cycles", &BenchRow::gpu_cycles},
+    {"gpu_loops", &BenchRow::gpu_loops},
+    {"gpu_cycles_per_pixel", &BenchRow::gpu_cycles_per_pixel},
 }};
 
 // ------------------------------------------------------------- techniques
@@ -297,6 +300,7 @@ std::string json_text(const BenchRun& run) {
     doc["width"] = run.width;
     doc["height"] = run.height;
     doc["frames"] = run.frames;
+    if (!run.gpu.empty()) doc["gpu"] = run.gpu;
     doc["rows"] = std::move(rows);
     // Keys in the order above. Invalid UTF-8 (a command line can hold anything) becomes U+FFFD instead of throwing.
     return doc.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
@@ -1185,6 +1189,36 @@ std::string work_section(const BenchRun& run) {
     return out + "\n";
 }
 
+// bench --gpu: each setting's error beside what the real compiler says the
+// variant costs per pixel, and that against normal mapping's, per scene and
+// angle; empty when the run has no GPU figures.
+std::string gpu_section(const BenchRun& run) {
+    if (run.gpu.empty()) return "";
+    std::string out = "## On a real GPU compiler\n\n";
+    out += "Compiled by " + md_text(run.gpu) + " (`parallax bench --gpu`, docs/gpu-compilers.md). GPU cycles: the "
+           "compiler's static estimate per fragment; a loop it kept (loops) counts one pass there, so per pixel "
+           "multiplies by the exact walk's median iterations, which its work counters read back (an upper bound: "
+           "the code outside the loop counts each time); – where a kept loop's iterations are not counted. x normal: "
+           "per-pixel cycles over normal mapping's at the same scene and angle, beside llvmpipe's measured ratio.\n\n";
+    out += "| scene | angle | technique | samples | hit error p95 (texels) | GPU cycles | loops | per pixel | x normal (GPU) | "
+           "x normal (llvmpipe) |\n";
+    out += "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+    for (const BenchRow& r : run.rows) {
+        if (std::isnan(r.gpu_cycles)) continue;
+        double normal = std::numeric_limits<double>::quiet_NaN();
+        for (const BenchRow& n : run.rows)
+            if (n.technique == "normal" && n.scene == r.scene && same_angle(n.angle_deg, r.angle_deg))
+                normal = n.gpu_cycles_per_pixel;
+        const double ratio = normal > 0.0 ? r.gpu_cycles_per_pixel / normal : std::numeric_limits<double>::quiet_NaN();
+        out += "| " + md_text(r.scene) + " | " + human_fixed(r.angle_deg, 0) + "° | " + md_text(r.technique) + " | " +
+               std::to_string(r.samples) + " | " + human_sig(r.uv_error_p95) + " | " + human_sig(r.gpu_cycles) + " | " +
+               human_fixed(r.gpu_loops, 0) + " | " +
+               (std::isnan(r.gpu_cycles_per_pixel) ? std::string("–") : human_sig(r.gpu_cycles_per_pixel)) + " | " +
+               (std::isnan(ratio) ? std::string("–") : human_sig(ratio)) + " | " + ratio_text(r.ratio_to_normal) + " |\n";
+    }
+    return out + "\n";
+}
+
 std::string markdown_text(const BenchRun& run) {
     const std::vector<TechniqueEntry> techniques = techniques_in(run);
     std::string out = "# ParallaxES benchmark: accuracy against cost\n\n";
@@ -1208,6 +1242,7 @@ std::string markdown_text(const BenchRun& run) {
     const std::vector<SceneAngle> groups = scene_angle_groups(run);
     out += cheapest_section(techniques, groups);
     out += work_section(run);
+    out += gpu_section(run);
     out += all_settings_section(techniques, groups);
     return out;
 }

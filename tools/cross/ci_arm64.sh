@@ -15,10 +15,11 @@ build=${1:-$root/build-arm64-ci}
 start=$(date +%s)
 bash "$root/tools/cross/make_sysroot.sh" arm64 >/dev/null
 echo "ci_arm64: sysroot ready ($(( $(date +%s) - start )) s)"
+mkdir -p "$build"
 cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/toolchains/arm64.cmake" -DCMAKE_BUILD_TYPE=Release \
-    >"$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
-cmake --build "$build" --target parallax_cli -j "$(nproc)" >"$build.build.log" 2>&1 ||
-    { tail -40 "$build.build.log"; exit 1; }
+    >"$build/ci-configure.log" 2>&1 || { cat "$build/ci-configure.log"; exit 1; }
+cmake --build "$build" --target parallax_cli -j "$(nproc)" >"$build/ci-build.log" 2>&1 ||
+    { tail -40 "$build/ci-build.log"; exit 1; }
 echo "ci_arm64: parallax built for arm64 ($(( $(date +%s) - start )) s)"
 ctest --test-dir "$build" -L '^ci$' --output-on-failure
 echo "ci_arm64: done ($(( $(date +%s) - start )) s)"

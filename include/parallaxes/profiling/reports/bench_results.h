@@ -59,6 +59,16 @@ struct BenchRow {
     double fetches_median = 0.0;
     // Pixels per iteration count in powers of two (work.h); empty where not counted.
     std::vector<std::size_t> iteration_histogram;
+    // `bench --gpu NAME`: the variant's fragment shader as that GPU's real
+    // compiler estimates it (profile --gpu, docs/gpu-compilers.md). NaN where
+    // not asked for, or where the compiler gives no cycle estimate.
+    double gpu_cycles = std::numeric_limits<double>::quiet_NaN();  // its static figure; a kept loop counts one pass
+    double gpu_loops = std::numeric_limits<double>::quiet_NaN();   // loops it kept after unrolling
+    // Per pixel: gpu_cycles where it kept no loop; where it kept one and the
+    // shader's own work counters read the iterations back (the exact walk),
+    // gpu_cycles times the median iterations (an upper bound: the code
+    // outside the loop is counted each time); NaN otherwise.
+    double gpu_cycles_per_pixel = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct BenchRun {
@@ -69,6 +79,7 @@ struct BenchRun {
     int threads = 0;            // llvmpipe threads (LP_NUM_THREADS or the CPU count)
     int width = 0, height = 0;  // image size
     int frames = 0;             // timed frames per setting
+    std::string gpu;            // bench --gpu: "Mali-G57 (Valhall): Panfrost of ..."; empty when not asked for
     std::vector<BenchRow> rows;
 };
 
