@@ -207,6 +207,9 @@ int run(BenchArgs a) {
         Result<std::vector<profiling::GpuTarget>> t = profiling::parse_gpu_targets(a.gpu);
         if (!t) return fail(t.error().message);
         if (t->size() != 1) return fail("--gpu: one GPU at a time for bench");
+        if (t->front().pipes.empty())
+            return fail("--gpu " + t->front().name + ": its compiler gives no cycle estimate; bench --gpu needs one "
+                        "that does (mali-g52, mali-g57; profile --gpu shows the others' figures)");
         if (a.es > t->front().es_max)
             return fail("--gpu " + t->front().name + ": " + t->front().gpu + " runs OpenGL ES 2.0 only: add --es 2");
         if (Result<profiling::GpuCompilers> c = profiling::find_gpu_compilers(); !c) return fail(c.error().message);
