@@ -71,17 +71,15 @@ Status add_gpu_costs(profiling::BenchRun& run, const std::string& name, int es) 
     std::vector<std::string> names;
     for (const profiling::BenchRow& r : run.rows)
         if (!r.variant.empty() && std::find(names.begin(), names.end(), r.variant) == names.end()) names.push_back(r.variant);
-    std::vector<profiling::ShaderPair> pairs;
+    std::vector<VariantKey> keys;
     for (const std::string& n : names) {
         Result<VariantKey> key = VariantKey::parse(n);
         if (!key) return make_error("--gpu: the drawn variant '" + n + "' does not parse: " + key.error().message);
-        Result<VariantSources> sources = assemble_variant(*key);
-        if (!sources) return with_context(n, sources.error());
-        pairs.push_back({sources->vertex.text, sources->fragment.text});
+        keys.push_back(*key);
     }
-    std::fprintf(stderr, "bench: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", pairs.size(),
+    std::fprintf(stderr, "bench: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", keys.size(),
                  t.gpu.c_str(), t.driver.c_str());
-    Result<profiling::GpuRun> compiled = profiling::compile_on_gpu(*tools, t, es, pairs);
+    Result<profiling::GpuRun> compiled = profiling::compile_variants_on_gpu(*tools, t, es, keys);
     if (!compiled) return compiled.error();
     run.gpu = t.gpu + ": " + t.driver + " of " + compiled->context;
     for (profiling::BenchRow& r : run.rows) {

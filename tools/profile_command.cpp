@@ -262,12 +262,8 @@ Result<std::vector<std::string>> run_gpu_compilers(std::vector<profiling::Varian
     if (!targets) return targets.error();
     Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
     if (!tools) return tools.error();
-    std::vector<profiling::ShaderPair> pairs;
-    for (size_t i = 0; i < profiles.size(); ++i) {
-        Result<VariantSources> sources = assemble_variant(profiles[i]->key, files.empty() ? nullptr : files[i]);
-        if (!sources) return with_context(profiles[i]->name, sources.error());
-        pairs.push_back({sources->vertex.text, sources->fragment.text});
-    }
+    std::vector<VariantKey> keys;
+    for (const profiling::VariantProfile* p : profiles) keys.push_back(p->key);
     std::vector<std::string> lines;
     for (const profiling::GpuTarget& t : *targets) {
         if (a.es > t.es_max) {
@@ -276,9 +272,9 @@ Result<std::vector<std::string>> run_gpu_compilers(std::vector<profiling::Varian
             continue;
         }
         std::fprintf(stderr, "parallax: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n",
-                     pairs.size(), t.gpu.c_str(), t.driver.c_str());
+                     keys.size(), t.gpu.c_str(), t.driver.c_str());
         const auto start = std::chrono::steady_clock::now();
-        Result<profiling::GpuRun> run = profiling::compile_on_gpu(*tools, t, a.es, pairs, a.gpu_timeout);
+        Result<profiling::GpuRun> run = profiling::compile_variants_on_gpu(*tools, t, a.es, keys, files, a.gpu_timeout);
         if (!run) return run.error();
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         int failed = 0;
@@ -297,8 +293,8 @@ Result<std::vector<std::string>> run_gpu_compilers(std::vector<profiling::Varian
         }
         char took[32];
         std::snprintf(took, sizeof took, "%.1f", seconds);
-        lines.push_back(t.gpu + ": " + t.driver + " of " + run->context + ", " + std::to_string(pairs.size() - failed) +
-                        " of " + std::to_string(pairs.size()) + " variant(s) compiled, " + took + " s");
+        lines.push_back(t.gpu + ": " + t.driver + " of " + run->context + ", " + std::to_string(keys.size() - failed) +
+                        " of " + std::to_string(keys.size()) + " variant(s) compiled, " + took + " s");
     }
     return lines;
 }
@@ -800,15 +796,9 @@ int run_gpu_calibration_set(const ProfileArgs& a) {
     if (!keys) return fail(keys.error().message);
     Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
     if (!tools) return fail(tools.error().message);
-    std::vector<profiling::ShaderPair> pairs;
-    for (const VariantKey& k : *keys) {
-        Result<VariantSources> sources = assemble_variant(k);
-        if (!sources) return fail(k.describe() + ": " + sources.error().message);
-        pairs.push_back({sources->vertex.text, sources->fragment.text});
-    }
-    std::fprintf(stderr, "parallax: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", pairs.size(),
+    std::fprintf(stderr, "parallax: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", keys->size(),
                  t.gpu.c_str(), t.driver.c_str());
-    Result<profiling::GpuRun> run = profiling::compile_on_gpu(*tools, t, a.es, pairs, a.gpu_timeout);
+    Result<profiling::GpuRun> run = profiling::compile_variants_on_gpu(*tools, t, a.es, *keys, {}, a.gpu_timeout);
     if (!run) return fail(run.error().message);
     profiling::CalibrationSet set;
     set.gpu = t.gpu;
@@ -848,8 +838,10 @@ int run_gpu_calibration_set(const ProfileArgs& a) {
         const double arith = valhall ? std::max({get("fma"), get("cvt"), get("sfu")}) : get("arith");
         figures.pipes = {"A", "LS", "V", "T"};
         figures.total = {arith, get(valhall ? "ls" : "ldst"), get(valhall ? "v" : "vary"), get(valhall ? "t" : "texture")};
+        Result<VariantSources> sources = assemble_variant((*keys)[i]);
+        if (!sources) return fail(name + ": " + sources.error().message);
         Result<profiling::CalibrationShader> entry =
-            profiling::calibration_entry(name, pairs[i].fragment, ShaderStage::fragment, figures);
+            profiling::calibration_entry(name, sources->fragment.text, ShaderStage::fragment, figures);
         if (!entry) return fail(entry.error().message);
         set.shaders.push_back(std::move(*entry));
     }

@@ -403,4 +403,16 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
     return all;
 }
 
+Result<GpuRun> compile_variants_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
+                                       const std::vector<VariantKey>& keys, const std::vector<const ShaderFiles*>& files,
+                                       double seconds_per_program) {
+    std::vector<ShaderPair> pairs;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        Result<VariantSources> sources = assemble_variant(keys[i], i < files.size() ? files[i] : nullptr);
+        if (!sources) return with_context(keys[i].describe(), sources.error());
+        pairs.push_back({sources->vertex.text, sources->fragment.text});
+    }
+    return compile_on_gpu(tools, target, es_major, pairs, seconds_per_program);
+}
+
 }  // namespace px::profiling

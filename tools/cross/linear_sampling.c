@@ -9,9 +9,7 @@
  * Exit 0: both right; 1: a filter gave wrong texels; 2: no context.
  *   tools/cross/reproduce.sh linear_sampling arm64|armhf|native builds and runs it
  */
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
-#include <GLES2/gl2.h>
+#include "es_helpers.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,16 +25,12 @@ static const char* kFragment =
     "varying vec2 uv;\n"
     "void main() { gl_FragColor = texture2D(t, uv); }\n";
 
+/* A stage, or exit 2 with its log. */
 static GLuint shader(GLenum kind, const char* text) {
-    GLuint s = glCreateShader(kind);
-    GLint ok = 0;
-    glShaderSource(s, 1, &text, NULL);
-    glCompileShader(s);
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        fprintf(stderr, "shader: %s\n", log);
+    char error[600];
+    GLuint s = px_compile_shader(kind, text, error, sizeof error);
+    if (!s) {
+        fprintf(stderr, "%s\n", error);
         exit(2);
     }
     return s;
@@ -78,16 +72,8 @@ static int draw_and_check(GLint filter, float sx, const char* name) {
 }
 
 int main(void) {
-    PFNEGLGETPLATFORMDISPLAYEXTPROC get_display =
-        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
-    if (!get_display) { fprintf(stderr, "no eglGetPlatformDisplayEXT\n"); return 2; }
-    EGLDisplay d = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    if (d == EGL_NO_DISPLAY || !eglInitialize(d, NULL, NULL)) { fprintf(stderr, "no surfaceless display\n"); return 2; }
-    eglBindAPI(EGL_OPENGL_ES_API);
-    const EGLint attribs[] = {EGL_CONTEXT_CLIENT_VERSION, 2, EGL_NONE};
-    EGLContext ctx = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    if (ctx == EGL_NO_CONTEXT || !eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-        fprintf(stderr, "no context\n");
+    if (!px_surfaceless_context(2, NULL)) {
+        fprintf(stderr, "no surfaceless OpenGL ES 2.0 context\n");
         return 2;
     }
     printf("%s | %s\n", (const char*)glGetString(GL_RENDERER), (const char*)glGetString(GL_VERSION));

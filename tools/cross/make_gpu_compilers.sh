@@ -31,7 +31,7 @@ triplet=aarch64-linux-gnu
 sysroot=$(bash "$here/make_sysroot.sh" arm64 | tail -1)
 mesa_version=$(awk '$1 == "libgl1-mesa-dri" {print $2}' "$sysroot/MANIFEST")
 [ -n "$mesa_version" ] || { echo "make_gpu_compilers: $sysroot/MANIFEST names no libgl1-mesa-dri" >&2; exit 1; }
-probe_hash=$(cat "$root/tools/gpu/shader_probe.c" "$0" | sha256sum | cut -c1-16)
+probe_hash=$(cat "$root/tools/gpu/shader_probe.c" "$root/tools/cross/es_helpers.h" "$0" | sha256sum | cut -c1-16)
 want="mesa $mesa_version probe $probe_hash sysroot $sysroot"
 if [ -f "$dir/.complete" ] && [ "$(cat "$dir/.complete")" = "$want" ]; then
     echo "$dir"

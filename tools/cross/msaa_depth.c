@@ -9,8 +9,7 @@
  * wrong; 2: no context.
  *   tools/cross/reproduce.sh msaa_depth arm64|armhf|native builds and runs it
  */
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
+#include "es_helpers.h"
 #include <GLES3/gl3.h>
 #include <signal.h>
 #include <stdio.h>
@@ -44,38 +43,22 @@ struct Case {
     int writes_depth;
 };
 
+/* A stage, or exit 2 with its log (in the child). */
 static GLuint shader(GLenum kind, const char* text) {
-    GLuint s = glCreateShader(kind);
-    GLint ok = 0;
-    glShaderSource(s, 1, &text, NULL);
-    glCompileShader(s);
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        fprintf(stderr, "shader: %s\n", log);
+    char error[600];
+    GLuint s = px_compile_shader(kind, text, error, sizeof error);
+    if (!s) {
+        fprintf(stderr, "%s\n", error);
         exit(2);
     }
     return s;
-}
-
-static int make_context(void) {
-    PFNEGLGETPLATFORMDISPLAYEXTPROC get_display =
-        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
-    if (!get_display) return 0;
-    EGLDisplay d = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    if (d == EGL_NO_DISPLAY || !eglInitialize(d, NULL, NULL)) return 0;
-    eglBindAPI(EGL_OPENGL_ES_API);
-    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_NONE};
-    EGLContext ctx = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    return ctx != EGL_NO_CONTEXT && eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx);
 }
 
 /* In the child: draws the case; exit 0 when the resolved centre is green.
  * The parent never makes a context (a forked child would inherit an
  * initialised display without the driver's threads). */
 static int draw_case(const struct Case* c, int print_renderer) {
-    if (!make_context()) return 2;
+    if (!px_surfaceless_context(3, NULL)) return 2;
     if (print_renderer) {
         printf("%s | %s\n", (const char*)glGetString(GL_RENDERER), (const char*)glGetString(GL_VERSION));
         fflush(stdout);

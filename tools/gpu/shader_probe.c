@@ -16,8 +16,7 @@
  * Exit 0 when every program compiled, linked and drew; 1 when one did not
  * (its error is in its end line); 2 on bad arguments or no context.
  */
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
+#include "../cross/es_helpers.h"
 #include <GLES3/gl3.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,23 +39,6 @@ static char* read_file(const char* path) {
     return text;
 }
 
-/* Compiles one stage; on failure writes the log into `error`. */
-static GLuint compile(GLenum kind, const char* text, char* error, size_t error_size) {
-    GLuint s = glCreateShader(kind);
-    GLint ok = 0;
-    glShaderSource(s, 1, &text, NULL);
-    glCompileShader(s);
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        snprintf(error, error_size, "%s shader: %s", kind == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
 static int probe(const char* vertex_path, const char* fragment_path, char* error, size_t error_size) {
     char* vertex = read_file(vertex_path);
     char* fragment = read_file(fragment_path);
@@ -66,8 +48,8 @@ static int probe(const char* vertex_path, const char* fragment_path, char* error
         snprintf(error, error_size, "cannot read %s", !vertex ? vertex_path : fragment_path);
         goto done;
     }
-    vs = compile(GL_VERTEX_SHADER, vertex, error, error_size);
-    fs = vs ? compile(GL_FRAGMENT_SHADER, fragment, error, error_size) : 0;
+    vs = px_compile_shader(GL_VERTEX_SHADER, vertex, error, error_size);
+    fs = vs ? px_compile_shader(GL_FRAGMENT_SHADER, fragment, error, error_size) : 0;
     if (!fs) goto done;
     prog = glCreateProgram();
     glAttachShader(prog, vs);
@@ -119,18 +101,9 @@ int main(int argc, char** argv) {
         fprintf(stdout, "usage: %s 2|3 VERTEX FRAGMENT [VERTEX FRAGMENT ...]\n", argv[0]);
         return 2;
     }
-    PFNEGLGETPLATFORMDISPLAYEXTPROC get_display =
-        (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
-    EGLDisplay d = get_display ? get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL) : EGL_NO_DISPLAY;
-    if (d == EGL_NO_DISPLAY || !eglInitialize(d, NULL, NULL)) {
-        printf("px-probe no-context no surfaceless EGL display\n");
-        return 2;
-    }
-    eglBindAPI(EGL_OPENGL_ES_API);
-    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, atoi(argv[1]), EGL_NONE};
-    EGLContext ctx = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
-    if (ctx == EGL_NO_CONTEXT || !eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-        printf("px-probe no-context no OpenGL ES %s context (EGL error 0x%04x)\n", argv[1], eglGetError());
+    EGLint egl_error = EGL_SUCCESS;
+    if (!px_surfaceless_context(atoi(argv[1]), &egl_error)) {
+        printf("px-probe no-context no surfaceless OpenGL ES %s context (EGL error 0x%04x)\n", argv[1], egl_error);
         return 2;
     }
     printf("px-probe context %s | %s\n", (const char*)glGetString(GL_RENDERER), (const char*)glGetString(GL_VERSION));

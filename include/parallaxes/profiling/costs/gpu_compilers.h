@@ -19,6 +19,8 @@
 #include <vector>
 
 #include "parallaxes/core/result.h"
+#include "parallaxes/effects/variant.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {
 
@@ -111,5 +113,12 @@ struct ShaderPair {
 // rest are skipped.
 Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                               const std::vector<ShaderPair>& pairs, double seconds_per_program = 60.0);
+
+// The same for variants: each assembled (from `files[i]` where given and
+// not null, else the embedded shaders) and compiled, in order.
+Result<GpuRun> compile_variants_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
+                                       const std::vector<VariantKey>& keys,
+                                       const std::vector<const ShaderFiles*>& files = {},
+                                       double seconds_per_program = 60.0);
 
 }  // namespace px::profiling
