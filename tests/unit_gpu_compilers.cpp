@@ -108,6 +108,25 @@ TEST(GpuCompilers, Ir3SummaryLinesOfTheProgramAloneNotMesasBlitShaders) {
     EXPECT_EQ(p.fragment()->figure("(ss)").value_or(-1), 20);
 }
 
+// Without FD_MESA_DEBUG=serialc a blit shader of Mesa's own (TTN) can be
+// compiled inside a program's draw: its real lines, moved there, must not
+// count as the program's.
+TEST(GpuCompilers, Ir3BlitShadersInsideAProgramAreLeftOut) {
+    std::string text = read_sample("adreno-630_normal_es3.txt");
+    const size_t blit = text.find("MESA: info: Native code for unnamed FRAG shader TTN");
+    const size_t blit_end = text.find("0 loops\n", text.find("; FRAG prog 1/1: 0 sstall", blit));
+    const size_t begin = text.find("px-probe begin 0\n");
+    ASSERT_NE(blit, std::string::npos);
+    ASSERT_NE(blit_end, std::string::npos);
+    ASSERT_NE(begin, std::string::npos);
+    const std::string lines = text.substr(blit, blit_end + 8 - blit);
+    text.insert(begin + 17, lines);
+    Result<GpuRun> run = parse_probe_output(target("adreno-630"), text, 1);
+    ASSERT_TRUE(run) << run.error().message;
+    ASSERT_EQ(run->programs[0].stages.size(), 3u);
+    EXPECT_EQ(summarise(target("adreno-630"), run->programs[0]).instructions, 507);
+}
+
 TEST(GpuCompilers, LimaSpillsAreRead) {
     const GpuProgram p = parse_one("mali-450", "mali-450_normal_es2.txt");
     const GpuSummary s = summarise(target("mali-450"), p);
