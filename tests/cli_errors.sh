@@ -196,6 +196,14 @@ expect_error "a contradictory request" "materials[0].effects.shadow: \"soft\" co
 expect_error "effects and a technique" "materials[0].effects: a material declares effects or names a technique, not both" plan "$work/both.json"
 expect_error "a bad camera path" "--camera-path must be orbit or dolly" render default --camera-path zoom -o "$work/out.png"
 expect_error "a bad plan format" "--format must be table or json" plan default --format xml
+# Prices: a GPU without a carried table, both sources at once, a missing or broken table file.
+expect_error "a GPU without a priced table" "parallax bench --planner-table FILE --gpu NAME" plan default --cost-target adreno-630
+expect_error "two price sources" "--cost-target and --cost-table both name the prices" \
+    plan default --cost-target mali-g57 --cost-table "$work/t.json"
+expect_error "a missing cost table" "$work/none.json" plan default --cost-table "$work/none.json"
+printf '{"date": "d", "renderer": "r", "version": "v", "command": "c", "prices": 7, "reliefs": []}\n' >"$work/prices.json"
+expect_error "a cost table with a bad prices field" "$work/prices.json: prices: expected a string" \
+    plan default --cost-table "$work/prices.json"
 # A fine request plans, in both formats, and --explain prints the plan.
 if out=$("$parallax" plan "$work/fine.json" --calibration-cache off 2>&1) && grep -q "variant" <<<"$out" &&
     grep -q "predict" <<<"$out" && "$parallax" plan showcase --format json --calibration-cache off >"$work/plan.json" &&

@@ -22,6 +22,14 @@ for es in 3 2; do
         { echo "FAIL: --es $es: an object without a target is not said to be one"; failures=$((failures + 1)); }
     echo "ok: plan showcase --verify --es $es"
 done
+# Priced in a real GPU compiler's cycles (the Mali-G57 table the program
+# carries): the plan says so and still meets every target.
+if "$parallax" plan showcase --size 128x128 --cost-target mali-g57 --verify >"$work/out" 2>"$work/err" &&
+    grep -q '^prices     Mali-G57 (Valhall) cycles per pixel' "$work/out" && grep -q '^verify     every target met' "$work/out"; then
+    echo "ok: plan showcase --cost-target mali-g57 --verify"
+else
+    echo "FAIL: plan showcase --cost-target mali-g57 --verify:"; cat "$work/out" "$work/err"; failures=$((failures + 1))
+fi
 # render --verify: the same measurement after the render.
 if ! "$parallax" render showcase --size 128x128 --frames 1 -o "$work/s.png" --verify >"$work/out" 2>"$work/err" ||
     ! grep -q '^verify     every target met' "$work/out"; then

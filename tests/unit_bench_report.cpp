@@ -690,6 +690,31 @@ TEST(BenchReportMarkdown, GpuSectionPutsTheCompilersCostBesideTheError) {
     EXPECT_TRUE(doc.at("rows")[1].at("gpu_cycles").is_null());
 }
 
+// pareto_gpu.svg: the same plot with the compiler's cost on the x axis: a
+// point per row with GPU cycles per pixel, at its ratio to normal mapping's;
+// a row whose kept loop was not counted is left out and said to be.
+TEST(BenchReportSvg, GpuParetoPlotsCyclesOverNormalMappings) {
+    TempDir dir;
+    BenchRun run = synthetic_run();
+    EXPECT_FALSE(write_pareto_gpu_svg(run, dir.file("none.svg")).ok()) << "a run without GPU figures has nothing to plot";
+    run.gpu = "Mali-G57 (Valhall): Panfrost";
+    run.rows[0].gpu_cycles = run.rows[0].gpu_cycles_per_pixel = 2.5;  // bricks 75 normal
+    run.rows[0].gpu_loops = 0;
+    run.rows[3].gpu_cycles = run.rows[3].gpu_cycles_per_pixel = 10;   // bricks 75 pom 32
+    run.rows[3].gpu_loops = 0;
+    run.rows[6].gpu_cycles = 3.5;                                     // relief 16: kept loop, not counted
+    run.rows[6].gpu_loops = 1;
+    const std::string path = dir.file("pareto_gpu.svg");
+    ASSERT_TRUE(write_pareto_gpu_svg(run, path).ok());
+    const std::string svg = read_text(path);
+    EXPECT_TRUE(contains(svg, "GPU cycles per pixel ÷ normal mapping")) << svg.substr(0, 2000);
+    EXPECT_TRUE(contains(svg, "4.00× normal (GPU cycles)")) << "pom 32: 10 / 2.5";
+    EXPECT_TRUE(contains(svg, "1.00× normal (GPU cycles)"));
+    EXPECT_TRUE(contains(svg, "Mali-G57 (Valhall)"));
+    EXPECT_TRUE(contains(svg, "without a finite angle, GPU cycles per pixel or error not plotted"));
+    EXPECT_FALSE(contains(svg, "frame time ÷ normal mapping"));
+}
+
 // A run on a real GPU (the bench on NVIDIA's EGL, 2026-12-04) does not call
 // its times llvmpipe's, nor list llvmpipe threads, nor explain its costs by
 // llvmpipe's loop unrolling.

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "parallaxes/profiling/costs/gpu_compilers.h"
+#include "parallaxes/shaders/shader_source.h"
 
 namespace px::profiling {
 namespace {
@@ -70,6 +71,47 @@ TEST(GpuCompilers, ValhallBoundPipeIsTheOneThatSetsTheCycles) {
     EXPECT_DOUBLE_EQ(s.cycles, 10.53125);
     EXPECT_EQ(s.bound, "cvt");  // 10.531250 cvt, beside 5.656250 fma and 8.750000 t
     EXPECT_EQ(s.threads, 1);
+}
+
+// The 16-bit share from the compiler's instruction listing
+// (BIFROST_MESA_DEBUG=shaderdb,shaders): the fragment stage's last listing
+// only (the IR is printed three times, the vertex stages before it), counted
+// as a separate script counted the same file (tests/data/gpu/README.md).
+TEST(GpuCompilers, ListingsGiveTheFragmentStagesSixteenBitShare) {
+    struct Case {
+        const char* gpu;
+        const char* file;
+        int narrow, wide, conversions;
+    };
+    for (const Case& c : {Case{"mali-g57", "mali-g57_flat_es3_listing.txt", 125, 114, 43},
+                          Case{"mali-g52", "mali-g52_flat_es3_listing.txt", 125, 107, 43}}) {
+        const GpuProgram p = parse_one(c.gpu, c.file);
+        EXPECT_TRUE(p.error.empty()) << c.gpu << ": " << p.error;
+        ASSERT_NE(p.fragment(), nullptr) << c.gpu;
+        EXPECT_EQ(p.fragment()->narrow_ops, c.narrow) << c.gpu;
+        EXPECT_EQ(p.fragment()->wide_ops, c.wide) << c.gpu;
+        EXPECT_EQ(p.fragment()->conversions, c.conversions) << c.gpu;
+        for (const GpuStage& st : p.stages)
+            if (!st.fragment) EXPECT_EQ(st.narrow_ops, -1) << c.gpu << " " << st.stage << ": vertex listings are not counted";
+        const GpuSummary s = summarise(target(c.gpu), p);
+        EXPECT_NEAR(s.narrow_share, static_cast<double>(c.narrow) / (c.narrow + c.wide), 1e-12) << c.gpu;
+        EXPECT_EQ(s.conversions, c.conversions) << c.gpu;
+        EXPECT_GT(s.cycles, 0.0) << c.gpu << ": the statistics line is still read beside the listing";
+    }
+    // Without a listing (the statistics switch alone) nothing is counted.
+    const GpuSummary plain = summarise(target("mali-g52"), parse_one("mali-g52", "mali-g52_normal_es3.txt"));
+    EXPECT_EQ(plain.narrow_share, -1.0);
+    // One line at a time: what counts and what does not.
+    GpuStage st;
+    count_listing_line("   r15 = FADD.v2f16 r25.h00, ^r15.neg.h00", st);
+    count_listing_line("\t*    r3 = FMA.f32 t0, r12, t.neg", st);
+    count_listing_line("   r10 = F16_TO_F32 ^r10.h00", st);
+    count_listing_line("   r12 = TEX_SINGLE.skip.2d.rgba.explicit.f16 r30, ^r12, ^r13, sr_count:3", st);
+    count_listing_line("   BRANCHZ.i16.flow10.eq ^r12.h00, u256 -> block95", st);
+    count_listing_line("\tvec1 16 ssa_1154 = phi block_119: ssa_1462, block_118: ssa_1151", st);
+    EXPECT_EQ(st.narrow_ops, 1);
+    EXPECT_EQ(st.wide_ops, 1);
+    EXPECT_EQ(st.conversions, 1);
 }
 
 TEST(GpuCompilers, MidgardRegistersAndNoCycles) {
@@ -200,6 +242,40 @@ TEST(GpuCompilers, AnEs2OnlyGpuRefusesEs3Variants) {
     Result<GpuRun> r = compile_on_gpu(none, target("mali-450"), 3, {{"v", "f"}});
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("OpenGL ES 2.0 only"), std::string::npos);
+}
+
+// Per pixel: the static estimate where the compiler kept no loop; times the
+// counted passes (at least one) where it kept one; unknown (-1) where it
+// kept one and nothing was counted, or gave no estimate.
+TEST(GpuCompilers, CyclesPerPixelMultiplyOnlyAKeptLoopByItsCountedPasses) {
+    EXPECT_DOUBLE_EQ(cycles_per_pixel(10.4, 0.0, false, 0.0), 10.4);
+    EXPECT_DOUBLE_EQ(cycles_per_pixel(10.4, 0.0, true, 17.0), 10.4);
+    EXPECT_DOUBLE_EQ(cycles_per_pixel(3.4, 1.0, true, 17.0), 3.4 * 17.0);
+    EXPECT_DOUBLE_EQ(cycles_per_pixel(3.4, 2.0, true, 0.0), 3.4);
+    EXPECT_DOUBLE_EQ(cycles_per_pixel(3.4, 1.0, false, 17.0), -1.0);
+    EXPECT_DOUBLE_EQ(cycles_per_pixel(-1.0, 0.0, true, 17.0), -1.0);
+}
+
+// The lights loop's bound set for a per-pixel cost: the line the variant's
+// defines write, in both stages of a real variant; a source without it is
+// an error, not a silent no-op.
+TEST(GpuCompilers, TheLightsLoopBoundIsSetInARealVariant) {
+    VariantKey key;
+    key.technique = Technique::pom;
+    key.shadow = ShadowMode::soft;
+    key.shadow_samples = 16;
+    Result<VariantSources> sources = assemble_variant(key.canonical());
+    ASSERT_TRUE(sources) << sources.error().message;
+    for (const std::string* text : {&sources->vertex.text, &sources->fragment.text}) {
+        Result<std::string> one = with_light_bound(*text, 1);
+        ASSERT_TRUE(one) << one.error().message;
+        EXPECT_NE(one->find("#define PX_MAX_LIGHTS 1\n"), std::string::npos);
+        EXPECT_EQ(one->find("#define PX_MAX_LIGHTS 4"), std::string::npos);
+        EXPECT_EQ(one->size() + 0, text->size());
+    }
+    Result<std::string> none = with_light_bound("void main() {}\n", 1);
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.error().message.find("PX_MAX_LIGHTS"), std::string::npos);
 }
 
 }  // namespace

@@ -147,6 +147,18 @@ TEST(CostTable, RefusesBrokenTables) {
     refused(R"([0, 0, "pom", 8, "soft", 4, 1, 1.5, 1])", "rows[0][7]: a visibility difference over 1");
     refused(R"([0, 0, "pom", 8, "none", 0, 1, 0, 1e300])", "rows[0][8]: a cost over 10000");
     EXPECT_FALSE(parse_cost_table("not json", "t.json").ok());
+    // What the costs are (a GPU-priced table's `prices`): a string, kept.
+    const std::string one_row = R"([0, 0, "pom", 8, "none", 0, 1, 0, 1]]})";
+    Result<CostTable> priced = parse_cost_table(
+        std::string(head).insert(1, R"("prices": "Mali-G57 cycles per pixel", )") + one_row, "t.json");
+    ASSERT_TRUE(priced.ok()) << priced.error().message;
+    EXPECT_EQ(priced->prices, "Mali-G57 cycles per pixel");
+    Result<CostTable> again = parse_cost_table(cost_table_json(*priced), "again");
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    EXPECT_EQ(again->prices, priced->prices);
+    Result<CostTable> bad = parse_cost_table(std::string(head).insert(1, R"("prices": 3, )") + one_row, "t.json");
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("t.json: prices: expected a string"), std::string::npos) << bad.error().message;
 }
 
 // --- Planner decisions, on a table stated here --------------------------------
@@ -463,6 +475,47 @@ TEST(Planner, CalibrationReplacesTheGenericTable) {
     ASSERT_TRUE((*p)[0].generic_key.has_value());
     EXPECT_EQ((*p)[0].generic_key->max_samples, 8);
     EXPECT_NE((*p)[0].prediction_source.find("calibrated"), std::string::npos);
+}
+
+// A generic table priced otherwise than by frame time (a GPU compiler's
+// cycles: `bench --planner-table --gpu`) prices every candidate, a timed
+// calibration's too: its times are this renderer's, in another unit.
+TEST(Planner, AGpuPricedTablePricesATimedCalibration) {
+    EffectRequest e;
+    e.max_error_texels = 2.0f;
+    e.lod_fade = EffectSwitch::off;
+    const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    ASSERT_TRUE(images.ok());
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();
+    // Timed on this renderer: pom x32 cheaper than pom x8 (both meet 2 texels).
+    CostTable calibration = small_table();
+    calibration.date = "calibrated";
+    calibration.reliefs[0].features = relief.features;
+    for (CostSample& s : calibration.rows)
+        if (s.technique == Technique::pom && s.shadow == ShadowMode::none) s.cost = s.samples == 8 ? 3.0 : 1.2;
+    const auto plan_with = [&](const std::string& prices) {
+        CostTable generic = small_table();  // pom x8 1.5, x32 3.0
+        generic.prices = prices;
+        PlannerOptions options;
+        options.table = &generic;
+        options.calibrations = std::make_shared<const std::vector<CostTable>>(std::vector<CostTable>{calibration});
+        Result<std::unique_ptr<ScenePlanner>> planner = ScenePlanner::create(scene, es3_caps(), {relief}, options);
+        EXPECT_TRUE(planner.ok()) << planner.error().message;
+        Result<std::vector<ObjectPlan>> p = (*planner)->plan(scene.camera, 256, 256);
+        EXPECT_TRUE(p.ok()) << p.error().message;
+        return (*p)[0];
+    };
+    const ObjectPlan timed = plan_with("");
+    EXPECT_EQ(timed.key.technique, Technique::pom);
+    EXPECT_EQ(timed.key.max_samples, 32) << "the calibration's own times";
+    const ObjectPlan gpu = plan_with("Mali-G57 (Valhall) cycles per pixel");
+    EXPECT_EQ(gpu.key.technique, Technique::pom);
+    EXPECT_EQ(gpu.key.max_samples, 8) << "the GPU table's prices";
+    EXPECT_NE(gpu.prediction_source.find("calibrated"), std::string::npos) << gpu.prediction_source;
+    EXPECT_NE(gpu.prediction_source.find("costs from table"), std::string::npos) << gpu.prediction_source;
+    EXPECT_NEAR(gpu.predicted_cost, 1.5, 1e-9);
 }
 
 // The same through the lookup a host gives (PlannerOptions::find_calibration):

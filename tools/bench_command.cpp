@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -79,22 +80,66 @@ Status add_gpu_costs(profiling::BenchRun& run, const std::string& name, int es) 
     }
     std::fprintf(stderr, "bench: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", keys.size(),
                  t.gpu.c_str(), t.driver.c_str());
-    Result<profiling::GpuRun> compiled = profiling::compile_variants_on_gpu(*tools, t, es, keys);
-    if (!compiled) return compiled.error();
-    run.gpu = t.gpu + ": " + t.driver + " of " + compiled->context;
+    // Each variant compiled for the bench's one sun (gpu_costs_of_variants):
+    // a loop its compiler keeps is a search's, multiplied by its iterations.
+    std::string context;
+    Result<std::vector<profiling::GpuCost>> costs = profiling::gpu_costs_of_variants(*tools, t, es, keys, 1, 60.0, &context);
+    if (!costs) return costs.error();
+    run.gpu = t.gpu + ": " + t.driver + " of " + context;
     for (profiling::BenchRow& r : run.rows) {
         const auto at = std::find(names.begin(), names.end(), r.variant);
         if (at == names.end()) continue;
-        const profiling::GpuProgram& program = compiled->programs[static_cast<std::size_t>(at - names.begin())];
-        if (!program.error.empty())
-            std::fprintf(stderr, "bench: warning: %s on %s: %s\n", t.gpu.c_str(), r.variant.c_str(), program.error.c_str());
-        const profiling::GpuSummary m = profiling::summarise(t, program);
-        if (m.cycles < 0.0) continue;
-        r.gpu_cycles = m.cycles;
-        r.gpu_loops = m.loops;
-        if (m.loops <= 0.0) r.gpu_cycles_per_pixel = m.cycles;
-        else if (r.iterations_median > 0.0) r.gpu_cycles_per_pixel = m.cycles * r.iterations_median;
+        const profiling::GpuCost& c = (*costs)[static_cast<std::size_t>(at - names.begin())];
+        if (!c.error.empty())
+            std::fprintf(stderr, "bench: warning: %s on %s: %s\n", t.gpu.c_str(), r.variant.c_str(), c.error.c_str());
+        if (c.scene.cycles < 0.0) continue;
+        r.gpu_cycles = c.scene.cycles;
+        r.gpu_loops = c.scene.loops;
+        const double per_pixel = profiling::cycles_per_pixel(c.scene.cycles, c.scene.loops,
+                                                             !r.iteration_histogram.empty(), r.iterations_median);
+        if (per_pixel >= 0.0) r.gpu_cycles_per_pixel = per_pixel;
     }
+    return {};
+}
+
+// --planner-table with --gpu: each row's cost becomes its variant's cycles
+// per pixel on that GPU over normal mapping's on the same relief (the
+// unshadowed run's normal-mapping row: a shadowed scene's twin). `normal`
+// carries the plain run's baselines to the shadow runs after it.
+Status price_rows_on_gpu(profiling::BenchRun& run, const std::string& name, std::map<std::string, double>& normal,
+                         std::string& prices) {
+    if (Status s = add_gpu_costs(run, name, 3); !s) return s;
+    const auto relief_of = [](const std::string& scene) {
+        for (const char* suffix : {"_shadowed", "_soft"}) {
+            const std::string tail = suffix;
+            if (scene.size() > tail.size() && scene.compare(scene.size() - tail.size(), tail.size(), tail) == 0)
+                return scene.substr(0, scene.size() - tail.size());
+        }
+        return scene;
+    };
+    for (const profiling::BenchRow& r : run.rows)
+        if (r.technique == "normal" && r.shadow == ShadowMode::none && r.gpu_cycles_per_pixel > 0.0)
+            normal.emplace(relief_of(r.scene), r.gpu_cycles_per_pixel);
+    for (profiling::BenchRow& r : run.rows) {
+        if (r.technique == profiling::kDisplacedMesh) continue;
+        const auto base = normal.find(relief_of(r.scene));
+        if (base == normal.end())
+            return make_error("--gpu: no normal-mapping row of relief '" + relief_of(r.scene) +
+                              "' to price against (the table's unshadowed scenes must include it)");
+        if (!(r.gpu_cycles_per_pixel > 0.0))
+            return make_error("--gpu: " + r.scene + " at " + std::to_string(static_cast<int>(r.angle_deg)) + " degrees, " +
+                              r.variant + ": no cycles per pixel (" +
+                              (r.gpu_cycles < 0.0 ? "the compiler gave no estimate" : "a kept loop whose work was not counted") +
+                              ")");
+        r.ratio_to_normal = r.gpu_cycles_per_pixel / base->second;
+    }
+    const std::string context = run.gpu.substr(std::min(run.gpu.size(), run.gpu.find(" of ") + 4));
+    Result<std::vector<profiling::GpuTarget>> t = profiling::parse_gpu_targets(name);
+    if (!t) return t.error();
+    prices = t->front().gpu + " cycles per pixel relative to normal mapping's: the static estimate of " +
+             t->front().driver + "'s compiler (" + context +
+             ", under drm-shim) for the variant compiled for the scene's one light, times the shader's counted "
+             "search iterations where it kept a loop (an upper bound)";
     return {};
 }
 
@@ -130,16 +175,73 @@ int run_planner_table(const BenchArgs& a, const profiling::BenchOptions& o) {
         if (!old) return fail(old.error().message);
         keep = std::move(*old);
     }
+    // --gpu: errors measured here, untimed; every row priced in that GPU's
+    // cycles per pixel.
+    std::map<std::string, double> normal_cycles;
+    profiling::RowPricer price;
+    if (!a.gpu.empty()) {
+        grid.timed = false;
+        grid.count_every_search = true;
+        price = [&a, &normal_cycles](profiling::BenchRun& run, std::string& prices) {
+            return price_rows_on_gpu(run, a.gpu, normal_cycles, prices);
+        };
+    }
     Result<CostTable> table = profiling::measure_cost_table(
         grid, a.command, target->target(), [&target]() { return target->read_pixels(); },
         [](int done, int total, const std::string& what) { show_progress("planner table", done, total, what); },
-        keep ? &*keep : nullptr);
+        keep ? &*keep : nullptr, price);
     if (!table) return fail(table.error().message);
     Status written = write_file_atomically(a.planner_table, cost_table_json(*table));
     if (!written) return fail(written.error().message);
     std::printf("planner table: %zu rows over %zu reliefs measured on %s; wrote %s\n", table->rows.size(),
                 table->reliefs.size(), table->renderer.c_str(), a.planner_table.c_str());
     return 0;
+}
+
+// --showcase --gpu: each object's two variants compiled by that GPU's
+// compiler; cycles per pixel with the counted passes, and per frame.
+Status add_showcase_gpu_cycles(profiling::ShowcaseRun& run, const std::string& name, int lights) {
+    Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(name);
+    if (!targets) return targets.error();
+    const profiling::GpuTarget& t = targets->front();
+    Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
+    if (!tools) return tools.error();
+    std::vector<std::string> names;
+    for (const profiling::ShowcaseObject& o : run.objects)
+        for (const std::string& v : {o.planned_variant, o.all_variant})
+            if (!v.empty() && std::find(names.begin(), names.end(), v) == names.end()) names.push_back(v);
+    std::vector<VariantKey> keys;
+    for (const std::string& n : names) {
+        Result<VariantKey> key = VariantKey::parse(n);
+        if (!key) return make_error("--gpu: the drawn variant '" + n + "' does not parse: " + key.error().message);
+        keys.push_back(*key);
+    }
+    std::fprintf(stderr, "showcase: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", keys.size(),
+                 t.gpu.c_str(), t.driver.c_str());
+    std::string context;
+    Result<std::vector<profiling::GpuCost>> costs =
+        profiling::gpu_costs_of_variants(*tools, t, 3, keys, std::clamp(lights, 1, kMaxLights), 60.0, &context);
+    if (!costs) return costs.error();
+    run.gpu = t.gpu + " (" + t.driver + " of " + context + ")";
+    run.lights = lights;
+    const auto per_pixel = [&](const std::string& variant, double passes) {
+        const auto at = std::find(names.begin(), names.end(), variant);
+        if (at == names.end()) return -1.0;
+        const profiling::GpuCost& c = (*costs)[static_cast<std::size_t>(at - names.begin())];
+        if (!c.error.empty())
+            std::fprintf(stderr, "showcase: warning: %s on %s: %s\n", t.gpu.c_str(), variant.c_str(), c.error.c_str());
+        return profiling::cycles_per_pixel(c.scene.cycles, c.scene.loops, passes >= 0.0, passes);
+    };
+    run.gpu_planned = run.gpu_all = 0.0;
+    for (profiling::ShowcaseObject& o : run.objects) {
+        if (o.pixels <= 0) continue;
+        o.gpu_cycles_planned = per_pixel(o.planned_variant, o.passes_planned);
+        o.gpu_cycles_all = per_pixel(o.all_variant, o.passes_all);
+        const double n = static_cast<double>(o.pixels);
+        run.gpu_planned = o.gpu_cycles_planned < 0.0 || run.gpu_planned < 0.0 ? -1.0 : run.gpu_planned + n * o.gpu_cycles_planned;
+        run.gpu_all = o.gpu_cycles_all < 0.0 || run.gpu_all < 0.0 ? -1.0 : run.gpu_all + n * o.gpu_cycles_all;
+    }
+    return {};
 }
 
 // The planner against every effect on every surface (docs/planner.md).
@@ -151,11 +253,24 @@ int run_showcase_bench(const BenchArgs& a, int width, int height) {
     OffscreenTarget* target = &*surface->target;
     RendererOptions options = program_renderer_options();
     options.planner.find_calibration = calibration_finder(a.calibration_cache);
+    // --gpu: the plan priced by that GPU's table, both frames in its cycles.
+    const CostTable* gpu_table = nullptr;
+    if (!a.gpu.empty()) {
+        Result<const CostTable*> t = profiling::gpu_cost_table(a.gpu);
+        if (!t) return fail("--gpu: " + t.error().message);
+        gpu_table = *t;
+        options.planner.table = gpu_table;
+    }
     Result<profiling::ShowcaseRun> run = profiling::run_showcase(
         *scene, options, a.frames > 0 ? a.frames : 9, target->target(), a.command,
         [](const std::string& what) { std::fprintf(stderr, "showcase: %s\n", what.c_str()); },
-        [](const std::vector<ObjectPlan>& plans) { return plans_table(plans); });
+        [](const std::vector<ObjectPlan>& plans) { return plans_table(plans); }, gpu_table != nullptr);
     if (!run) return fail(run.error().message);
+    if (gpu_table) {
+        run->prices = gpu_table->prices + " (table of " + gpu_table->date + ")";
+        if (Status s = add_showcase_gpu_cycles(*run, a.gpu, static_cast<int>(scene->lights.size())); !s)
+            return fail(s.error().message);
+    }
     std::error_code ec;
     std::filesystem::create_directories(a.out, ec);
     if (ec) return fail("cannot create '" + a.out + "': " + ec.message());
@@ -166,6 +281,9 @@ int run_showcase_bench(const BenchArgs& a, int width, int height) {
     for (const profiling::ShowcaseObject& o : run->objects) missed += o.meets ? 0 : 1;
     std::printf("showcase: planner %.2f ms, every effect %.2f ms: %.2fx faster; %d of %zu objects miss a target; wrote %s\n",
                 run->planned_ms, run->all_ms, run->speedup, missed, run->objects.size(), path.c_str());
+    if (!run->gpu.empty() && run->gpu_planned > 0.0 && run->gpu_all > 0.0)
+        std::printf("showcase: on %s: planner %.0f, every effect %.0f fragment cycles per frame: %.2fx fewer\n",
+                    run->gpu.c_str(), run->gpu_planned, run->gpu_all, run->gpu_all / run->gpu_planned);
     return 0;
 }
 
@@ -199,8 +317,11 @@ int run(BenchArgs a) {
         return fail("--es 2 is for the sweep only: --planner-table, --showcase, --search-model and --textures run on "
                     "OpenGL ES 3.0");
     if (!a.gpu.empty()) {
-        if (!a.planner_table.empty() || !a.showcase.empty() || !a.search_model.empty() || a.textures)
-            return fail("--gpu is for the sweep only");
+        if (!a.search_model.empty() || a.textures)
+            return fail("--gpu is for the sweep, --planner-table and --showcase only");
+        if (a.shadows_only)
+            return fail("--gpu with --shadows-only: the kept rows' prices would come from another source; measure the "
+                        "whole table with --gpu");
         // The names and the compilers checked before anything is measured.
         Result<std::vector<profiling::GpuTarget>> t = profiling::parse_gpu_targets(a.gpu);
         if (!t) return fail(t.error().message);
@@ -227,6 +348,7 @@ int run(BenchArgs a) {
     if (!surface) return fail(surface.error().message);
     OffscreenTarget* target = &*surface->target;
     o.es_major = a.es;
+    o.count_every_search = !a.gpu.empty();  // a kept loop's cycles times its counted iterations
     if (a.es < 3 && a.techniques.empty()) o.techniques = profiling::bench_technique_names(a.es);
     const PipelineCounters counters_before = pipeline_counters();
     auto result = profiling::run_bench(o, target->target(), [&target]() { return target->read_pixels(); },
@@ -244,8 +366,10 @@ int run(BenchArgs a) {
         Status s = writer(*result, base + name);
         if (!s) return fail(s.error().message);
     }
-    std::printf("bench: %zu settings measured on %s; wrote %sresults.csv, results.json, pareto.svg, report.md\n",
-                result->rows.size(), result->gl_renderer.c_str(), base.c_str());
+    if (!a.gpu.empty())
+        if (Status s = profiling::write_pareto_gpu_svg(*result, base + "pareto_gpu.svg"); !s) return fail(s.error().message);
+    std::printf("bench: %zu settings measured on %s; wrote %sresults.csv, results.json, pareto.svg%s, report.md\n",
+                result->rows.size(), result->gl_renderer.c_str(), base.c_str(), a.gpu.empty() ? "" : ", pareto_gpu.svg");
     if (a.stats) {
         const PipelineCounters c = pipeline_counters() - counters_before;
         std::printf("pipeline   %llu validation(s), %llu material image build(s), %llu mesh build(s), "
@@ -268,7 +392,9 @@ void add_bench_command(CLI::App& app, int argc, char** argv) {
     CLI::App* cmd = app.add_subcommand("bench", "Sweep error against the exact reference beside frame time");
     cmd->add_option("--gpu", args->gpu,
                     "One real mobile GPU compiler (parallax profile --gpu list; mali-g52 or mali-g57 estimate cycles): "
-                    "its cost of each setting's variant beside the error, in the report");
+                    "its cost of each setting's variant beside the error, in the report; with --planner-table: the "
+                    "table priced in its cycles per pixel (errors measured here, untimed); with --showcase: the plan "
+                    "priced by that GPU's table and both frames in its cycles");
     cmd->add_option("--scenes", args->scenes, "Bench scenes (default: all)")->delimiter(',');
     cmd->add_option("--techniques", args->techniques, "Techniques, and displaced_mesh (default: all)")->delimiter(',');
     cmd->add_option("--samples", args->samples, "max_samples settings (default " + sample_grid_text() + ")")->delimiter(',');

@@ -34,10 +34,10 @@ struct PlanArgs {
     std::string calibration_cache;  // "": the default folder
     int frames = 0;
     bool verify = false;
+    std::string cost_target;  // --cost-target: price candidates in this GPU's cycles (its carried table)
+    std::string cost_table;   // --cost-table: price candidates from this table file
     std::string command;
 };
-
-
 
 // The table angles that bracket [lo, hi].
 std::vector<double> bracketing_angles(const std::vector<double>& grid, double lo, double hi) {
@@ -115,6 +115,8 @@ int run_plan(const PlanArgs& a) {
     if (a.frames < 0 || a.frames > 100) return fail("--frames must be within 0..100, got " + std::to_string(a.frames));
     if (a.no_fragment_highp && a.es >= 3)
         return fail("--no-fragment-highp is for --es 2: OpenGL ES 3.0 guarantees fragment highp");
+    Result<std::shared_ptr<const CostTable>> prices = chosen_cost_table(a.cost_target, a.cost_table);
+    if (!prices) return fail(prices.error().message);
     Result<SceneDesc> scene = load_scene(a.scene.empty() ? "default" : a.scene);
     if (!scene) return fail(scene.error().message);
     const std::string dir = a.calibration_cache.empty() ? default_calibration_dir() : a.calibration_cache;
@@ -130,6 +132,7 @@ int run_plan(const PlanArgs& a) {
     RendererOptions renderer_options = program_renderer_options();
     renderer_options.planner.find_calibration = calibration_finder(dir);
     renderer_options.emulate_no_fragment_highp = a.no_fragment_highp;
+    renderer_options.planner.table = prices->get();
     auto renderer = Renderer::create(renderer_options);
     if (!renderer) return fail(renderer.error().message);
     Status loaded = (*renderer)->load(*scene);
@@ -139,10 +142,10 @@ int run_plan(const PlanArgs& a) {
     const Caps& caps = (*renderer)->caps();
     const std::string context_line = caps.version + " | " + caps.renderer;
     if (a.format == "json") {
-        std::fputs(plans_json(*plans, scene->name, context_line).c_str(), stdout);
+        std::fputs(plans_json(*plans, scene->name, context_line, prices_line(prices->get())).c_str(), stdout);
     } else {
-        std::printf("scene      %s, planned for %dx%d\ncontext    %s\n", scene->name.c_str(), width, height,
-                    context_line.c_str());
+        std::printf("scene      %s, planned for %dx%d\ncontext    %s\nprices     %s\n", scene->name.c_str(), width,
+                    height, context_line.c_str(), prices_line(prices->get()).c_str());
         std::fputs(plans_table(*plans).c_str(), stdout);
     }
     if (a.verify || a.candidates) return verify_plan(**renderer, *scene, width, height, a.candidates);
@@ -171,6 +174,11 @@ void add_plan_command(CLI::App& app, int argc, char** argv) {
                     "--calibrate: timed rounds per setting on this GPU; 0 measures errors only and prices each "
                     "candidate from the built-in table (deterministic, about 5 times faster)")
         ->capture_default_str();
+    cmd->add_option("--cost-target", args->cost_target,
+                    "Price every candidate in this GPU's cycles (a real compiler's estimate per pixel: the table the "
+                    "program carries for it; see docs/gpu-compilers.md) instead of this machine's frame times");
+    cmd->add_option("--cost-table", args->cost_table,
+                    "Price every candidate from this cost table (parallax bench --planner-table FILE [--gpu NAME])");
     cmd->add_flag("--verify", args->verify,
                   "Draw the plan and measure each object's hit and shadow error against the exact reference, beside "
                   "the prediction and the target; exit 1 when a target is missed");

@@ -13,6 +13,7 @@
 #include "parallaxes/platform/headless_context.h"
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/profiling/measurement/interleaved.h"
+#include "parallaxes/profiling/measurement/planner_table.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -90,10 +91,40 @@ std::string plans_table(const std::vector<ObjectPlan>& plans) {
     return out;
 }
 
-std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& scene, const std::string& context) {
+// --cost-target NAME or --cost-table FILE: the table they name, or null
+// for the built-in one.
+Result<std::shared_ptr<const CostTable>> chosen_cost_table(const std::string& target, const std::string& file) {
+    if (!target.empty() && !file.empty()) return make_error("--cost-target and --cost-table both name the prices: give one");
+    if (!target.empty()) {
+        Result<const CostTable*> t = profiling::gpu_cost_table(target);
+        if (!t) return make_error("--cost-target: " + t.error().message);
+        return std::make_shared<const CostTable>(**t);
+    }
+    if (file.empty()) return std::shared_ptr<const CostTable>();
+    Result<std::vector<std::uint8_t>> bytes = read_file_bounded(file, 64u << 20, "cost table");
+    if (!bytes) return make_error("--cost-table: " + bytes.error().message);
+    Result<CostTable> t = parse_cost_table(std::string(bytes->begin(), bytes->end()), file);
+    if (!t) return make_error("--cost-table: " + t.error().message);
+    return std::make_shared<const CostTable>(std::move(*t));
+}
+
+std::string prices_line(const CostTable* table) {
+    const CostTable* t = table;
+    if (!t) {
+        Result<const CostTable*> builtin = builtin_cost_table();
+        if (!builtin) return "the built-in table (broken: " + builtin.error().message + ")";
+        t = *builtin;
+    }
+    const std::string what = t->prices.empty() ? "frame time relative to normal mapping on " + t->renderer : t->prices;
+    return what + " (" + (table ? "table" : "built-in table") + " of " + t->date + ": " + t->command + ")";
+}
+
+std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& scene, const std::string& context,
+                       const std::string& prices) {
     nlohmann::json j;
     j["scene"] = scene;
     j["context"] = context;
+    if (!prices.empty()) j["prices"] = prices;
     j["objects"] = nlohmann::json::array();
     for (const ObjectPlan& p : plans) {
         nlohmann::json o;

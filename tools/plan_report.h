@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,7 +16,17 @@ namespace px::tools {
 // Per object: what it asked for, the variant chosen, the prediction and
 // every note (what was dropped and why).
 std::string plans_table(const std::vector<ObjectPlan>& plans);
-std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& scene, const std::string& context);
+// `prices`: what the candidates' costs are (the plan's cost table), "" to leave it out.
+std::string plans_json(const std::vector<ObjectPlan>& plans, const std::string& scene, const std::string& context,
+                       const std::string& prices = "");
+
+// The prices a plan uses: --cost-target NAME (a GPU-priced table the
+// program carries) or --cost-table FILE; null for the built-in table.
+// Errors name the option and the file.
+Result<std::shared_ptr<const CostTable>> chosen_cost_table(const std::string& cost_target, const std::string& cost_table);
+// What a plan's costs are, for its header: the table's `prices` (or frame
+// time on its renderer), its date and the command that made it.
+std::string prices_line(const CostTable* table);
 
 // The calibration cache: one JSON cost table per relief. "" or "off": none.
 // Default: $XDG_CACHE_HOME/parallaxes/calibration (or ~/.cache/...).

@@ -23,6 +23,8 @@
 #include "commands.h"
 #include "profile_calibration.h"
 #include "parallaxes/core/files.h"
+#include "parallaxes/emulation/precision.h"
+#include "parallaxes/shaders/shader_source.h"
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/gl/program.h"
 #include "parallaxes/platform/headless_context.h"
@@ -58,6 +60,7 @@ struct ProfileArgs {
     double vendor_timeout = 120.0;  // seconds for all vendor compiler runs together
     std::string gpu;                // --gpu: real GPU compilers ("mali-g57,adreno-630", "all", "list")
     double gpu_timeout = 20.0;      // seconds per variant for one real GPU compiler
+    bool gpu_precision = false;     // --gpu-precision: each variant as written against every value highp
     std::string nir_child;  // internal: the child that prints NIR for these variants (ids, ';'-separated)
     std::string command;
     bool calibrate = false;    // the model against a real compiler (profile_calibration.h)
@@ -783,6 +786,81 @@ int run_doc(const ProfileArgs& a, const profiling::CostModel& model, int width, 
 // and sfu, as malioc's A column is.
 Result<std::vector<VariantKey>> profile_keys(const ProfileArgs& a);
 
+// --gpu-precision: each selected variant compiled twice by each Bifrost or
+// Valhall GPU's compiler, with its own precision qualifiers and with every
+// value declared highp. Both are the precision emulator's re-emission of
+// the same source (identity and fp32: include/parallaxes/emulation/precision.h),
+// so that only the qualifiers differ between them.
+int run_gpu_precision(const ProfileArgs& a) {
+    const auto fixed = [](double v, int digits) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+        return std::string(buffer);
+    };
+    Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(a.gpu);
+    if (!targets) return fail(targets.error().message);
+    std::vector<profiling::GpuTarget> listed;
+    for (const profiling::GpuTarget& t : *targets)
+        if (!t.listing_env.empty()) listed.push_back(t);
+    if (listed.empty())
+        return fail("--gpu-precision: the 16-bit share is read from Bifrost's and Valhall's instruction listings: name "
+                    "mali-g52 or mali-g57 in --gpu");
+    Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
+    if (!tools) return fail(tools.error().message);
+    Result<std::vector<VariantKey>> keys = profile_keys(a);
+    if (!keys) return fail(keys.error().message);
+    std::vector<profiling::ShaderPair> pairs;
+    for (const VariantKey& k : *keys) {
+        Result<VariantSources> sources = assemble_variant(k);
+        if (!sources) return fail(k.describe() + ": " + sources.error().message);
+        for (emulation::PrecisionProfile profile : {emulation::PrecisionProfile::identity, emulation::PrecisionProfile::fp32}) {
+            Result<std::string> v = emulation::emulate_precision(sources->vertex.text, ShaderStage::vertex, profile);
+            Result<std::string> f = emulation::emulate_precision(sources->fragment.text, ShaderStage::fragment, profile);
+            if (!v) return fail(k.describe() + " (vertex, " + emulation::profile_name(profile) + "): " + v.error().message);
+            if (!f) return fail(k.describe() + " (fragment, " + emulation::profile_name(profile) + "): " + f.error().message);
+            pairs.push_back({*v, *f});
+        }
+    }
+    std::vector<std::vector<std::string>> rows;
+    std::vector<std::string> lines;
+    for (const profiling::GpuTarget& t : listed) {
+        std::fprintf(stderr, "parallax: compiling %zu variant(s) twice with %s's compiler (%s, under qemu-aarch64)\n",
+                     keys->size(), t.gpu.c_str(), t.driver.c_str());
+        // The re-emitted sources are GLSL ES 3.00 whatever the variant's version.
+        Result<profiling::GpuRun> run = profiling::compile_on_gpu(*tools, t, 3, pairs, a.gpu_timeout);
+        if (!run) return fail(run.error().message);
+        lines.push_back(t.gpu + ": " + t.driver + " of " + run->context);
+        const auto cell = [&fixed](const profiling::GpuSummary& m, const std::string& error) -> std::vector<std::string> {
+            if (!error.empty() && m.instructions < 0.0) return {"failed: " + error.substr(0, 60), "", ""};
+            return {m.narrow_share >= 0.0 ? fixed(100.0 * m.narrow_share, 0) + " % (" + std::to_string(m.conversions) + ")" : "-",
+                    m.cycles >= 0.0 ? fixed(m.cycles, 2) : "-", m.threads >= 0.0 ? fixed(m.threads, 0) : "-"};
+        };
+        for (size_t i = 0; i < keys->size(); ++i) {
+            const profiling::GpuProgram& as_written = run->programs[2 * i];
+            const profiling::GpuProgram& highp = run->programs[2 * i + 1];
+            const profiling::GpuSummary m = profiling::summarise(t, as_written), h = profiling::summarise(t, highp);
+            std::vector<std::string> row = {(*keys)[i].describe(), t.gpu};
+            for (const std::string& c : cell(m, as_written.error)) row.push_back(c);
+            for (const std::string& c : cell(h, highp.error)) row.push_back(c);
+            row.push_back(m.cycles > 0.0 && h.cycles > 0.0 ? fixed(h.cycles / m.cycles, 2) : "-");
+            rows.push_back(std::move(row));
+        }
+    }
+    std::printf("command    %s\n", a.command.c_str());
+    for (const std::string& l : lines) std::printf("compiler   %s\n", l.c_str());
+    std::fputs(profiling::render_table({"variant", "GPU", "as written: 16-bit (cvt)", "cycles", "threads",
+                                        "all highp: 16-bit (cvt)", "cycles", "threads", "highp / as written"},
+                                       rows, profiling::ReportFormat::table)
+                   .c_str(),
+               stdout);
+    std::printf("16-bit: the share of the fragment shader's arithmetic and data-movement instructions that compute in "
+                "16 bits (type .f16, .v2f16, .i16, ...) against 32, counted from the compiler's last instruction "
+                "listing (BIFROST_MESA_DEBUG=shaders); in brackets the conversions between widths. Both columns compile "
+                "the precision emulator's re-emission of the variant: identity (its own qualifiers) and fp32 (every "
+                "value highp), so only the qualifiers differ. cycles and threads as the compiler's statistics line.\n");
+    return 0;
+}
+
 int run_gpu_calibration_set(const ProfileArgs& a) {
     Result<std::vector<profiling::GpuTarget>> targets = profiling::parse_gpu_targets(a.gpu);
     if (!targets) return fail(targets.error().message);
@@ -954,6 +1032,10 @@ int run_profile(ProfileArgs a) {
         if (!(a.gpu_timeout > 0.0 && a.gpu_timeout <= 3600.0))
             return fail("--gpu-timeout: must be within (0, 3600] seconds");
     }
+    if (a.gpu_precision) {
+        if (a.gpu.empty()) return fail("--gpu-precision needs --gpu mali-g52 and/or mali-g57");
+        return run_gpu_precision(a);
+    }
     if (const int calibration = run_calibration_modes(a); calibration >= 0) return calibration;
     Result<profiling::ReportFormat> format = profiling::parse_report_format(a.format);
     if (!format) return fail("--format: " + format.error().message);
@@ -1014,6 +1096,9 @@ void add_profile_command(CLI::App& app, int argc, char** argv) {
     cmd->add_option("--gpu", args->gpu,
                     "Real mobile GPU compilers (Mesa's arm64 drivers under qemu-aarch64; "
                     "tools/cross/make_gpu_compilers.sh): comma-separated names, 'all', or 'list'");
+    cmd->add_flag("--gpu-precision", args->gpu_precision,
+                  "With --gpu (Bifrost, Valhall): each variant compiled as written and with every value highp: the "
+                  "share of 16-bit instructions, conversions and cycles of both");
     cmd->add_option("--gpu-timeout", args->gpu_timeout,
                     "Seconds a real GPU compiler may take per variant (under emulation) before it is given up")
         ->capture_default_str();

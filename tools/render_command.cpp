@@ -40,6 +40,8 @@ struct RenderArgs {
     int frames = 5;
     bool list = false;
     bool explain = false;
+    std::string cost_target;  // --cost-target: plan in this GPU's cycles
+    std::string cost_table;   // --cost-table: plan from this table
     std::string camera_path;        // "", orbit or dolly
     std::string calibration_cache;  // "": the default folder; off: none
     std::string program_cache;  // empty: default_program_cache_dir(); "off": none
@@ -175,11 +177,14 @@ Result<FrameRun> run_frames(const RenderArgs& a, Renderer& renderer, const Scene
 }
 
 // The objects' variants (or the plan table with --explain) and the textures.
-void print_draws(const RenderArgs& a, Renderer& renderer, const FrameRun& run, int width, int height) {
+void print_draws(const RenderArgs& a, Renderer& renderer, const FrameRun& run, int width, int height,
+                 const CostTable* prices) {
     if (a.explain) {
         std::vector<ObjectPlan> plans;
         for (const DrawReport& r : run.first_reports) plans.push_back(r.plan);
         std::printf("plan       for %dx%d%s\n", width, height, run.cameras.empty() ? "" : " (the path's first frame)");
+        if (!a.cost_target.empty() || !a.cost_table.empty())
+            std::printf("prices     %s\n", prices_line(prices).c_str());
         std::fputs(plans_table(plans).c_str(), stdout);
     } else {
         for (const DrawReport& r : run.first_reports) {
@@ -235,8 +240,9 @@ int convert_textures(const RenderArgs& a, SceneDesc& scene, std::optional<TempFo
     return 0;
 }
 
-RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir) {
+RendererOptions render_options(const RenderArgs& a, const std::string& cache_dir, const CostTable* prices) {
     RendererOptions o = program_renderer_options();
+    o.planner.table = prices;
     o.force_texture_decode = a.decode_textures;
     o.preserve_host_state = !a.no_state_restore;
     o.emulate_no_fragment_highp = a.no_fragment_highp;
@@ -301,6 +307,8 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     if (a.frames < 1 || a.frames > 10000) return fail("--frames must be within 1..10000, got " + std::to_string(a.frames));
     if (a.no_fragment_highp && a.es >= 3)
         return fail("--no-fragment-highp is for --es 2: OpenGL ES 3.0 guarantees fragment highp");
+    Result<std::shared_ptr<const CostTable>> prices = chosen_cost_table(a.cost_target, a.cost_table);
+    if (!prices) return fail(prices.error().message);
     const PipelineCounters counters_before = pipeline_counters();
     std::vector<std::string> override_notes;
     Result<SceneDesc> scene = render_scene(a, override_notes);
@@ -313,7 +321,7 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     Result<std::unique_ptr<platform::HeadlessContext>> context = platform::HeadlessContext::create(options);
     if (!context) return fail(context.error().message);
     const std::string cache_dir = a.program_cache.empty() ? default_program_cache_dir() : a.program_cache;
-    Result<std::unique_ptr<Renderer>> renderer = Renderer::create(render_options(a, cache_dir));
+    Result<std::unique_ptr<Renderer>> renderer = Renderer::create(render_options(a, cache_dir, prices->get()));
     if (!renderer) return fail(renderer.error().message);
     Result<OffscreenTarget> target = OffscreenTarget::create(width, height, samples_per_pixel(a));
     if (!target) return fail(target.error().message);
@@ -344,7 +352,7 @@ int run_render(const RenderArgs& a, std::optional<int>& compared) {
     };
     std::printf("precision  fragment mediump float %s; highp float %s\n", bits(caps.fragment_mediump_float).c_str(),
                 bits(caps.fragment_highp_float).c_str());
-    print_draws(a, **renderer, *run, width, height);
+    print_draws(a, **renderer, *run, width, height, prices->get());
     std::printf("image      %s (%dx%d, %d sample%s per pixel%s%s)\n", output->c_str(), width, height, target->samples(),
                 target->samples() == 1 ? "" : "s", target->sampling_note().empty() ? "" : ": ",
                 target->sampling_note().c_str());
@@ -400,6 +408,10 @@ void add_render_command(CLI::App& app) {
                   "Print how often the pipeline validated, built images and meshes, planned and built programs");
     cmd->add_flag("--explain", args->explain,
                   "Print the plan per object: effects asked for, variant chosen, prediction, what was dropped and why");
+    cmd->add_option("--cost-target", args->cost_target,
+                    "Plan with candidates priced in this GPU's cycles (the table the program carries for it; "
+                    "parallax plan --cost-target)");
+    cmd->add_option("--cost-table", args->cost_table, "Plan with candidates priced from this cost table");
     cmd->add_option("--camera-path", args->camera_path,
                     "Move the camera over the --frames (orbit: 60 degrees around the target; dolly: toward it), "
                     "planning every frame");

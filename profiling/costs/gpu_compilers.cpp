@@ -10,6 +10,7 @@
 
 #include "parallaxes/core/files.h"
 #include "parallaxes/core/interrupts.h"
+#include "parallaxes/core/limits.h"
 #include "parallaxes/profiling/costs/process.h"
 #include "parallaxes/profiling/costs/vendor_compilers.h"
 
@@ -119,8 +120,29 @@ bool internal_shader(const std::string& name) { return name.rfind("TTN", 0) == 0
 Status read_program_lines(const GpuTarget& target, const std::vector<std::string>& lines, GpuProgram& program) {
     std::string current_key;
     bool internal = false;
+    // The listing (BIFROST_MESA_DEBUG=shaders): the compiler prints the
+    // fragment shader's IR several times ("block0 {" starts each: after
+    // lowering, after register allocation, after scheduling), then its
+    // statistics line; the last listing is what runs.
+    bool in_fragment = false;
+    std::optional<GpuStage> listing, listed;
     for (const std::string& raw : lines) {
         const std::string line = clean_tool_text(raw);
+        if (!target.listing_env.empty()) {
+            if (line.rfind("shader: MESA_SHADER_", 0) == 0) {
+                in_fragment = trim(line) == "shader: MESA_SHADER_FRAGMENT" && !listed.has_value();
+                continue;
+            }
+            if (in_fragment) {
+                if (trim(line) == "block0 {") {
+                    GpuStage fresh;
+                    fresh.narrow_ops = fresh.wide_ops = fresh.conversions = 0;
+                    listing = fresh;
+                } else if (listing) {
+                    count_listing_line(line, *listing);
+                }
+            }
+        }
         if (target.ir3) {
             // "Native code for unnamed FRAG shader GLSL3 with sha1 ...:" names the shader that follows.
             const size_t native = line.find("Native code for ");
@@ -147,7 +169,16 @@ Status read_program_lines(const GpuTarget& target, const std::vector<std::string
         if (line.rfind("SHADER-DB-", 0) == 0 && internal_shader(line.substr(10))) continue;
         Result<std::optional<GpuStage>> stage = shaderdb_line(line);
         if (!stage) return stage.error();
-        if (*stage) program.stages.push_back(std::move(**stage));
+        if (*stage) {
+            if ((*stage)->fragment && in_fragment && listing) {
+                (*stage)->narrow_ops = listing->narrow_ops;
+                (*stage)->wide_ops = listing->wide_ops;
+                (*stage)->conversions = listing->conversions;
+                listed = listing;
+            }
+            if ((*stage)->fragment) in_fragment = false;
+            program.stages.push_back(std::move(**stage));
+        }
     }
     return {};
 }
@@ -163,17 +194,51 @@ std::string shell_word(const std::string& s) {
 
 }  // namespace
 
+void count_listing_line(const std::string& line, GpuStage& stage) {
+    const size_t equals = line.find(" = ");
+    if (equals == std::string::npos) return;
+    size_t at = equals + 3;
+    while (at < line.size() && line[at] == ' ') ++at;
+    size_t end = at;
+    while (end < line.size() && line[end] != ' ' && line[end] != '\t') ++end;
+    const std::string word = line.substr(at, end - at);
+    const size_t dot = word.find('.');
+    const std::string opcode = word.substr(0, dot);
+    if (opcode.empty() || !(opcode[0] >= 'A' && opcode[0] <= 'Z') ||
+        opcode.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos)
+        return;
+    for (const char* skipped : {"LD_", "ST_", "STORE", "LOAD", "TEX", "VAR_TEX", "LEA_", "BLEND", "ATEST", "ZS_EMIT",
+                                "BRANCH", "JUMP", "DISCARD", "BARRIER", "COLLECT", "SPLIT", "PHI", "NOP"})
+        if (opcode.rfind(skipped, 0) == 0) return;
+    if (stage.narrow_ops < 0) stage.narrow_ops = stage.wide_ops = stage.conversions = 0;
+    if (opcode.find("_TO_") != std::string::npos) {
+        ++stage.conversions;
+        return;
+    }
+    bool narrow = false, wide = false;
+    for (size_t from = dot; from != std::string::npos && from < word.size();) {
+        const size_t next = word.find('.', from + 1);
+        const std::string mod = word.substr(from + 1, next == std::string::npos ? std::string::npos : next - from - 1);
+        for (const char* n : {"f16", "v2f16", "i16", "v2i16", "u16", "v2u16", "s16", "v2s16", "v4i8", "v4u8", "v4s8", "i8", "u8", "s8"})
+            narrow = narrow || mod == n;
+        for (const char* w : {"f32", "i32", "u32", "s32"}) wide = wide || mod == w;
+        from = next;
+    }
+    if (narrow) ++stage.narrow_ops;
+    else if (wide) ++stage.wide_ops;
+}
+
 const std::vector<GpuTarget>& gpu_targets() {
     static const std::vector<GpuTarget> targets = {
         {"mali-g52", "Mali-G52 (Bifrost)", "Panfrost", "panfrost", {"PAN_GPU_ID=0x7212", "BIFROST_MESA_DEBUG=shaderdb"}, 3,
-         false, {"arith", "texture", "vary", "ldst"}, "Mali-G52"},
+         false, {"arith", "texture", "vary", "ldst"}, "Mali-G52", "BIFROST_MESA_DEBUG=shaderdb,shaders"},
         {"mali-g57", "Mali-G57 (Valhall)", "Panfrost", "panfrost", {"PAN_GPU_ID=0x9093", "BIFROST_MESA_DEBUG=shaderdb"}, 3,
-         false, {"fma", "cvt", "sfu", "v", "t", "ls"}, "Mali-G57"},
+         false, {"fma", "cvt", "sfu", "v", "t", "ls"}, "Mali-G57", "BIFROST_MESA_DEBUG=shaderdb,shaders"},
         {"mali-t860", "Mali-T860 (Midgard)", "Panfrost", "panfrost", {"PAN_GPU_ID=0x860", "MIDGARD_MESA_DEBUG=shaderdb"}, 3,
-         false, {}, "Mali-T860"},
-        {"adreno-630", "Adreno 630", "Freedreno (ir3)", "freedreno", {"FD_GPU_ID=630", "FD_MESA_DEBUG=serialc", "IR3_SHADER_DEBUG=disasm"}, 3, true, {}, "FD630"},
-        {"v3d-4.2", "VideoCore VI, V3D 4.2 (Raspberry Pi 4)", "V3D", "v3d", {"V3D_DEBUG=shaderdb"}, 3, false, {}, "V3D 4.2"},
-        {"mali-450", "Mali-450 (Utgard)", "Lima", "lima", {"LIMA_DEBUG=shaderdb"}, 2, false, {}, "Mali450"},
+         false, {}, "Mali-T860", ""},
+        {"adreno-630", "Adreno 630", "Freedreno (ir3)", "freedreno", {"FD_GPU_ID=630", "FD_MESA_DEBUG=serialc", "IR3_SHADER_DEBUG=disasm"}, 3, true, {}, "FD630", ""},
+        {"v3d-4.2", "VideoCore VI, V3D 4.2 (Raspberry Pi 4)", "V3D", "v3d", {"V3D_DEBUG=shaderdb"}, 3, false, {}, "V3D 4.2", ""},
+        {"mali-450", "Mali-450 (Utgard)", "Lima", "lima", {"LIMA_DEBUG=shaderdb"}, 2, false, {}, "Mali450", ""},
     };
     return targets;
 }
@@ -234,6 +299,10 @@ GpuSummary summarise(const GpuTarget& target, const GpuProgram& program) {
     sum.loops = get("loops");
     sum.spills = f->spills;
     sum.fills = f->fills;
+    if (f->narrow_ops >= 0 && f->narrow_ops + f->wide_ops > 0) {
+        sum.narrow_share = static_cast<double>(f->narrow_ops) / static_cast<double>(f->narrow_ops + f->wide_ops);
+        sum.conversions = f->conversions;
+    }
     if (sum.cycles >= 0.0)
         for (const std::string& pipe : target.pipes) {
             const std::optional<double> c = f->figure(pipe);
@@ -352,7 +421,13 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
         std::vector<std::string> argv = {tools.qemu, "-L", tools.sysroot, "-E",
                                          "LD_PRELOAD=" + tools.dir + "/lib" + target.shim + "_noop_drm_shim.so",
                                          "-E", "MESA_SHADER_CACHE_DISABLE=true", "-E", "MESA_GLSL_CACHE_DISABLE=true"};
+        // qemu's -E splits its value at commas: the listing switch
+        // ("shaderdb,shaders") reaches the program through qemu's own
+        // environment instead, which it passes on, in place of the
+        // statistics switch of the same name.
+        const std::string listing_name = target.listing_env.substr(0, target.listing_env.find('='));
         for (const std::string& e : target.env) {
+            if (!listing_name.empty() && e.rfind(listing_name + "=", 0) == 0) continue;
             argv.push_back("-E");
             argv.push_back(e);
         }
@@ -364,6 +439,7 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
         options.timeout_s = kStartSeconds + seconds_per_program * static_cast<double>(count);
         options.max_output = 64u << 20;  // ir3's disassembly is long
         options.remove_env = {"LD_PRELOAD"};
+        if (!target.listing_env.empty()) options.extra_env.push_back(target.listing_env);
         Result<ProcessResult> r = run_process(argv, options);
         if (!r) return make_error(target.gpu + ": cannot run qemu-aarch64: " + r.error().message);
         Result<GpuRun> part = parse_probe_output(target, r->output, count);
@@ -405,14 +481,60 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
 
 Result<GpuRun> compile_variants_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                                        const std::vector<VariantKey>& keys, const std::vector<const ShaderFiles*>& files,
-                                       double seconds_per_program) {
+                                       double seconds_per_program, int lights) {
+    if (lights < 0 || lights > kMaxLights)
+        return make_error("lights: " + std::to_string(lights) + " is outside 0.." + std::to_string(kMaxLights));
     std::vector<ShaderPair> pairs;
     for (std::size_t i = 0; i < keys.size(); ++i) {
         Result<VariantSources> sources = assemble_variant(keys[i], i < files.size() ? files[i] : nullptr);
         if (!sources) return with_context(keys[i].describe(), sources.error());
-        pairs.push_back({sources->vertex.text, sources->fragment.text});
+        ShaderPair pair{sources->vertex.text, sources->fragment.text};
+        if (lights > 0) {
+            Result<std::string> v = with_light_bound(pair.vertex, lights);
+            Result<std::string> f = with_light_bound(pair.fragment, lights);
+            if (!v) return with_context(keys[i].describe() + " (vertex)", v.error());
+            if (!f) return with_context(keys[i].describe() + " (fragment)", f.error());
+            pair = {std::move(*v), std::move(*f)};
+        }
+        pairs.push_back(std::move(pair));
     }
     return compile_on_gpu(tools, target, es_major, pairs, seconds_per_program);
+}
+
+Result<std::vector<GpuCost>> gpu_costs_of_variants(const GpuCompilers& tools, const GpuTarget& target, int es_major,
+                                                   const std::vector<VariantKey>& keys, int lights,
+                                                   double seconds_per_program, std::string* context) {
+    if (lights < 1 || lights > kMaxLights)
+        return make_error("lights: " + std::to_string(lights) + " is outside 1.." + std::to_string(kMaxLights));
+    Result<GpuRun> scene = compile_variants_on_gpu(tools, target, es_major, keys, {}, seconds_per_program, lights);
+    if (!scene) return scene.error();
+    if (context) *context = scene->context;
+    Result<GpuRun> shipped = scene;
+    if (lights != kMaxLights) shipped = compile_variants_on_gpu(tools, target, es_major, keys, {}, seconds_per_program);
+    if (!shipped) return shipped.error();
+    std::vector<GpuCost> out(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        out[i].scene = summarise(target, scene->programs[i]);
+        out[i].shipped = summarise(target, shipped->programs[i]);
+        out[i].error = !scene->programs[i].error.empty() ? scene->programs[i].error : shipped->programs[i].error;
+    }
+    return out;
+}
+
+Result<std::string> with_light_bound(const std::string& source, int lights) {
+    const std::string line = "#define PX_MAX_LIGHTS " + std::to_string(kMaxLights) + "\n";
+    const std::size_t at = source.find(line);
+    if (at == std::string::npos) return make_error("no '" + line.substr(0, line.size() - 1) + "' line to set the lights loop's bound in");
+    std::string out = source;
+    out.replace(at, line.size(), "#define PX_MAX_LIGHTS " + std::to_string(lights) + "\n");
+    return out;
+}
+
+double cycles_per_pixel(double cycles, double loops, bool counted, double iterations) {
+    if (!(cycles >= 0.0)) return -1.0;
+    if (!(loops > 0.0)) return cycles;
+    if (!counted || !(iterations >= 0.0)) return -1.0;
+    return cycles * std::max(1.0, iterations);
 }
 
 }  // namespace px::profiling

@@ -201,6 +201,9 @@ std::vector<GpuMetric> gpu_metrics(const VariantProfile& a, const VariantProfile
             add("fragment registers", x.registers, y.registers, 0);
             add("fragment loops left", x.loops, y.loops, 0);
             add("fragment spills", x.spills, y.spills, 0);
+            add("fragment 16-bit share, %", x.narrow_share >= 0.0 ? 100.0 * x.narrow_share : -1.0,
+                y.narrow_share >= 0.0 ? 100.0 * y.narrow_share : -1.0, 1);
+            add("fragment width conversions", x.conversions, y.conversions, 0);
             add("vertex instructions", x.vertex_instructions, y.vertex_instructions, 0);
         }
     return out;
@@ -219,6 +222,8 @@ nlohmann::json gpu_json(const GpuFigures& g) {
                                      {"spills", m.spills >= 0 ? nlohmann::json(m.spills) : nlohmann::json()},
                                      {"fills", m.fills >= 0 ? nlohmann::json(m.fills) : nlohmann::json()},
                                      {"loops", optional_figure(m.loops)},
+                                     {"narrow_share", optional_figure(m.narrow_share)},
+                                     {"conversions", m.conversions >= 0 ? nlohmann::json(m.conversions) : nlohmann::json()},
                                      {"vertex_instructions", optional_figure(m.vertex_instructions)}}},
                         {"stages", nlohmann::json::array()}};
     if (!g.program.error.empty()) j["error"] = g.program.error;
@@ -228,6 +233,8 @@ nlohmann::json gpu_json(const GpuFigures& g) {
         nlohmann::json stage = {{"stage", st.stage}, {"fragment", st.fragment}, {"figures", figures}, {"line", st.line}};
         if (st.spills >= 0) stage["spills"] = st.spills;
         if (st.fills >= 0) stage["fills"] = st.fills;
+        if (st.narrow_ops >= 0)
+            stage["listing"] = {{"narrow", st.narrow_ops}, {"wide", st.wide_ops}, {"conversions", st.conversions}};
         j["stages"].push_back(stage);
     }
     return j;
@@ -413,25 +420,31 @@ std::string gpu_report(const std::vector<VariantProfile>& profiles, ReportFormat
         for (const GpuFigures& g : p.gpu) {
             const GpuSummary& m = g.summary;
             if (!g.program.error.empty() && m.instructions < 0.0) {
-                rows.push_back({p.name, g.gpu, "failed: " + g.program.error.substr(0, 120), "", "", "", "", "", "", ""});
+                rows.push_back({p.name, g.gpu, "failed: " + g.program.error.substr(0, 120), "", "", "", "", "", "", "", ""});
                 continue;
             }
             rows.push_back({p.name, g.gpu, figure_text(m.instructions, 0), figure_text(m.cycles, 2),
                             m.bound.empty() ? "-" : m.bound, figure_text(m.threads, 0), figure_text(m.registers, 0),
                             m.spills >= 0 ? std::to_string(m.spills) + ":" + std::to_string(m.fills) : "-",
-                            figure_text(m.loops, 0), figure_text(m.vertex_instructions, 0)});
+                            figure_text(m.loops, 0),
+                            m.narrow_share >= 0.0 ? fixed(100.0 * m.narrow_share, 0) + " % (" + std::to_string(m.conversions) + ")"
+                                                  : "-",
+                            figure_text(m.vertex_instructions, 0)});
         }
     if (rows.empty()) return "";
     std::ostringstream s;
     s << (format == ReportFormat::markdown ? "**Real GPU compilers**\n\n" : "Real GPU compilers:\n");
     s << render_table({"variant", "GPU", "FS instr", "FS cycles", "bound", "threads", "registers", "spills:fills",
-                       "loops", "VS instr"},
+                       "loops", "16-bit (cvt)", "VS instr"},
                       rows, format);
     s << (format == ReportFormat::markdown ? "\n" : "")
       << "Each figure is the driver's own (Mesa's shader-db statistics, or ir3's disassembly summary): FS instr its "
          "\"inst\"/\"instr\"; FS cycles its \"cycles\" per fragment (Bifrost and Valhall only), bound the pipe whose "
          "cycles equal it; threads, registers (Midgard \"registers\", V3D \"max-temps\", Adreno \"full\"), spills:fills "
-         "and loops (left after unrolling; a loop counts one pass) as printed; VS instr every vertex stage it compiled "
+         "and loops (left after unrolling; a loop counts one pass) as printed; 16-bit (Bifrost, Valhall) counted from "
+         "the compiler's last instruction listing (BIFROST_MESA_DEBUG=shaders): the share of its arithmetic and "
+         "data-movement instructions that compute in 16 bits (type .f16, .v2f16, .i16, ...) against 32, and in brackets "
+         "the conversions between widths (F16_TO_F32 and the like); VS instr every vertex stage it compiled "
          "(Panfrost's position and varying shaders, V3D's and Adreno's binning shader) together. The JSON report keeps "
          "each stage's line as printed.\n";
     return s.str();

@@ -361,8 +361,9 @@ Result<BenchRow> measure_setting(const BenchOptions& options, const AngleContext
     row.ratio_to_normal = median_of(ratios);
     // The exact walk's work per pixel, counted by the shader (a second,
     // untimed program with PX_COUNT_WORK).
+    const unsigned searches = options.count_every_search ? (kOptSteps | kOptSamples) : kOptSteps;
     const bool walks = setting.technique != kDisplacedMesh &&
-                       (technique_info(*parse_technique(setting.technique)).options & kOptSteps) != 0;
+                       (technique_info(*parse_technique(setting.technique)).options & searches) != 0;
     if (walks) {
         RendererOptions counting = options.renderer;
         counting.count_work = true;

@@ -1,6 +1,7 @@
 #include "parallaxes/profiling/measurement/planner_table.h"
 
 #include <algorithm>
+#include <cctype>
 #include <map>
 
 #include "parallaxes/scene/material_images.h"
@@ -85,6 +86,8 @@ BenchOptions grid_options(const TableGrid& grid, const std::string& command) {
     o.angles = grid.angles;
     o.samples = grid.samples;
     o.frames = grid.frames;
+    o.timed = grid.timed;
+    o.count_every_search = grid.count_every_search;
     o.width = grid.width;
     o.height = grid.height;
     o.command = command;
@@ -98,7 +101,10 @@ BenchOptions grid_options(const TableGrid& grid, const std::string& command) {
 
 Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& command, const RenderTarget& target,
                                      const std::function<Result<Image>()>& read_color, const Progress& progress,
-                                     const CostTable* keep) {
+                                     const CostTable* keep, const RowPricer& price) {
+    if (!grid.timed && !price) return make_error("a table measured without timing needs its rows priced otherwise");
+    std::string prices;
+    const auto priced = [&](BenchRun& run) -> Status { return price ? price(run, prices) : Status{}; };
     BenchOptions plain = grid_options(grid, command);
     plain.scenes = grid.scenes;
     const int plain_total = keep ? 0
@@ -112,6 +118,7 @@ Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& c
             if (progress) progress(done, plain_total + shadow_total, what);
         });
         if (!a) return a.error();
+        if (Status p = priced(*a); !p) return p.error();
         runs.push_back(std::move(*a));
     }
     // Shadow rows: POM at 32 samples under each shadow sample count and
@@ -130,13 +137,19 @@ Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& c
             if (progress) progress(done_before + done, plain_total + shadow_total, what);
         });
         if (!b) return b.error();
+        if (Status p = priced(*b); !p) return p.error();
         done_before += static_cast<int>(b->rows.size());
         runs.push_back(std::move(*b));
     }
     Result<CostTable> table = cost_table_from_runs(runs, {});
     if (!table) return table.error();
     table->command = command;
+    table->prices = prices;
     if (!keep) return table;
+    if (keep->prices != prices)
+        return make_error("the kept table's rows are priced as '" + (keep->prices.empty() ? "frame time" : keep->prices) +
+                          "', the new shadow rows as '" + (prices.empty() ? "frame time" : prices) +
+                          "': one table holds one kind of price");
     // Every row of `keep` but its shadow rows, then the new shadow rows,
     // their reliefs matched by name.
     CostTable merged = *keep;
@@ -158,6 +171,48 @@ Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& c
     // Both runs stay on record: the kept rows' command and date, then these.
     merged.command = keep->command + " (" + keep->date + "); shadow rows: " + command + " (" + table->date + ")";
     return merged;
+}
+
+namespace px_generated {
+extern const char* const kEmbeddedMaliG57Table;
+}  // namespace px_generated
+
+namespace {
+
+struct EmbeddedTable {
+    const char* name;
+    const char* const* text;
+    const char* file;
+};
+
+const EmbeddedTable kGpuTables[] = {
+    {"mali-g57", &px_generated::kEmbeddedMaliG57Table, "profiling/costs/planner_tables/mali_g57.json"},
+};
+
+}  // namespace
+
+std::vector<std::string> gpu_cost_table_names() {
+    std::vector<std::string> names;
+    for (const EmbeddedTable& t : kGpuTables) names.push_back(t.name);
+    return names;
+}
+
+Result<const CostTable*> gpu_cost_table(const std::string& gpu_name) {
+    std::string lower = gpu_name;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    static std::map<std::string, Result<CostTable>> parsed;  // parsed on first use, kept
+    for (const EmbeddedTable& t : kGpuTables) {
+        if (lower != t.name) continue;
+        auto it = parsed.find(t.name);
+        if (it == parsed.end()) it = parsed.emplace(t.name, parse_cost_table(*t.text, t.file)).first;
+        if (!it->second) return it->second.error();
+        return &*it->second;
+    }
+    std::string known;
+    for (const EmbeddedTable& t : kGpuTables) known += std::string(known.empty() ? "" : ", ") + t.name;
+    return make_error("no planner table priced for GPU '" + gpu_name + "' (this program carries: " + known +
+                      "); make one with `parallax bench --planner-table FILE --gpu NAME` (a GPU whose compiler "
+                      "estimates cycles: parallax profile --gpu list) and pass it with --cost-table FILE");
 }
 
 Result<CostTable> calibrate_material(const MaterialDesc& material, const std::string& base_dir,

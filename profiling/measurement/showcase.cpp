@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <map>
@@ -10,6 +11,7 @@
 #include "parallaxes/core/files.h"
 #include "parallaxes/gl/gl.h"
 #include "parallaxes/profiling/measurement/interleaved.h"
+#include "parallaxes/profiling/measurement/work.h"
 #include "parallaxes/reference/metrics.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/render/surface_capture.h"
@@ -109,7 +111,8 @@ SceneDesc all_effects_scene(const SceneDesc& scene) {
 Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& given_options, int frames,
                                  const RenderTarget& target, const std::string& command,
                                  const std::function<void(const std::string&)>& progress,
-                                 const std::function<std::string(const std::vector<ObjectPlan>&)>& explain) {
+                                 const std::function<std::string(const std::vector<ObjectPlan>&)>& explain,
+                                 bool count_work) {
     if (frames < 1) return make_error("showcase: frames must be at least 1");
     auto say = [&](const std::string& what) {
         if (progress) progress(what);
@@ -192,6 +195,46 @@ Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& 
         if (!o) return o.error();
         run.objects.push_back(std::move(*o));
     }
+    if (!count_work) return run;
+    // Each object's loop passes: both scenes drawn again with the work
+    // counters; the reference says which object each pixel shows.
+    const std::vector<int>& owner = references.at(ShadowMode::none).object_index;
+    for (const bool planned_side : {true, false}) {
+        say(planned_side ? "counting work (planner)" : "counting work (every effect)");
+        RendererOptions counting = options;
+        counting.count_work = true;
+        Result<std::unique_ptr<Renderer>> counter = Renderer::create(counting);
+        if (!counter) return counter.error();
+        if (Status s = (*counter)->load(planned_side ? *prepared : all_prepared); !s) return s.error();
+        Result<int> counted_view =
+            (*counter)->set_view(planned_side ? scene.camera : all_scene.camera, target.width, target.height);
+        if (!counted_view) return counted_view.error();
+        Result<SurfaceImage> counts = capture_surfaces(**counter, target.width, target.height);
+        if (!counts) return counts.error();
+        const std::vector<double> iterations = work_iterations(*counts);
+        // Only the searches count (VariantKey::count_work): an object drawn
+        // otherwise runs no loop, one pass.
+        std::vector<bool> counts_work;
+        for (const DrawReport& r : (*counter)->reports())
+            counts_work.push_back((technique_info(r.variant.technique).options & (kOptSamples | kOptSteps)) != 0);
+        std::vector<double> passes(scene.objects.size(), 0.0), pixels(scene.objects.size(), 0.0);
+        for (size_t p = 0; p < iterations.size() && p < owner.size(); ++p) {
+            const int object = owner[p];
+            if (object < 0 || static_cast<size_t>(object) >= passes.size() || iterations[p] < 0.0) continue;
+            const size_t o = static_cast<size_t>(object);
+            const bool counted = o < counts_work.size() && counts_work[o];
+            if (counted && std::isnan(iterations[p]))
+                return make_error("work counts of object '" + scene.objects[o].name + "' at pixel " +
+                                  std::to_string(p % static_cast<size_t>(target.width)) + "," +
+                                  std::to_string(p / static_cast<size_t>(target.width)) + " are not whole numbers");
+            passes[o] += counted ? std::max(1.0, iterations[p]) : 1.0;
+            pixels[o] += 1.0;
+        }
+        for (size_t i = 0; i < run.objects.size(); ++i) {
+            if (!(pixels[i] > 0.0)) continue;
+            (planned_side ? run.objects[i].passes_planned : run.objects[i].passes_all) = passes[i] / pixels[i];
+        }
+    }
     return run;
 }
 
@@ -206,6 +249,21 @@ Status write_showcase_md(const ShowcaseRun& run, const std::string& path) {
     md += "| programs | " + std::to_string(run.planned_programs) + " | " + std::to_string(run.all_programs) + " |\n";
     md += "\n**The planner is " + g(run.speedup, "%.2f") +
           " times faster** (median over the rounds of every-effect time / planner time).\n\n";
+    if (!run.prices.empty()) md += "The planner priced its candidates as: " + run.prices + ".\n\n";
+    if (!run.gpu.empty()) {
+        md += "**On " + run.gpu + "**, fragment cycles per frame (the compiler's estimate per pixel of each object's "
+              "variant compiled for this scene's " + std::to_string(run.lights) + " light(s), times its counted "
+              "search passes where it kept a loop, times its pixels): planner " +
+              g(run.gpu_planned / 1e3, "%.1f") + " thousand, every effect " + g(run.gpu_all / 1e3, "%.1f") +
+              " thousand";
+        if (run.gpu_planned > 0.0 && run.gpu_all > 0.0) md += ": **" + g(run.gpu_all / run.gpu_planned, "%.2f") + " times fewer**";
+        md += ".\n\n| object | pixels | planner: cycles per pixel | loop passes | every effect: cycles per pixel | loop passes |\n"
+              "|---|---:|---:|---:|---:|---:|\n";
+        for (const ShowcaseObject& o : run.objects)
+            md += "| " + o.object + " | " + std::to_string(o.pixels) + " | " + g(o.gpu_cycles_planned) + " | " +
+                  g(o.passes_planned) + " | " + g(o.gpu_cycles_all) + " | " + g(o.passes_all) + " |\n";
+        md += "\n";
+    }
     md += "Per object: hit error as the 95th percentile over its pixels in texels of the mip level sampled "
           "(the target's unit; base-level texels in brackets), against the exact reference composited by depth; "
           "shadow as the mean visibility difference against the reference of the shadow mode asked for.\n\n";

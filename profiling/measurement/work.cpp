@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "parallaxes/render/surface_capture.h"
@@ -26,21 +27,46 @@ std::size_t work_bucket(double iterations) {
     return b;
 }
 
+namespace {
+
+// Pixel i's counts, or an error where they are not whole numbers.
+Status read_counts(const SurfaceImage& surfaces, std::size_t i, double& n, double& f) {
+    const SurfaceSample& s = surfaces.samples[i];
+    n = s.uv.x * kWorkScale;
+    f = s.uv.y * kWorkScale;
+    if (!(std::fabs(n - std::round(n)) < 1e-3 && std::fabs(f - std::round(f)) < 1e-3 && n >= 0.0 && f >= 0.0)) {
+        const auto width = static_cast<std::size_t>(std::max(1, surfaces.width));
+        return make_error("work counts: pixel " + std::to_string(i % width) + "," + std::to_string(i / width) +
+                          " reads " + std::to_string(n) + " iterations and " + std::to_string(f) +
+                          " fetches, not whole numbers: was the renderer made with RendererOptions::count_work?");
+    }
+    n = std::round(n);
+    f = std::round(f);
+    return {};
+}
+
+}  // namespace
+
+std::vector<double> work_iterations(const SurfaceImage& surfaces) {
+    std::vector<double> out(surfaces.samples.size(), -1.0);
+    for (std::size_t i = 0; i < surfaces.samples.size(); ++i) {
+        if (!surfaces.samples[i].covered) continue;
+        double n = 0.0, f = 0.0;
+        out[i] = read_counts(surfaces, i, n, f) ? n : std::numeric_limits<double>::quiet_NaN();
+    }
+    return out;
+}
+
 Result<WorkStats> measure_work(Renderer& renderer, int width, int height) {
     Result<SurfaceImage> surfaces = capture_surfaces(renderer, width, height);
     if (!surfaces) return surfaces.error();
     std::vector<double> iterations, fetches;
     for (std::size_t i = 0; i < surfaces->samples.size(); ++i) {
-        const SurfaceSample& s = surfaces->samples[i];
-        if (!s.covered) continue;
-        const double n = s.uv.x * kWorkScale, f = s.uv.y * kWorkScale;
-        if (!(std::fabs(n - std::round(n)) < 1e-3 && std::fabs(f - std::round(f)) < 1e-3 && n >= 0.0 && f >= 0.0))
-            return make_error("work counts: pixel " + std::to_string(i % static_cast<std::size_t>(width)) + "," +
-                              std::to_string(i / static_cast<std::size_t>(width)) + " reads " + std::to_string(n) +
-                              " iterations and " + std::to_string(f) +
-                              " fetches, not whole numbers: was the renderer made with RendererOptions::count_work?");
-        iterations.push_back(std::round(n));
-        fetches.push_back(std::round(f));
+        if (!surfaces->samples[i].covered) continue;
+        double n = 0.0, f = 0.0;
+        if (Status s = read_counts(*surfaces, i, n, f); !s) return s.error();
+        iterations.push_back(n);
+        fetches.push_back(f);
     }
     WorkStats w;
     w.pixels = iterations.size();

@@ -78,6 +78,16 @@ std::string angle_text(double deg) { return human(general(deg, 6), deg) + "°"; 
 double or_inf(double v) { return std::isnan(v) ? kInf : v; }
 
 bool same_angle(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+// bench --gpu: a row's cycles per pixel over normal mapping's at the same
+// scene and angle; NaN where either is missing.
+double gpu_ratio_to_normal(const BenchRun& run, const BenchRow& r) {
+    double normal = std::numeric_limits<double>::quiet_NaN();
+    for (const BenchRow& n : run.rows)
+        if (n.technique == "normal" && n.scene == r.scene && same_angle(n.angle_deg, r.angle_deg))
+            normal = n.gpu_cycles_per_pixel;
+    return normal > 0.0 ? r.gpu_cycles_per_pixel / normal : std::numeric_limits<double>::quiet_NaN();
+}
 bool angle_less(double a, double b) { return or_inf(a) < or_inf(b) || (!std::isnan(a) && std::isnan(b)); }
 
 // ------------------------------------------------------------ row fields
@@ -522,7 +532,10 @@ std::vector<size_t> pareto_frontier(const std::vector<PlotPoint>& points) {
 
 class SvgWriter {
 public:
-    explicit SvgWriter(const BenchRun& run) : run_(run), techniques_(techniques_in(run)), scenes_(scenes_in(run)) {}
+    // `gpu`: the cost axis is the real GPU compiler's cycles per pixel over
+    // normal mapping's (bench --gpu) instead of the measured time ratio.
+    explicit SvgWriter(const BenchRun& run, bool gpu = false)
+        : run_(run), techniques_(techniques_in(run)), scenes_(scenes_in(run)), gpu_(gpu) {}
 
     std::string text() {
         collect();
@@ -549,9 +562,9 @@ private:
         std::array<Panel, kAngleClasses.size()> by_class{};
         for (size_t c = 0; c < by_class.size(); ++c) by_class[c].angle_class = c;
         for (const BenchRow& row : run_.rows) {
-            const bool plottable = std::isfinite(row.angle_deg) && std::isfinite(row.ratio_to_normal) &&
-                                   row.ratio_to_normal > 0 && std::isfinite(row.uv_error_mean) &&
-                                   row.uv_error_mean >= 0;
+            const double cost = gpu_ ? gpu_ratio(row) : row.ratio_to_normal;
+            const bool plottable = std::isfinite(row.angle_deg) && std::isfinite(cost) && cost > 0 &&
+                                   std::isfinite(row.uv_error_mean) && row.uv_error_mean >= 0;
             if (!plottable) {
                 ++unplotted_;
                 continue;
@@ -559,7 +572,7 @@ private:
             const bool clamped = row.uv_error_mean < kMinError;
             clamped_ += clamped ? 1 : 0;
             Panel& panel = by_class[angle_class(row.angle_deg)];
-            panel.points.push_back({&row, row.ratio_to_normal, clamped ? kMinError : row.uv_error_mean});
+            panel.points.push_back({&row, cost, clamped ? kMinError : row.uv_error_mean});
         }
         std::vector<double> xs, ys;
         for (Panel& panel : by_class) {
@@ -606,7 +619,8 @@ private:
         const double text_w = width_ - kLeft - kRightPad;
 
         const std::string title = "Parallax mapping: accuracy against cost — " +
-                                  (run_.gl_renderer.empty() ? "unknown renderer" : run_.gl_renderer) + ", " +
+                                  (gpu_ ? run_.gpu + " (errors on " + run_.gl_renderer + ")"
+                                        : run_.gl_renderer.empty() ? "unknown renderer" : run_.gl_renderer) + ", " +
                                   (run_.date.empty() ? "undated" : run_.date) + ", " + std::to_string(run_.width) +
                                   "×" + std::to_string(run_.height);
         title_lines_ = wrap(title, text_w, 15);
@@ -621,6 +635,11 @@ private:
         notes.push_back("Mean hit-uv error below " + general(kMinError) + " texel is drawn at " + general(kMinError) +
                         " (" + std::to_string(clamped_) + (clamped_ == 1 ? " point" : " points") +
                         "); the frontier uses the drawn values. Dashed lines: 1, 0.5, 0.25 and 0.1 texel.");
+        if (gpu_)
+            notes.push_back("Cost: the GPU compiler's cycles per pixel relative to normal mapping's at the same scene "
+                            "and angle: its static estimate, times the shader's counted median loop iterations where it "
+                            "kept a loop (an upper bound). Errors measured on " + run_.gl_renderer + ".");
+        else
         notes.push_back("Time: frame time relative to normal mapping (median of interleaved per-round ratios), " +
                         std::to_string(run_.frames) + " frames per setting, " +
                         (on_llvmpipe(run_) ? std::to_string(run_.threads) +
@@ -629,7 +648,8 @@ private:
                                            : "on " + run_.gl_renderer + ": compare ratios, not absolute times."));
         if (unplotted_ > 0)
             notes.push_back(std::to_string(unplotted_) + (unplotted_ == 1 ? " row" : " rows") +
-                            " without a finite angle, positive time ratio or error not plotted.");
+                            (gpu_ ? " without a finite angle, GPU cycles per pixel or error not plotted."
+                                  : " without a finite angle, positive time ratio or error not plotted."));
         for (const std::string& note : notes)
             for (std::string& line : wrap(note, text_w, 11)) footnote_lines_.push_back(std::move(line));
         const double plot_bottom = top_ + (panels_.empty() ? 60 : kPlotH);
@@ -754,7 +774,7 @@ private:
             const TechniqueEntry& t = techniques_[technique_index(techniques_, pt.row->technique)];
             const std::string tip = setting_text(*pt.row) + " — " + pt.row->scene + " at " +
                                     angle_text(pt.row->angle_deg) + ": " + human_sig(pt.row->uv_error_mean) +
-                                    " texels, " + human_fixed(pt.row->ratio_to_normal, 2) + "× normal";
+                                    " texels, " + human_fixed(pt.x, 2) + (gpu_ ? "× normal (GPU cycles)" : "× normal");
             out_ += std::string("<g class=\"point") + (pt.frontier ? " on-frontier" : "") + "\"><title>" +
                     svg::escape(tip) + "</title>";
             if (pt.frontier)
@@ -798,7 +818,10 @@ private:
             out_ += svg::line(x0 - (t.labelled ? 5 : 3), y, x0, y, "#333333", 0.8, "");
             if (t.labelled) out_ += svg::text(x0 - 8, y + 4, tick_label(t.value), "end", kFont, "#222222", "");
         }
-        out_ += svg::text(x0 + kPlotW / 2, y1 + 38, "frame time ÷ normal mapping (log scale)", "middle", kFont,
+        out_ += svg::text(x0 + kPlotW / 2, y1 + 38,
+                          gpu_ ? "GPU cycles per pixel ÷ normal mapping's (log scale)"
+                               : "frame time ÷ normal mapping (log scale)",
+                          "middle", kFont,
                          "#222222", "");
         if (index == 0) {
             const double lx = x0 - 56, ly = y0 + kPlotH / 2;
@@ -909,9 +932,12 @@ private:
         }
     }
 
+    double gpu_ratio(const BenchRow& row) const { return gpu_ratio_to_normal(run_, row); }
+
     const BenchRun& run_;
     std::vector<TechniqueEntry> techniques_;
     std::vector<std::string> scenes_;
+    bool gpu_ = false;
     std::vector<Panel> panels_;
     LogAxis x_axis_, y_axis_;
     size_t clamped_ = 0, unplotted_ = 0;
@@ -1196,20 +1222,19 @@ std::string gpu_section(const BenchRun& run) {
     if (run.gpu.empty()) return "";
     std::string out = "## On a real GPU compiler\n\n";
     out += "Compiled by " + md_text(run.gpu) + " (`parallax bench --gpu`, docs/gpu-compilers.md). GPU cycles: the "
-           "compiler's static estimate per fragment; a loop it kept (loops) counts one pass there, so per pixel "
-           "multiplies by the exact walk's median iterations, which its work counters read back (an upper bound: "
-           "the code outside the loop counts each time); – where a kept loop's iterations are not counted. x normal: "
-           "per-pixel cycles over normal mapping's at the same scene and angle, beside llvmpipe's measured ratio.\n\n";
+           "compiler's static estimate per fragment of the variant compiled for the bench's one light (its lights "
+           "loop bound at 1: `profile --gpu` reports the shipped program, bound at 4); a loop it kept (loops) counts "
+           "one pass there, so per pixel "
+           "multiplies by the median loop iterations the shader's own work counters read back (the searches' steps "
+           "and their shadow marches': an upper bound, since the code outside the loop counts each time); – where a "
+           "kept loop's iterations were not counted. x normal: per-pixel cycles over normal mapping's at the same "
+           "scene and angle, beside llvmpipe's measured ratio. pareto_gpu.svg plots the error against x normal (GPU).\n\n";
     out += "| scene | angle | technique | samples | hit error p95 (texels) | GPU cycles | loops | per pixel | x normal (GPU) | "
            "x normal (llvmpipe) |\n";
     out += "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
     for (const BenchRow& r : run.rows) {
         if (std::isnan(r.gpu_cycles)) continue;
-        double normal = std::numeric_limits<double>::quiet_NaN();
-        for (const BenchRow& n : run.rows)
-            if (n.technique == "normal" && n.scene == r.scene && same_angle(n.angle_deg, r.angle_deg))
-                normal = n.gpu_cycles_per_pixel;
-        const double ratio = normal > 0.0 ? r.gpu_cycles_per_pixel / normal : std::numeric_limits<double>::quiet_NaN();
+        const double ratio = gpu_ratio_to_normal(run, r);
         out += "| " + md_text(r.scene) + " | " + human_fixed(r.angle_deg, 0) + "° | " + md_text(r.technique) + " | " +
                std::to_string(r.samples) + " | " + human_sig(r.uv_error_p95) + " | " + human_sig(r.gpu_cycles) + " | " +
                human_fixed(r.gpu_loops, 0) + " | " +
@@ -1271,6 +1296,11 @@ Status write_json(const BenchRun& run, const std::string& path) {
 
 Status write_pareto_svg(const BenchRun& run, const std::string& path) {
     return write_built(path, [&] { return SvgWriter(run).text(); });
+}
+
+Status write_pareto_gpu_svg(const BenchRun& run, const std::string& path) {
+    if (run.gpu.empty()) return make_error("the run has no GPU figures to plot (bench --gpu)");
+    return write_built(path, [&] { return SvgWriter(run, true).text(); });
 }
 
 Status write_report_md(const BenchRun& run, const std::string& path) {

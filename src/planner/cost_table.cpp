@@ -131,6 +131,12 @@ Result<CostTable> parse_cost_table(const std::string& json_text, const std::stri
             return make_error(origin + ": costs: expected \"measured\" or \"table\"");
         t.costs_measured = costs.get<std::string>() == "measured";
     }
+    if (doc.contains("prices")) {
+        const json& prices = doc["prices"];
+        if (!prices.is_string()) return make_error(origin + ": prices: expected a string");
+        t.prices = prices.get<std::string>();
+        if (t.prices.size() > 1000) return make_error(origin + ": prices: longer than 1000 characters");
+    }
     const json& reliefs = doc.contains("reliefs") ? doc["reliefs"] : json();
     if (!reliefs.is_array() || reliefs.empty()) return make_error(origin + ": reliefs: expected a non-empty array");
     if (reliefs.size() > kMaxCostTableReliefs)
@@ -169,6 +175,7 @@ std::string cost_table_json(const CostTable& t) {
     out += "  \"command\": " + json(t.command).dump() + ",\n";
     out += "  \"width\": " + std::to_string(t.width) + ", \"height\": " + std::to_string(t.height) + ",\n";
     if (!t.costs_measured) out += "  \"costs\": \"table\",\n";
+    if (!t.prices.empty()) out += "  \"prices\": " + json(t.prices).dump() + ",\n";
     out += "  \"reliefs\": [\n";
     for (size_t i = 0; i < t.reliefs.size(); ++i) {
         const CostTableRelief& r = t.reliefs[i];

@@ -210,7 +210,11 @@ void ScenePlanner::Impl::find_calibrations(const PlannerOptions& options) {
     }
     for (const CostTable& c : calibrations) {
         calibration_curves.push_back(curves_of(c));
-        if (!c.costs_measured) price_from_generic(c, calibration_curves.back(), generic, generic_curves);
+        // A generic table priced otherwise than by frame time (a GPU
+        // compiler's cycles) prices every candidate: a calibration's times
+        // are this renderer's, in another unit.
+        if (!c.costs_measured || !generic.prices.empty())
+            price_from_generic(c, calibration_curves.back(), generic, generic_curves);
     }
 }
 
@@ -335,7 +339,7 @@ std::optional<ScenePlanner::Impl::Source> ScenePlanner::Impl::calibrated_source(
             s.relief = static_cast<int>(i);
             s.depth_scale = 1.0;
             s.label = "calibrated on this relief (" + hash_hex(f.field_hash) + ", " + calibrations[c].date + ")";
-            if (!calibrations[c].costs_measured) {
+            if (!calibrations[c].costs_measured || !generic.prices.empty()) {
                 std::vector<bool> all(generic.reliefs.size(), true);
                 const int near = nearest_relief(generic, f, all);
                 s.label += "; errors measured, costs from table '" +

@@ -4,7 +4,9 @@
 # on a few variants with two of them (Mali-G57's Valhall compiler and
 # Adreno 630's ir3), and every variant must come back with the compiler's
 # own figures: fragment instructions from both, cycles and a bound pipe from
-# Valhall. Exit 1 naming what is missing.
+# Valhall, and a 16-bit share read from its instruction listing; and
+# `profile --gpu-precision` must find 16-bit instructions as written and
+# next to none with every value highp. Exit 1 naming what is missing.
 #   tests/cross/gpu_compilers_check.sh PARALLAX
 set -euo pipefail
 parallax=${1:?usage: $0 PARALLAX}
@@ -35,4 +37,22 @@ if problems:
     print("FAIL: real GPU compilers:\n  " + "\n  ".join(problems)); sys.exit(1)
 print(f"ok: {len(variants)} variants on Mali-G57 and Adreno 630, each with the compiler's own figures")
 for line in report["context"].get("gpu", []): print("  " + line)
+for v in variants:
+    s = {g["target"]: g for g in v.get("gpu", [])}["mali-g57"]["summary"]
+    if s.get("narrow_share") is None:
+        print(f"FAIL: {v['variant']} on mali-g57: no 16-bit share from the instruction listing"); sys.exit(1)
+PY
+# Precision on the real compiler: with every value highp, next to no 16-bit
+# instruction is left; as written (mediump where the shaders declare it),
+# a good share is.
+"$parallax" profile --gpu mali-g57 --gpu-precision --variants 'normal es3' >"$out"
+python3 - "$out" <<'PY'
+import re, sys
+rows = [l for l in open(sys.argv[1]) if l.startswith("normal es3")]
+if len(rows) != 1:
+    print("FAIL: --gpu-precision printed no row for normal es3"); sys.exit(1)
+shares = [int(x) for x in re.findall(r"(\d+) % \(", rows[0])]
+if len(shares) != 2 or not (shares[0] >= 20 and shares[1] <= 5):
+    print(f"FAIL: --gpu-precision: 16-bit shares {shares} (as written, all highp): expected >= 20 and <= 5:\n{rows[0]}"); sys.exit(1)
+print(f"ok: normal es3 on Mali-G57: {shares[0]} % 16-bit as written, {shares[1]} % with every value highp")
 PY

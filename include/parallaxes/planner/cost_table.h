@@ -55,6 +55,11 @@ struct CostTable {
     // planner prices each candidate from the generic table's relief nearest
     // to this one, so the choice does not depend on this run's timing noise.
     bool costs_measured = true;
+    // What the costs are: "" for frame times on `renderer` (the errors'
+    // renderer too); otherwise how they were priced, e.g. a real GPU
+    // compiler's cycle estimate per pixel (`parallax bench --planner-table
+    // FILE --gpu NAME`): the planner prints it with every plan.
+    std::string prices;
     std::vector<CostTableRelief> reliefs;
     std::vector<CostSample> rows;
 };

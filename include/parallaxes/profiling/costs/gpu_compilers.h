@@ -35,6 +35,10 @@ struct GpuTarget {
     bool ir3 = false;     // statistics from ir3's disassembly (Adreno), not shader-db lines
     std::vector<std::string> pipes;  // per-pipe cycle figures, in the compiler's words ("arith", "texture", ...)
     std::string renderer;  // what GL_RENDERER must hold when that driver loaded: "Mali-G57", "FD630"
+    // The switch that also prints the compiler's instruction listing
+    // (Bifrost, Valhall: BIFROST_MESA_DEBUG=shaderdb,shaders), from which
+    // each fragment stage's 16-bit share is counted; "" where not read.
+    std::string listing_env;
 };
 
 // Every GPU --gpu knows, in --gpu list's order.
@@ -59,6 +63,13 @@ struct GpuStage {
     std::string line;   // the statistics line(s) as the driver printed them
     std::vector<GpuFigure> figures;
     int spills = -1, fills = -1;  // -1: not reported
+    // From the compiler's last instruction listing of the stage (Bifrost,
+    // Valhall; -1 where none was read): arithmetic and data-movement
+    // instructions by the width they compute in, as their type suffix says
+    // (".f16", ".v2f16", ".i16", ".v4i8", ...: narrow; ".f32", ".i32", ...:
+    // 32-bit), and the conversions between widths ("F16_TO_F32", ...).
+    // Loads, stores, texture, blending and branches are left out.
+    int narrow_ops = -1, wide_ops = -1, conversions = -1;
     // The figure named `words`, if the compiler printed it.
     std::optional<double> figure(const std::string& words) const;
 };
@@ -79,8 +90,25 @@ struct GpuSummary {
     int spills = -1, fills = -1;
     double loops = -1.0;         // loops left after the compiler's unrolling
     double vertex_instructions = -1.0;  // all vertex stages together
+    // The fragment stage's narrow share, narrow / (narrow + 32-bit), and its
+    // conversions (GpuStage; -1 where not listed).
+    double narrow_share = -1.0;
+    int conversions = -1;
 };
+
+// Counts one line of a Bifrost or Valhall instruction listing
+// ("r3 = FMA.v2f16 r1.h00, ...", "*    r2 = FMA.f32 ..."); lines that are
+// not an instruction with a destination are left alone.
+void count_listing_line(const std::string& line, GpuStage& stage);
 GpuSummary summarise(const GpuTarget& target, const GpuProgram& program);
+
+// A fragment's cycles per pixel from the compiler's static estimate
+// `cycles` (one pass of each loop it kept: `loops`): the estimate itself
+// where it kept none; where it kept one, the estimate times the loop
+// iterations the shader counted at that pixel (`counted`: the work counters
+// ran; at least one pass), an upper bound, since the code outside the loop
+// is counted each time; -1 where a loop was kept and nothing was counted.
+double cycles_per_pixel(double cycles, double loops, bool counted, double iterations);
 
 struct GpuRun {
     std::string context;              // GL_RENDERER | GL_VERSION the probe got
@@ -116,9 +144,37 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
 
 // The same for variants: each assembled (from `files[i]` where given and
 // not null, else the embedded shaders) and compiled, in order.
+// `lights` (1 to kMaxLights; 0: as shipped): the lights loop's bound
+// (PX_MAX_LIGHTS) set to the scene's light count, for a per-pixel cost: a
+// compiler that keeps the lights loop (one whose body holds a shadow march)
+// counts one pass of it, which a cost per pixel must not take for a search's
+// loop and multiply by the search's iterations.
 Result<GpuRun> compile_variants_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                                        const std::vector<VariantKey>& keys,
                                        const std::vector<const ShaderFiles*>& files = {},
-                                       double seconds_per_program = 60.0);
+                                       double seconds_per_program = 60.0, int lights = 0);
+
+// What a cost per pixel needs of each variant: its figures compiled for the
+// scene's light count (`lights`: the lights loop's bound, PX_MAX_LIGHTS, set
+// to it), and the shipped program's (bound kMaxLights) beside them. The
+// shipped program is what `profile --gpu` reports; for a scene with fewer
+// lights it is not what runs: a compiler that unrolls its lights loop counts
+// every light's code in its estimate, and one that keeps it keeps the live
+// values across it (maxmip spills 4:37 on Mali-G57, all 41 of its loads and
+// stores outside the walk's loop; with the bound at one light it spills
+// none: docs/gpu-compilers.md). So a cost per pixel is of the program
+// specialised to the scene's lights, and a kept loop in it is a search's.
+struct GpuCost {
+    GpuSummary scene;    // compiled with PX_MAX_LIGHTS = the scene's light count
+    GpuSummary shipped;  // as shipped (PX_MAX_LIGHTS = kMaxLights)
+    std::string error;   // either compile's
+};
+Result<std::vector<GpuCost>> gpu_costs_of_variants(const GpuCompilers& tools, const GpuTarget& target, int es_major,
+                                                   const std::vector<VariantKey>& keys, int lights,
+                                                   double seconds_per_program = 60.0, std::string* context = nullptr);
+
+// `source` with its lights loop bound (the "#define PX_MAX_LIGHTS" line the
+// variant's defines put there) set to `lights`. Error: no such line.
+Result<std::string> with_light_bound(const std::string& source, int lights);
 
 }  // namespace px::profiling

@@ -28,7 +28,16 @@ struct TableGrid {
     std::vector<double> light_elevations{10, 20, 35, 60};
     int frames = 5;
     int width = 256, height = 256;
+    // false: errors only (no frame times: the rows are priced by `price`).
+    bool timed = true;
+    // Count every search's and shadow march's iterations (BenchOptions).
+    bool count_every_search = false;
 };
+
+// Prices a measured run's rows (BenchRow::ratio_to_normal) otherwise than by
+// its frame times, and says how in `prices` (CostTable::prices); called
+// for each run in order, the unshadowed run first.
+using RowPricer = std::function<Status(BenchRun& run, std::string& prices)>;
 
 // The bench rows as a cost table: one relief per bench scene (a shadowed
 // scene shares its unshadowed twin's relief), features measured from each
@@ -40,7 +49,15 @@ Result<CostTable> cost_table_from_runs(const std::vector<BenchRun>& runs, const 
 // `keep`: measure only the shadow rows and keep every other row of this table.
 Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& command, const RenderTarget& target,
                                      const std::function<Result<Image>()>& read_color, const Progress& progress,
-                                     const CostTable* keep = nullptr);
+                                     const CostTable* keep = nullptr, const RowPricer& price = {});
+
+// The planner tables priced in a real GPU compiler's cycles that the
+// program carries (profiling/costs/planner_tables/, made by `parallax bench
+// --planner-table FILE --gpu NAME`): the GPU names (profile --gpu list's)
+// that have one, and the table of one. An unknown name or one without a
+// table is an error saying which have one and how to make another.
+std::vector<std::string> gpu_cost_table_names();
+Result<const CostTable*> gpu_cost_table(const std::string& gpu_name);
 
 // Measures one material's relief at these angles, every candidate of the
 // grid (and its shadow mode's sample counts when it asks for a shadow).

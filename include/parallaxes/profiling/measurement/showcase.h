@@ -30,6 +30,12 @@ struct ShowcaseObject {
     double shadow_planned = -1.0;     // mean |visibility difference|, against the asked mode's reference
     double shadow_all = -1.0;
     bool meets = true;                // the planned draw meets every target
+    // count_work runs: the mean over the object's pixels of its counted
+    // loop iterations, at least 1 (what a loop the GPU compiler kept runs).
+    double passes_planned = -1.0, passes_all = -1.0;
+    // With a GPU (bench --showcase --gpu): its compiler's cycles per pixel of
+    // each variant (cycles_per_pixel with the passes above).
+    double gpu_cycles_planned = -1.0, gpu_cycles_all = -1.0;
 };
 
 struct ShowcaseRun {
@@ -39,7 +45,13 @@ struct ShowcaseRun {
     double speedup = 0.0;                   // median over rounds of all / planned
     int planned_programs = 0, all_programs = 0;
     std::string plan_text;  // the planner's explanation (parallax plan's table)
+    std::string prices;     // what the planner's costs were (its table's)
     std::vector<ShowcaseObject> objects;
+    // With a GPU: which, and each frame's fragment cycles on it (the sum over
+    // objects of pixels x cycles per pixel); -1 where a variant has none.
+    std::string gpu;
+    double gpu_planned = -1.0, gpu_all = -1.0;
+    int lights = 0;  // the scene's: the variants are compiled for this many (profiling::GpuCost)
 };
 
 // The "every effect" version of a scene: every material drawn with relief
@@ -47,11 +59,13 @@ struct ShowcaseRun {
 // shadow ray of 32 samples (the mode the material asks for, else soft).
 SceneDesc all_effects_scene(const SceneDesc& scene);
 
-// Needs a current ES 3.0 context; `target` of the run's size.
+// Needs a current ES 3.0 context; `target` of the run's size. `count_work`:
+// also draw both with the work counters, for each object's passes.
 Result<ShowcaseRun> run_showcase(const SceneDesc& scene, const RendererOptions& options, int frames,
                                  const RenderTarget& target, const std::string& command,
                                  const std::function<void(const std::string&)>& progress,
-                                 const std::function<std::string(const std::vector<ObjectPlan>&)>& explain);
+                                 const std::function<std::string(const std::vector<ObjectPlan>&)>& explain,
+                                 bool count_work = false);
 
 Status write_showcase_md(const ShowcaseRun& run, const std::string& path);
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "parallaxes/core/result.h"
+#include "parallaxes/core/surface_image.h"
 #include "parallaxes/render/renderer.h"
 
 namespace px::profiling {
@@ -30,6 +31,12 @@ struct WorkStats {
 // whole number (the renderer was made without count_work, or the read-back
 // lost it).
 Result<WorkStats> measure_work(Renderer& renderer, int width, int height);
+
+// Each pixel's counted loop iterations from a capture of a count_work
+// renderer (row 0 = bottom), -1 where nothing was drawn, NaN where the
+// pixel holds no whole counts (its variant counts no work: only the
+// searches do, VariantKey::count_work).
+std::vector<double> work_iterations(const SurfaceImage& surfaces);
 
 // The bucket of `iterations` in WorkStats::histogram.
 std::size_t work_bucket(double iterations);

@@ -88,6 +88,9 @@ Status write_json(const BenchRun& run, const std::string& path);
 // Error (mean texels, log scale) against time (ratio to normal mapping) per
 // technique, one panel per angle class, the Pareto frontier marked.
 Status write_pareto_svg(const BenchRun& run, const std::string& path);
+// The same plot with the real GPU compiler's cost (bench --gpu: cycles per
+// pixel over normal mapping's) on the cost axis. Error: a run without GPU figures.
+Status write_pareto_gpu_svg(const BenchRun& run, const std::string& path);
 // Per scene and angle: the cheapest setting reaching 1, 0.5 and 0.25 texel
 // mean error and its cost relative to normal mapping; says where a technique
 // never gets there.
