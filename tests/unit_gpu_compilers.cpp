@@ -256,24 +256,50 @@ TEST(GpuCompilers, CyclesPerPixelMultiplyOnlyAKeptLoopByItsCountedPasses) {
     EXPECT_DOUBLE_EQ(cycles_per_pixel(-1.0, 0.0, true, 17.0), -1.0);
 }
 
-// The lights loop's bound set for a per-pixel cost: the line the variant's
-// defines write, in both stages of a real variant; a source without it is
-// an error, not a silent no-op.
-TEST(GpuCompilers, TheLightsLoopBoundIsSetInARealVariant) {
+// The share of the listing inside a kept loop: maxmip's walk on Valhall,
+// counted by the separate script over the same file (tests/data/gpu/README.md):
+// 317 of the final listing's 810 instructions (its statistics line says 812
+// inst) in the blocks its one back edge closes; none in flat's.
+TEST(GpuCompilers, ListingsGiveTheShareOfAKeptLoop) {
+    const GpuProgram p = parse_one("mali-g57", "mali-g57_maxmip_es3_listing.txt");
+    ASSERT_NE(p.fragment(), nullptr);
+    const GpuSummary s = summarise(target("mali-g57"), p);
+    EXPECT_EQ(s.loops, 1);
+    EXPECT_NEAR(s.loop_share, 317.0 / 810.0, 1e-12);
+    EXPECT_EQ(s.spills, 4);
+    EXPECT_EQ(s.fills, 37);
+    // Per pixel at 6 passes: the loop's share six times, the rest once.
+    EXPECT_NEAR(cycles_per_pixel(s.cycles, s.loops, true, 6.0, s.loop_share), 41.0 * (1.0 + 5.0 * 317.0 / 810.0), 1e-9);
+    EXPECT_NEAR(cycles_per_pixel(s.cycles, s.loops, true, 6.0), 41.0 * 6.0, 1e-9);  // without the share: the bound
+    EXPECT_EQ(summarise(target("mali-g57"), parse_one("mali-g57", "mali-g57_flat_es3_listing.txt")).loop_share, 0.0);
+}
+
+// The bounds a cost per pixel sets (the lights loop's, the search's): the
+// lines the variant's defines write, in a real variant; a source without
+// one is an error, not a silent no-op.
+TEST(GpuCompilers, TheLoopBoundsAreSetInARealVariant) {
     VariantKey key;
     key.technique = Technique::pom;
+    key.max_samples = 32;
     key.shadow = ShadowMode::soft;
     key.shadow_samples = 16;
     Result<VariantSources> sources = assemble_variant(key.canonical());
     ASSERT_TRUE(sources) << sources.error().message;
     for (const std::string* text : {&sources->vertex.text, &sources->fragment.text}) {
-        Result<std::string> one = with_light_bound(*text, 1);
+        Result<std::string> one = with_define(*text, "PX_MAX_LIGHTS", 1);
         ASSERT_TRUE(one) << one.error().message;
         EXPECT_NE(one->find("#define PX_MAX_LIGHTS 1\n"), std::string::npos);
         EXPECT_EQ(one->find("#define PX_MAX_LIGHTS 4"), std::string::npos);
-        EXPECT_EQ(one->size() + 0, text->size());
+        EXPECT_EQ(one->size(), text->size());
     }
-    Result<std::string> none = with_light_bound("void main() {}\n", 1);
+    Result<std::string> cut = with_define(sources->fragment.text, "PX_MAX_SAMPLES", 7);
+    ASSERT_TRUE(cut) << cut.error().message;
+    EXPECT_NE(cut->find("#define PX_MAX_SAMPLES 7\n"), std::string::npos);
+    EXPECT_EQ(cut->find("#define PX_MAX_SAMPLES 32"), std::string::npos);
+    Result<std::string> first = with_define("#define PX_A 3\nx\n", "PX_A", 5);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(*first, "#define PX_A 5\nx\n");
+    Result<std::string> none = with_define("void main() {}\n", "PX_MAX_LIGHTS", 1);
     ASSERT_FALSE(none);
     EXPECT_NE(none.error().message.find("PX_MAX_LIGHTS"), std::string::npos);
 }

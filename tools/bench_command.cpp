@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -69,35 +70,39 @@ Status add_gpu_costs(profiling::BenchRun& run, const std::string& name, int es) 
     const profiling::GpuTarget& t = targets->front();
     Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
     if (!tools) return tools.error();
-    std::vector<std::string> names;
-    for (const profiling::BenchRow& r : run.rows)
-        if (!r.variant.empty() && std::find(names.begin(), names.end(), r.variant) == names.end()) names.push_back(r.variant);
-    std::vector<VariantKey> keys;
-    for (const std::string& n : names) {
-        Result<VariantKey> key = VariantKey::parse(n);
-        if (!key) return make_error("--gpu: the drawn variant '" + n + "' does not parse: " + key.error().message);
-        keys.push_back(*key);
+    // Each row's pixel as the bench draws it: the variant compiled for the
+    // bench's one sun, its search truncated to the median steps the
+    // shader's own counters read (gpu_pixel_costs).
+    std::vector<profiling::GpuPixelCost> requests;
+    std::vector<profiling::BenchRow*> rows;
+    for (profiling::BenchRow& r : run.rows) {
+        if (r.variant.empty()) continue;
+        Result<VariantKey> key = VariantKey::parse(r.variant);
+        if (!key) return make_error("--gpu: the drawn variant '" + r.variant + "' does not parse: " + key.error().message);
+        const bool searches = (technique_info(key->technique).options & (kOptSamples | kOptSteps)) != 0;
+        int steps = 0;
+        if (searches && !r.iteration_histogram.empty())
+            steps = std::clamp(static_cast<int>(std::ceil(r.iterations_median)), 1, std::max(1, static_cast<int>(key->max_samples)));
+        requests.push_back({*key, steps});
+        rows.push_back(&r);
     }
-    std::fprintf(stderr, "bench: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", keys.size(),
+    std::fprintf(stderr, "bench: compiling %zu setting(s) with %s's compiler (%s, under qemu-aarch64)\n", requests.size(),
                  t.gpu.c_str(), t.driver.c_str());
-    // Each variant compiled for the bench's one sun (gpu_costs_of_variants):
-    // a loop its compiler keeps is a search's, multiplied by its iterations.
     std::string context;
-    Result<std::vector<profiling::GpuCost>> costs = profiling::gpu_costs_of_variants(*tools, t, es, keys, 1, 60.0, &context);
+    Result<std::vector<profiling::GpuCost>> costs = profiling::gpu_pixel_costs(*tools, t, es, requests, 1, &context);
     if (!costs) return costs.error();
     run.gpu = t.gpu + ": " + t.driver + " of " + context;
-    for (profiling::BenchRow& r : run.rows) {
-        const auto at = std::find(names.begin(), names.end(), r.variant);
-        if (at == names.end()) continue;
-        const profiling::GpuCost& c = (*costs)[static_cast<std::size_t>(at - names.begin())];
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        profiling::BenchRow& r = *rows[i];
+        const profiling::GpuCost& c = (*costs)[i];
         if (!c.error.empty())
             std::fprintf(stderr, "bench: warning: %s on %s: %s\n", t.gpu.c_str(), r.variant.c_str(), c.error.c_str());
-        if (c.scene.cycles < 0.0) continue;
-        r.gpu_cycles = c.scene.cycles;
-        r.gpu_loops = c.scene.loops;
-        const double per_pixel = profiling::cycles_per_pixel(c.scene.cycles, c.scene.loops,
-                                                             !r.iteration_histogram.empty(), r.iterations_median);
-        if (per_pixel >= 0.0) r.gpu_cycles_per_pixel = per_pixel;
+        if (c.variant.cycles < 0.0) continue;
+        r.gpu_cycles = c.variant.cycles;
+        r.gpu_loops = c.variant.loops;
+        const bool searches = requests[i].steps > 0 ||
+                              !(technique_info(requests[i].key.technique).options & (kOptSamples | kOptSteps));
+        if (searches && c.cycles_per_pixel >= 0.0) r.gpu_cycles_per_pixel = c.cycles_per_pixel;
     }
     return {};
 }
@@ -138,8 +143,8 @@ Status price_rows_on_gpu(profiling::BenchRun& run, const std::string& name, std:
     if (!t) return t.error();
     prices = t->front().gpu + " cycles per pixel relative to normal mapping's: the static estimate of " +
              t->front().driver + "'s compiler (" + context +
-             ", under drm-shim) for the variant compiled for the scene's one light, times the shader's counted "
-             "search iterations where it kept a loop (an upper bound)";
+             ", under drm-shim) for the variant compiled for the scene's one light; where it kept a loop, the loop's "
+             "share of its instruction listing taken once per search iteration the shader counted";
     return {};
 }
 
@@ -206,37 +211,39 @@ Status add_showcase_gpu_cycles(profiling::ShowcaseRun& run, const std::string& n
     const profiling::GpuTarget& t = targets->front();
     Result<profiling::GpuCompilers> tools = profiling::find_gpu_compilers();
     if (!tools) return tools.error();
-    std::vector<std::string> names;
+    // Each object's two variants as its pixels run them: compiled for the
+    // scene's lights, each search truncated to the object's mean counted steps.
+    std::vector<profiling::GpuPixelCost> requests;
     for (const profiling::ShowcaseObject& o : run.objects)
-        for (const std::string& v : {o.planned_variant, o.all_variant})
-            if (!v.empty() && std::find(names.begin(), names.end(), v) == names.end()) names.push_back(v);
-    std::vector<VariantKey> keys;
-    for (const std::string& n : names) {
-        Result<VariantKey> key = VariantKey::parse(n);
-        if (!key) return make_error("--gpu: the drawn variant '" + n + "' does not parse: " + key.error().message);
-        keys.push_back(*key);
-    }
-    std::fprintf(stderr, "showcase: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", keys.size(),
+        for (const auto& [variant, passes] : {std::pair{o.planned_variant, o.passes_planned}, std::pair{o.all_variant, o.passes_all}}) {
+            Result<VariantKey> key = VariantKey::parse(variant);
+            if (!key) return make_error("--gpu: the drawn variant '" + variant + "' does not parse: " + key.error().message);
+            const bool searches = (technique_info(key->technique).options & (kOptSamples | kOptSteps)) != 0;
+            const int steps = searches && passes >= 1.0
+                                  ? std::clamp(static_cast<int>(std::ceil(passes)), 1, std::max(1, static_cast<int>(key->max_samples)))
+                                  : 0;
+            requests.push_back({*key, steps});
+        }
+    std::fprintf(stderr, "showcase: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", requests.size(),
                  t.gpu.c_str(), t.driver.c_str());
     std::string context;
     Result<std::vector<profiling::GpuCost>> costs =
-        profiling::gpu_costs_of_variants(*tools, t, 3, keys, std::clamp(lights, 1, kMaxLights), 60.0, &context);
+        profiling::gpu_pixel_costs(*tools, t, 3, requests, std::clamp(lights, 1, kMaxLights), &context);
     if (!costs) return costs.error();
     run.gpu = t.gpu + " (" + t.driver + " of " + context + ")";
     run.lights = lights;
-    const auto per_pixel = [&](const std::string& variant, double passes) {
-        const auto at = std::find(names.begin(), names.end(), variant);
-        if (at == names.end()) return -1.0;
-        const profiling::GpuCost& c = (*costs)[static_cast<std::size_t>(at - names.begin())];
+    const auto per_pixel = [&](std::size_t request, const std::string& variant) {
+        const profiling::GpuCost& c = (*costs)[request];
         if (!c.error.empty())
             std::fprintf(stderr, "showcase: warning: %s on %s: %s\n", t.gpu.c_str(), variant.c_str(), c.error.c_str());
-        return profiling::cycles_per_pixel(c.scene.cycles, c.scene.loops, passes >= 0.0, passes);
+        return c.cycles_per_pixel;
     };
     run.gpu_planned = run.gpu_all = 0.0;
-    for (profiling::ShowcaseObject& o : run.objects) {
+    for (std::size_t i = 0; i < run.objects.size(); ++i) {
+        profiling::ShowcaseObject& o = run.objects[i];
         if (o.pixels <= 0) continue;
-        o.gpu_cycles_planned = per_pixel(o.planned_variant, o.passes_planned);
-        o.gpu_cycles_all = per_pixel(o.all_variant, o.passes_all);
+        o.gpu_cycles_planned = per_pixel(2 * i, o.planned_variant);
+        o.gpu_cycles_all = per_pixel(2 * i + 1, o.all_variant);
         const double n = static_cast<double>(o.pixels);
         run.gpu_planned = o.gpu_cycles_planned < 0.0 || run.gpu_planned < 0.0 ? -1.0 : run.gpu_planned + n * o.gpu_cycles_planned;
         run.gpu_all = o.gpu_cycles_all < 0.0 || run.gpu_all < 0.0 ? -1.0 : run.gpu_all + n * o.gpu_cycles_all;

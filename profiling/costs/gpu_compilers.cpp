@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "parallaxes/core/files.h"
@@ -117,6 +119,72 @@ bool ir3_line(const std::string& line, std::string& key, std::string& stage, std
 // compiled during a program's draw: their figures are not the program's.
 bool internal_shader(const std::string& name) { return name.rfind("TTN", 0) == 0; }
 
+// The block structure of one instruction listing ("blockN {" ... "} -> S
+// from P Q"): instructions per block, and the loops (a predecessor listed at
+// or after its successor closes one over the blocks between them).
+struct ListingBlocks {
+    std::vector<int> order;
+    std::map<int, int> instructions;
+    std::map<int, std::vector<int>> predecessors;
+    int current = -1;
+
+    static bool is_instruction(const std::string& raw) {
+        std::string l = trim(raw);
+        while (!l.empty() && (l[0] == '*' || l[0] == '+' || l[0] == ' ' || l[0] == '\t')) l.erase(0, 1);
+        if (l.empty() || l.rfind("NOP", 0) == 0) return false;
+        const size_t equals = l.find(" = ");
+        if (equals != std::string::npos) {
+            const size_t at = l.find_first_not_of(' ', equals + 3);
+            return at != std::string::npos && l[at] >= 'A' && l[at] <= 'Z';
+        }
+        return l[0] >= 'A' && l[0] <= 'Z' && l.size() > 1 && ((l[1] >= 'A' && l[1] <= 'Z') || l[1] == '_');
+    }
+
+    void line(const std::string& l) {
+        if (l.rfind("block", 0) == 0 && l.size() > 7 && l.compare(l.size() - 2, 2, " {") == 0) {
+            current = std::atoi(l.c_str() + 5);
+            order.push_back(current);
+            return;
+        }
+        if (current >= 0 && !l.empty() && l[0] == '}') {
+            const size_t from = l.find(" from ");
+            if (from != std::string::npos) {
+                std::istringstream words(l.substr(from + 6));
+                std::string w;
+                while (words >> w)
+                    if (w.rfind("block", 0) == 0) predecessors[current].push_back(std::atoi(w.c_str() + 5));
+            }
+            current = -1;
+            return;
+        }
+        if (current >= 0 && is_instruction(l)) ++instructions[current];
+    }
+
+    // The share of the listing's instructions inside a loop; -1 if it has none.
+    double loop_share() const {
+        double total = 0.0, looped = 0.0;
+        std::map<int, size_t> index;
+        for (size_t i = 0; i < order.size(); ++i) index.emplace(order[i], i);
+        std::vector<bool> in_loop(order.size(), false);
+        for (size_t i = 0; i < order.size(); ++i) {
+            auto p = predecessors.find(order[i]);
+            if (p == predecessors.end()) continue;
+            for (int pred : p->second) {
+                auto at = index.find(pred);
+                if (at == index.end() || at->second < i) continue;
+                for (size_t k = i; k <= at->second; ++k) in_loop[k] = true;
+            }
+        }
+        for (size_t i = 0; i < order.size(); ++i) {
+            auto n = instructions.find(order[i]);
+            const double count = n == instructions.end() ? 0.0 : n->second;
+            total += count;
+            if (in_loop[i]) looped += count;
+        }
+        return total > 0.0 ? looped / total : -1.0;
+    }
+};
+
 Status read_program_lines(const GpuTarget& target, const std::vector<std::string>& lines, GpuProgram& program) {
     std::string current_key;
     bool internal = false;
@@ -126,6 +194,7 @@ Status read_program_lines(const GpuTarget& target, const std::vector<std::string
     // statistics line; the last listing is what runs.
     bool in_fragment = false;
     std::optional<GpuStage> listing, listed;
+    ListingBlocks blocks;
     for (const std::string& raw : lines) {
         const std::string line = clean_tool_text(raw);
         if (!target.listing_env.empty()) {
@@ -138,8 +207,11 @@ Status read_program_lines(const GpuTarget& target, const std::vector<std::string
                     GpuStage fresh;
                     fresh.narrow_ops = fresh.wide_ops = fresh.conversions = 0;
                     listing = fresh;
+                    blocks = ListingBlocks{};
+                    blocks.line(trim(line));
                 } else if (listing) {
                     count_listing_line(line, *listing);
+                    blocks.line(line);
                 }
             }
         }
@@ -174,6 +246,8 @@ Status read_program_lines(const GpuTarget& target, const std::vector<std::string
                 (*stage)->narrow_ops = listing->narrow_ops;
                 (*stage)->wide_ops = listing->wide_ops;
                 (*stage)->conversions = listing->conversions;
+                (*stage)->loop_share = blocks.loop_share();
+                if ((*stage)->loop_share < 0.0) (*stage)->loop_share = 0.0;
                 listed = listing;
             }
             if ((*stage)->fragment) in_fragment = false;
@@ -299,6 +373,7 @@ GpuSummary summarise(const GpuTarget& target, const GpuProgram& program) {
     sum.loops = get("loops");
     sum.spills = f->spills;
     sum.fills = f->fills;
+    sum.loop_share = f->loop_share;
     if (f->narrow_ops >= 0 && f->narrow_ops + f->wide_ops > 0) {
         sum.narrow_share = static_cast<double>(f->narrow_ops) / static_cast<double>(f->narrow_ops + f->wide_ops);
         sum.conversions = f->conversions;
@@ -481,60 +556,105 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
 
 Result<GpuRun> compile_variants_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                                        const std::vector<VariantKey>& keys, const std::vector<const ShaderFiles*>& files,
-                                       double seconds_per_program, int lights) {
+                                       double seconds_per_program, int lights, const std::vector<int>& search_steps) {
     if (lights < 0 || lights > kMaxLights)
         return make_error("lights: " + std::to_string(lights) + " is outside 0.." + std::to_string(kMaxLights));
+    if (!search_steps.empty() && search_steps.size() != keys.size())
+        return make_error("search_steps: " + std::to_string(search_steps.size()) + " for " + std::to_string(keys.size()) +
+                          " variants");
     std::vector<ShaderPair> pairs;
     for (std::size_t i = 0; i < keys.size(); ++i) {
         Result<VariantSources> sources = assemble_variant(keys[i], i < files.size() ? files[i] : nullptr);
         if (!sources) return with_context(keys[i].describe(), sources.error());
         ShaderPair pair{sources->vertex.text, sources->fragment.text};
-        if (lights > 0) {
-            Result<std::string> v = with_light_bound(pair.vertex, lights);
-            Result<std::string> f = with_light_bound(pair.fragment, lights);
-            if (!v) return with_context(keys[i].describe() + " (vertex)", v.error());
-            if (!f) return with_context(keys[i].describe() + " (fragment)", f.error());
-            pair = {std::move(*v), std::move(*f)};
+        const int steps = search_steps.empty() ? 0 : search_steps[i];
+        for (std::string* text : {&pair.vertex, &pair.fragment}) {
+            const bool fragment = text == &pair.fragment;
+            if (lights > 0) {
+                Result<std::string> t = with_define(*text, "PX_MAX_LIGHTS", lights);
+                if (!t) return with_context(keys[i].describe() + (fragment ? " (fragment)" : " (vertex)"), t.error());
+                *text = std::move(*t);
+            }
+            if (steps > 0 && fragment) {
+                Result<std::string> t = with_define(*text, "PX_MAX_SAMPLES", steps);
+                if (!t) return with_context(keys[i].describe() + " (fragment)", t.error());
+                *text = std::move(*t);
+            }
         }
         pairs.push_back(std::move(pair));
     }
     return compile_on_gpu(tools, target, es_major, pairs, seconds_per_program);
 }
 
-Result<std::vector<GpuCost>> gpu_costs_of_variants(const GpuCompilers& tools, const GpuTarget& target, int es_major,
-                                                   const std::vector<VariantKey>& keys, int lights,
-                                                   double seconds_per_program, std::string* context) {
+Result<std::string> with_define(const std::string& source, const std::string& name, int value) {
+    const std::string head = "#define " + name + " ";
+    std::size_t at = source.rfind(head, 0) == 0 ? 0 : source.find("\n" + head);
+    if (at == std::string::npos) return make_error("no '#define " + name + "' line to set");
+    if (source[at] == '\n') ++at;
+    const std::size_t end = source.find('\n', at);
+    std::string out = source;
+    out.replace(at, (end == std::string::npos ? source.size() : end) - at, head + std::to_string(value));
+    return out;
+}
+
+Result<std::vector<GpuCost>> gpu_pixel_costs(const GpuCompilers& tools, const GpuTarget& target, int es_major,
+                                             const std::vector<GpuPixelCost>& requests, int lights,
+                                             std::string* context, double seconds_per_program) {
     if (lights < 1 || lights > kMaxLights)
         return make_error("lights: " + std::to_string(lights) + " is outside 1.." + std::to_string(kMaxLights));
-    Result<GpuRun> scene = compile_variants_on_gpu(tools, target, es_major, keys, {}, seconds_per_program, lights);
-    if (!scene) return scene.error();
-    if (context) *context = scene->context;
-    Result<GpuRun> shipped = scene;
-    if (lights != kMaxLights) shipped = compile_variants_on_gpu(tools, target, es_major, keys, {}, seconds_per_program);
-    if (!shipped) return shipped.error();
-    std::vector<GpuCost> out(keys.size());
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-        out[i].scene = summarise(target, scene->programs[i]);
-        out[i].shipped = summarise(target, shipped->programs[i]);
-        out[i].error = !scene->programs[i].error.empty() ? scene->programs[i].error : shipped->programs[i].error;
+    // Every distinct variant once, and every distinct truncation once.
+    std::vector<VariantKey> keys, truncated_keys;
+    std::vector<int> steps;
+    std::vector<std::size_t> variant_of(requests.size()), truncation_of(requests.size(), SIZE_MAX);
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+        const VariantKey& k = requests[i].key;
+        auto at = std::find_if(keys.begin(), keys.end(), [&](const VariantKey& x) { return x.id() == k.id(); });
+        variant_of[i] = static_cast<std::size_t>(at - keys.begin());
+        if (at == keys.end()) keys.push_back(k);
+        const int n = requests[i].steps;
+        if (n <= 0) continue;
+        std::size_t j = 0;
+        while (j < truncated_keys.size() && !(truncated_keys[j].id() == k.id() && steps[j] == n)) ++j;
+        if (j == truncated_keys.size()) {
+            truncated_keys.push_back(k);
+            steps.push_back(n);
+        }
+        truncation_of[i] = j;
+    }
+    std::vector<VariantKey> all = keys;
+    all.insert(all.end(), truncated_keys.begin(), truncated_keys.end());
+    std::vector<int> all_steps(keys.size(), 0);
+    all_steps.insert(all_steps.end(), steps.begin(), steps.end());
+    Result<GpuRun> run = compile_variants_on_gpu(tools, target, es_major, all, {}, seconds_per_program, lights, all_steps);
+    if (!run) return run.error();
+    if (context) *context = run->context;
+    std::vector<GpuCost> out(requests.size());
+    for (std::size_t i = 0; i < requests.size(); ++i) {
+        const GpuProgram& whole = run->programs[variant_of[i]];
+        const GpuProgram& cut =
+            truncation_of[i] == SIZE_MAX ? whole : run->programs[keys.size() + truncation_of[i]];
+        out[i].variant = summarise(target, whole);
+        out[i].pixel = summarise(target, cut);
+        out[i].error = !whole.error.empty() ? whole.error : cut.error;
+        // A loop the compiler still keeps is taken to run the larger of the
+        // search's steps and the shadow ray's samples (a soft march runs all
+        // of them, a hard one at most that many): the listing does not say
+        // which loop it kept.
+        const VariantKey& k = requests[i].key;
+        const int passes = std::max({1, requests[i].steps, k.shadow != ShadowMode::none ? static_cast<int>(k.shadow_samples) : 0});
+        out[i].cycles_per_pixel = cycles_per_pixel(out[i].pixel.cycles, out[i].pixel.loops, true,
+                                                   static_cast<double>(passes), out[i].pixel.loop_share);
     }
     return out;
 }
 
-Result<std::string> with_light_bound(const std::string& source, int lights) {
-    const std::string line = "#define PX_MAX_LIGHTS " + std::to_string(kMaxLights) + "\n";
-    const std::size_t at = source.find(line);
-    if (at == std::string::npos) return make_error("no '" + line.substr(0, line.size() - 1) + "' line to set the lights loop's bound in");
-    std::string out = source;
-    out.replace(at, line.size(), "#define PX_MAX_LIGHTS " + std::to_string(lights) + "\n");
-    return out;
-}
-
-double cycles_per_pixel(double cycles, double loops, bool counted, double iterations) {
+double cycles_per_pixel(double cycles, double loops, bool counted, double iterations, double loop_share) {
     if (!(cycles >= 0.0)) return -1.0;
     if (!(loops > 0.0)) return cycles;
     if (!counted || !(iterations >= 0.0)) return -1.0;
-    return cycles * std::max(1.0, iterations);
+    const double passes = std::max(1.0, iterations);
+    if (loop_share >= 0.0 && loop_share <= 1.0) return cycles * ((1.0 - loop_share) + loop_share * passes);
+    return cycles * passes;
 }
 
 }  // namespace px::profiling

@@ -252,8 +252,8 @@ Status write_showcase_md(const ShowcaseRun& run, const std::string& path) {
     if (!run.prices.empty()) md += "The planner priced its candidates as: " + run.prices + ".\n\n";
     if (!run.gpu.empty()) {
         md += "**On " + run.gpu + "**, fragment cycles per frame (the compiler's estimate per pixel of each object's "
-              "variant compiled for this scene's " + std::to_string(run.lights) + " light(s), times its counted "
-              "search passes where it kept a loop, times its pixels): planner " +
+              "variant compiled for this scene's " + std::to_string(run.lights) + " light(s), with a kept loop's "
+              "share of it taken once per counted pass, times its pixels): planner " +
               g(run.gpu_planned / 1e3, "%.1f") + " thousand, every effect " + g(run.gpu_all / 1e3, "%.1f") +
               " thousand";
         if (run.gpu_planned > 0.0 && run.gpu_all > 0.0) md += ": **" + g(run.gpu_all / run.gpu_planned, "%.2f") + " times fewer**";

@@ -637,8 +637,8 @@ private:
                         "); the frontier uses the drawn values. Dashed lines: 1, 0.5, 0.25 and 0.1 texel.");
         if (gpu_)
             notes.push_back("Cost: the GPU compiler's cycles per pixel relative to normal mapping's at the same scene "
-                            "and angle: its static estimate, times the shader's counted median loop iterations where it "
-                            "kept a loop (an upper bound). Errors measured on " + run_.gl_renderer + ".");
+                            "and angle: its static estimate, with a kept loop's share of it taken once per counted "
+                            "median iteration. Errors measured on " + run_.gl_renderer + ".");
         else
         notes.push_back("Time: frame time relative to normal mapping (median of interleaved per-round ratios), " +
                         std::to_string(run_.frames) + " frames per setting, " +
@@ -1224,10 +1224,10 @@ std::string gpu_section(const BenchRun& run) {
     out += "Compiled by " + md_text(run.gpu) + " (`parallax bench --gpu`, docs/gpu-compilers.md). GPU cycles: the "
            "compiler's static estimate per fragment of the variant compiled for the bench's one light (its lights "
            "loop bound at 1: `profile --gpu` reports the shipped program, bound at 4); a loop it kept (loops) counts "
-           "one pass there, so per pixel "
-           "multiplies by the median loop iterations the shader's own work counters read back (the searches' steps "
-           "and their shadow marches': an upper bound, since the code outside the loop counts each time); – where a "
-           "kept loop's iterations were not counted. x normal: per-pixel cycles over normal mapping's at the same "
+           "one pass there, so per pixel takes the loop's share of the compiler's instruction listing once per "
+           "median loop iteration the shader's own work counters read back (the searches' steps and their shadow "
+           "marches'), the rest once (without a listing: the whole estimate times the iterations, an upper bound); "
+           "– where a kept loop's iterations were not counted. x normal: per-pixel cycles over normal mapping's at the same "
            "scene and angle, beside llvmpipe's measured ratio. pareto_gpu.svg plots the error against x normal (GPU).\n\n";
     out += "| scene | angle | technique | samples | hit error p95 (texels) | GPU cycles | loops | per pixel | x normal (GPU) | "
            "x normal (llvmpipe) |\n";

@@ -39,7 +39,7 @@ mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height
     for (int j = 1; j <= PX_SHADOW_SAMPLES; j++) {
         mediump float ray = hit_height + float(j) * step;
         mediump float h = px_trace_height(uv_hit + (ray - hit_height) * shift);
-        PX_WORK(1.0, 1.0);
+        PX_WORK(0.0, 1.0);  // the shadow ray's fetches; its steps are not the search's
         // Half an 8-bit quantum above the ray counts as a blocker.
         if (h > ray + 1.0 / 512.0) return 0.0;
     }
@@ -57,7 +57,7 @@ mediump float px_light_visibility(PX_HIGHP vec2 uv_hit, mediump float hit_height
         // here: hit_height < 1, so 1 - hit_height >= 2^-11 in fp16.
         mediump float rise = float(j) * step;
         mediump float h = px_trace_height(uv_hit + rise * shift);
-        PX_WORK(1.0, 1.0);
+        PX_WORK(0.0, 1.0);  // the shadow ray's fetches; its steps are not the search's
         steepest = max(steepest, (h - hit_height) / rise);
     }
     // (h - h0) / (ray - h0) is the blocker's rise over the light ray's rise;

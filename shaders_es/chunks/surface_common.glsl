@@ -34,8 +34,10 @@ uniform PX_HIGHP vec2 u_texture_size;        // height map size in texels (LOD)
 // PX_COUNT_WORK (VariantKey::count_work, debug outputs only; read by
 // include/parallaxes/profiling/measurement/work.h for `parallax bench`'s work columns): the
 // debug outputs show the search's loop iterations and texture fetches per
-// pixel in place of the hit uv. Each search, and each shadow ray's march
-// (shadows.glsl), counts its own with PX_WORK.
+// pixel in place of the hit uv. Each search counts its own steps and
+// fetches with PX_WORK; relief's refinements and the shadow rays' marches
+// (shadows.glsl) count their fetches only, so that the iterations are the
+// search's steps (what `bench --gpu` compiles a search truncated to).
 #ifdef PX_BOUNDED
 // A bounded relief's fragment outside its tile (the polygon is drawn wider,
 // by the relief's reach): its ray comes into the relief through the tile's

@@ -14,7 +14,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     for (int i = 0; i < PX_REFINE_STEPS; i++) {
         PX_HIGHP float middle = 0.5 * (mu_above + mu_below);
         mediump float h = px_trace_height(px_curved_uv(uv, view_ts.xy, middle));
-        PX_WORK(1.0, 1.0);
+        PX_WORK(0.0, 1.0);  // a refinement: a fetch, not a search step
         if (h >= px_curved_height(middle, h)) {
             mu_below = middle;
         } else {
@@ -34,7 +34,7 @@ PxHit px_trace(PX_HIGHP vec2 uv, PX_VIEW_PRECISION vec3 view_ts PX_TRACE_GRADIEN
     for (int i = 0; i < PX_REFINE_STEPS; i++) {
         mediump float middle = 0.5 * (above + below);
         mediump float h = px_trace_height(uv + (middle - u_polygon_height) * parallax);
-        PX_WORK(1.0, 1.0);
+        PX_WORK(0.0, 1.0);  // a refinement: a fetch, not a search step
         if (h >= middle) {
             below = middle;
         } else {

@@ -70,6 +70,10 @@ struct GpuStage {
     // 32-bit), and the conversions between widths ("F16_TO_F32", ...).
     // Loads, stores, texture, blending and branches are left out.
     int narrow_ops = -1, wide_ops = -1, conversions = -1;
+    // From the same listing's blocks: the share of its instructions inside
+    // a loop the compiler kept (a block whose predecessor is listed at or
+    // after it closes a loop over the blocks between); 0 with none kept.
+    double loop_share = -1.0;
     // The figure named `words`, if the compiler printed it.
     std::optional<double> figure(const std::string& words) const;
 };
@@ -94,6 +98,7 @@ struct GpuSummary {
     // conversions (GpuStage; -1 where not listed).
     double narrow_share = -1.0;
     int conversions = -1;
+    double loop_share = -1.0;  // GpuStage::loop_share of the fragment stage
 };
 
 // Counts one line of a Bifrost or Valhall instruction listing
@@ -104,11 +109,15 @@ GpuSummary summarise(const GpuTarget& target, const GpuProgram& program);
 
 // A fragment's cycles per pixel from the compiler's static estimate
 // `cycles` (one pass of each loop it kept: `loops`): the estimate itself
-// where it kept none; where it kept one, the estimate times the loop
-// iterations the shader counted at that pixel (`counted`: the work counters
-// ran; at least one pass), an upper bound, since the code outside the loop
-// is counted each time; -1 where a loop was kept and nothing was counted.
-double cycles_per_pixel(double cycles, double loops, bool counted, double iterations);
+// where it kept none. Where it kept one, with the loop iterations the shader
+// counted (`counted`: the work counters ran; at least one pass) and
+// `loop_share` (GpuStage::loop_share, 0..1) known: the estimate with the
+// loop's share of it taken once per pass, cycles x ((1 - share) + share x
+// passes), which takes a loop instruction to cost what the program's average
+// one does; without the share: the estimate times the passes, an upper bound
+// (the code outside the loop counted each pass). -1 where a loop was kept
+// and nothing was counted.
+double cycles_per_pixel(double cycles, double loops, bool counted, double iterations, double loop_share = -1.0);
 
 struct GpuRun {
     std::string context;              // GL_RENDERER | GL_VERSION the probe got
@@ -145,36 +154,53 @@ Result<GpuRun> compile_on_gpu(const GpuCompilers& tools, const GpuTarget& target
 // The same for variants: each assembled (from `files[i]` where given and
 // not null, else the embedded shaders) and compiled, in order.
 // `lights` (1 to kMaxLights; 0: as shipped): the lights loop's bound
-// (PX_MAX_LIGHTS) set to the scene's light count, for a per-pixel cost: a
-// compiler that keeps the lights loop (one whose body holds a shadow march)
-// counts one pass of it, which a cost per pixel must not take for a search's
-// loop and multiply by the search's iterations.
+// (PX_MAX_LIGHTS) set to the scene's light count. `search_steps` (empty, or
+// one per key; 0: as the key says): the search loop's bound (PX_MAX_SAMPLES)
+// set to that many steps, the search truncated where a pixel's search ends.
 Result<GpuRun> compile_variants_on_gpu(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                                        const std::vector<VariantKey>& keys,
                                        const std::vector<const ShaderFiles*>& files = {},
-                                       double seconds_per_program = 60.0, int lights = 0);
+                                       double seconds_per_program = 60.0, int lights = 0,
+                                       const std::vector<int>& search_steps = {});
 
-// What a cost per pixel needs of each variant: its figures compiled for the
-// scene's light count (`lights`: the lights loop's bound, PX_MAX_LIGHTS, set
-// to it), and the shipped program's (bound kMaxLights) beside them. The
-// shipped program is what `profile --gpu` reports; for a scene with fewer
-// lights it is not what runs: a compiler that unrolls its lights loop counts
-// every light's code in its estimate, and one that keeps it keeps the live
-// values across it (maxmip spills 4:37 on Mali-G57, all 41 of its loads and
-// stores outside the walk's loop; with the bound at one light it spills
-// none: docs/gpu-compilers.md). So a cost per pixel is of the program
-// specialised to the scene's lights, and a kept loop in it is a search's.
+// `source` with the value of its "#define NAME VALUE" line (one the
+// variant's defines put there) set to `value`. Error: no such line.
+Result<std::string> with_define(const std::string& source, const std::string& name, int value);
+
+// What a pixel of a scene costs on a GPU, from its compiler: one variant as
+// a scene draws it.
+//
+// A compiler's static estimate sums every instruction of the program once:
+// every step of an unrolled search, though a pixel's search ends at its
+// crossing, and one pass of a loop it kept. And the shipped program bounds
+// its lights loop at kMaxLights: a compiler that unrolls the loop counts
+// every light's code, and one that keeps it keeps live values across it
+// (maxmip spills 4:37 on Mali-G57, all 41 of its loads and stores outside
+// the walk's loop, and none with the bound at one light: docs/gpu-compilers.md).
+// So the cost of a pixel is the estimate for the variant compiled for the
+// scene's light count with its search truncated to the steps the pixel's
+// search took (`steps`, from the shader's own work counters; 0 for a
+// variant without a search): what that pixel runs. Where the compiler still
+// keeps a loop there (a search of many steps, a long shadow march), the
+// loop's share of the instruction listing (GpuStage::loop_share) is taken
+// once per pass (cycles_per_pixel), the passes being the larger of the
+// search's steps and the shadow ray's samples (the listing does not say
+// which loop was kept; a soft march runs all its samples, a hard one at
+// most that many).
+struct GpuPixelCost {
+    VariantKey key;
+    int steps = 0;
+};
 struct GpuCost {
-    GpuSummary scene;    // compiled with PX_MAX_LIGHTS = the scene's light count
-    GpuSummary shipped;  // as shipped (PX_MAX_LIGHTS = kMaxLights)
+    GpuSummary variant;  // the variant compiled for the scene's lights (search as the key says)
+    GpuSummary pixel;    // truncated to the pixel's steps (= variant where steps is 0)
+    double cycles_per_pixel = -1.0;  // -1: no estimate
     std::string error;   // either compile's
 };
-Result<std::vector<GpuCost>> gpu_costs_of_variants(const GpuCompilers& tools, const GpuTarget& target, int es_major,
-                                                   const std::vector<VariantKey>& keys, int lights,
-                                                   double seconds_per_program = 60.0, std::string* context = nullptr);
-
-// `source` with its lights loop bound (the "#define PX_MAX_LIGHTS" line the
-// variant's defines put there) set to `lights`. Error: no such line.
-Result<std::string> with_light_bound(const std::string& source, int lights);
+// Both compiles for each request, in one or two runs of the compiler.
+// `lights`: the scene's light count (1 to kMaxLights).
+Result<std::vector<GpuCost>> gpu_pixel_costs(const GpuCompilers& tools, const GpuTarget& target, int es_major,
+                                             const std::vector<GpuPixelCost>& requests, int lights,
+                                             std::string* context = nullptr, double seconds_per_program = 60.0);
 
 }  // namespace px::profiling

@@ -85,10 +85,8 @@ struct BenchOptions {
     double light_elevation_deg = 35.0;  // the bench's sun, above the plane (azimuth 30 degrees)
     std::vector<BenchMaterial> materials;  // benched after `scenes`
     // Count the work per pixel (loop iterations, fetches: the work columns)
-    // of the linear searches too (with their shadow marches), not only of
-    // the exact walk's: what
-    // `--gpu` multiplies a loop the GPU's compiler kept by. One more draw
-    // per setting.
+    // of the linear searches too, not only of the exact walk's: what
+    // `--gpu` compiles each search truncated to. One more draw per setting.
     bool count_every_search = false;
     // Every setting's renderer is created with these (the normal-mapping
     // baseline's too, less the variant transform): e.g. a variant transform
