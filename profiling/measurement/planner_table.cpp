@@ -175,6 +175,7 @@ Result<CostTable> measure_cost_table(const TableGrid& grid, const std::string& c
 
 namespace px_generated {
 extern const char* const kEmbeddedMaliG57Table;
+extern const char* const kEmbeddedMaliG52Table;
 }  // namespace px_generated
 
 namespace {
@@ -186,6 +187,7 @@ struct EmbeddedTable {
 };
 
 const EmbeddedTable kGpuTables[] = {
+    {"mali-g52", &px_generated::kEmbeddedMaliG52Table, "profiling/costs/planner_tables/mali_g52.json"},
     {"mali-g57", &px_generated::kEmbeddedMaliG57Table, "profiling/costs/planner_tables/mali_g57.json"},
 };
 
