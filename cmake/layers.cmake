@@ -59,7 +59,7 @@ function(px_layer_objects name folder path)
   target_compile_options(${name} PRIVATE ${PX_WARNINGS})
   # Unused functions and data stay out of a host's binary when it links with
   # --gc-sections (examples/host_app does).
-  target_compile_options(${name} PRIVATE -ffunction-sections -fdata-sections)
+  target_compile_options(${name} PRIVATE -ffunction-sections -fdata-sections ${PX_LTO_FLAGS})
   set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
   if(ARG_DEPS)
     target_link_libraries(${name} PUBLIC ${ARG_DEPS})
