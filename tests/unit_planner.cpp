@@ -448,19 +448,33 @@ TEST(Planner, MaxmipRunsOnEsTwoWhereItsAtlasFits) {
     EXPECT_NE(mediump->notes[0].find("no longer exact"), std::string::npos) << mediump->notes[0];
 }
 
+// The plane scene's relief as the planner measures it, predicted from a
+// stated table (its search model left out).
+MaterialRelief stated_relief(const SceneDesc& scene) {
+    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
+    EXPECT_TRUE(images.ok());
+    if (!images) return {};
+    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
+    relief.search.reset();  // against the stated table, not the search model
+    return relief;
+}
+
+// small_table() as a calibration of `relief`.
+CostTable calibration_of(const MaterialRelief& relief) {
+    CostTable calibration = small_table();
+    calibration.date = "calibrated";
+    calibration.reliefs[0].features = relief.features;
+    return calibration;
+}
+
 TEST(Planner, CalibrationReplacesTheGenericTable) {
     EffectRequest e;
     e.max_error_texels = 2.0f;
     e.lod_fade = EffectSwitch::off;
     const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
-    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
-    ASSERT_TRUE(images.ok());
-    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
-    relief.search.reset();  // against the stated table, not the search model
+    const MaterialRelief relief = stated_relief(scene);
     // A calibration of this very relief in which pom x8 is far worse.
-    CostTable calibration = small_table();
-    calibration.date = "calibrated";
-    calibration.reliefs[0].features = relief.features;
+    CostTable calibration = calibration_of(relief);
     for (CostSample& s : calibration.rows)
         if (s.technique == Technique::pom && s.samples == 8) s.error_p95 *= 10.0;
     PlannerOptions options;
@@ -485,14 +499,9 @@ TEST(Planner, AGpuPricedTablePricesATimedCalibration) {
     e.max_error_texels = 5.0f;  // offset limiting (4.5 texels here) and POM both reach it
     e.lod_fade = EffectSwitch::off;
     const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
-    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
-    ASSERT_TRUE(images.ok());
-    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
-    relief.search.reset();
+    const MaterialRelief relief = stated_relief(scene);
     // Timed on this renderer: POM x8 cheaper than offset limiting.
-    CostTable calibration = small_table();
-    calibration.date = "calibrated";
-    calibration.reliefs[0].features = relief.features;
+    CostTable calibration = calibration_of(relief);
     for (CostSample& s : calibration.rows) {
         if (s.technique == Technique::offset_limited) s.cost = 3.5;
         if (s.technique == Technique::pom && s.shadow == ShadowMode::none) s.cost = s.samples == 8 ? 1.2 : 4.0;
@@ -526,13 +535,8 @@ TEST(Planner, CalibrationsAreLookedUpPerMaterial) {
     e.max_error_texels = 2.0f;
     e.lod_fade = EffectSwitch::off;
     const SceneDesc scene = plane_scene(20.0, 2.5f, 0.04f, e);
-    Result<MaterialImages> images = build_material_images(scene.materials[0], "");
-    ASSERT_TRUE(images.ok());
-    MaterialRelief relief = material_relief(quantized_8bit(images->field), scene.materials[0]);
-    relief.search.reset();
-    CostTable calibration = small_table();
-    calibration.date = "calibrated";
-    calibration.reliefs[0].features = relief.features;
+    const MaterialRelief relief = stated_relief(scene);
+    CostTable calibration = calibration_of(relief);
     for (CostSample& s : calibration.rows)
         if (s.technique == Technique::pom && s.samples == 8) s.error_p95 *= 10.0;
     const CostTable generic = small_table();
@@ -574,8 +578,9 @@ TEST(Planner, CalibrationsAreLookedUpPerMaterial) {
     second.name = "second";
     second.material = "deeper";
     two.objects.push_back(second);
-    MaterialRelief deeper_relief = material_relief(quantized_8bit(images->field), deeper);
-    deeper_relief.search.reset();
+    SceneDesc deeper_scene = scene;
+    deeper_scene.materials[0] = deeper;
+    const MaterialRelief deeper_relief = stated_relief(deeper_scene);
     ASSERT_EQ(deeper_relief.features.field_hash, relief.features.field_hash);
     std::vector<double> depths;
     PlannerOptions options;

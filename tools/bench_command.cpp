@@ -79,11 +79,7 @@ Status add_gpu_costs(profiling::BenchRun& run, const std::string& name, int es) 
         if (r.variant.empty()) continue;
         Result<VariantKey> key = VariantKey::parse(r.variant);
         if (!key) return make_error("--gpu: the drawn variant '" + r.variant + "' does not parse: " + key.error().message);
-        const bool searches = (technique_info(key->technique).options & (kOptSamples | kOptSteps)) != 0;
-        int steps = 0;
-        if (searches && !r.iteration_histogram.empty())
-            steps = std::clamp(static_cast<int>(std::ceil(r.iterations_median)), 1, std::max(1, static_cast<int>(key->max_samples)));
-        requests.push_back({*key, steps});
+        requests.push_back({*key, profiling::pixel_search_steps(*key, !r.iteration_histogram.empty(), r.iterations_median)});
         rows.push_back(&r);
     }
     std::fprintf(stderr, "bench: compiling %zu setting(s) with %s's compiler (%s, under qemu-aarch64)\n", requests.size(),
@@ -218,11 +214,7 @@ Status add_showcase_gpu_cycles(profiling::ShowcaseRun& run, const std::string& n
         for (const auto& [variant, passes] : {std::pair{o.planned_variant, o.passes_planned}, std::pair{o.all_variant, o.passes_all}}) {
             Result<VariantKey> key = VariantKey::parse(variant);
             if (!key) return make_error("--gpu: the drawn variant '" + variant + "' does not parse: " + key.error().message);
-            const bool searches = (technique_info(key->technique).options & (kOptSamples | kOptSteps)) != 0;
-            const int steps = searches && passes >= 1.0
-                                  ? std::clamp(static_cast<int>(std::ceil(passes)), 1, std::max(1, static_cast<int>(key->max_samples)))
-                                  : 0;
-            requests.push_back({*key, steps});
+            requests.push_back({*key, profiling::pixel_search_steps(*key, passes >= 1.0, passes)});
         }
     std::fprintf(stderr, "showcase: compiling %zu variant(s) with %s's compiler (%s, under qemu-aarch64)\n", requests.size(),
                  t.gpu.c_str(), t.driver.c_str());

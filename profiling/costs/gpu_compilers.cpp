@@ -597,6 +597,12 @@ Result<std::string> with_define(const std::string& source, const std::string& na
     return out;
 }
 
+int pixel_search_steps(const VariantKey& key, bool counted, double iterations) {
+    if (!(technique_info(key.technique).options & (kOptSamples | kOptSteps)) || !counted || !(iterations >= 0.0)) return 0;
+    const int bound = std::max(1, static_cast<int>(key.max_samples));
+    return static_cast<int>(std::clamp(std::ceil(iterations), 1.0, static_cast<double>(bound)));
+}
+
 Result<std::vector<GpuCost>> gpu_pixel_costs(const GpuCompilers& tools, const GpuTarget& target, int es_major,
                                              const std::vector<GpuPixelCost>& requests, int lights,
                                              std::string* context, double seconds_per_program) {

@@ -191,6 +191,10 @@ struct GpuPixelCost {
     VariantKey key;
     int steps = 0;
 };
+// The steps a pixel's search is truncated to: the counted `iterations`
+// rounded up, within 1 and the key's bound; 0 for a variant without a
+// search or where nothing was counted (`counted` false, or NaN).
+int pixel_search_steps(const VariantKey& key, bool counted, double iterations);
 struct GpuCost {
     GpuSummary variant;  // the variant compiled for the scene's lights (search as the key says)
     GpuSummary pixel;    // truncated to the pixel's steps (= variant where steps is 0)
