@@ -375,6 +375,33 @@ TEST(SceneErrors, TextureSourceForms) {
                          "materials[0].albedo.color: expected an array of 3 numbers"));
     EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"procedural": "bricks", "text": 3})")),
                          "materials[0].height.text: expected a string"));
+    // Asset packs' conventions: each key in the slot it belongs to, each value named.
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"file": "n.tga", "channel": "alpha"})")),
+                         "materials[0].height.channel: \"alpha\" is not a channel"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("normal": {"file": "n.tga", "channel": "a"})")),
+                         "materials[0].normal.channel: only a height map names a channel"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("height": {"file": "h.png", "green": "down"})")),
+                         "materials[0].height.green: only a normal map has a green convention"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("normal": {"file": "n.png", "green": "-y"})")),
+                         "materials[0].normal.green: \"-y\" is not \"up\""));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("normal": {"file": "n.png", "color_space": "linear"})")),
+                         "materials[0].normal.color_space: only a colour texture (albedo) has a colour space"));
+    EXPECT_TRUE(contains(parse_error(material_doc(R"("albedo": {"file": "a.png", "color_space": "gamma"})")),
+                         "materials[0].albedo.color_space: \"gamma\" is not \"srgb\" or \"linear\""));
+}
+
+TEST(Scene, AssetPackConventionsAreRead) {
+    const SceneDesc scene = parse_ok(material_doc(
+        R"("albedo": {"file": "a.png", "color_space": "linear"},
+           "height": {"file": "rock_norm.tga", "channel": "a", "convention": "depth"},
+           "normal": {"file": "rock_norm.tga", "green": "down"})"));
+    ASSERT_EQ(scene.materials.size(), 1u);
+    const MaterialDesc& m = scene.materials[0];
+    EXPECT_EQ(m.height.channel, TextureSource::Channel::a);
+    EXPECT_EQ(m.height.convention, HeightConvention::depth);
+    EXPECT_EQ(m.normal.green, TextureSource::Green::down);
+    EXPECT_EQ(m.albedo.color_space, TextureSource::ColorSpace::linear);
+    EXPECT_EQ(m.normal.channel, TextureSource::Channel::grey);
 }
 
 // --- Unknown fields and names -----------------------------------------------------------

@@ -136,6 +136,10 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
 #else
     mediump vec3 normal = vec3(0.0, 0.0, 1.0);
 #endif
+#if defined(PX_NORMAL_MAP) && defined(PX_NORMAL_GREEN_DOWN)
+    // A DirectX-style normal file (green is -v), uploaded as it is.
+    normal.y = -normal.y;
+#endif
     mediump vec3 color = u_ambient * albedo.rgb;
     for (int i = 0; i < PX_MAX_LIGHTS; i++) {
         if (i >= u_light_count) break;

@@ -38,6 +38,7 @@ VariantKey VariantKey::canonical() const {
     if (!has_option(k.technique, kOptHeight)) k.packed_height = false;
     if (!has_option(k.technique, kOptHeight)) k.exact_view = false;
     if (!(technique_info(k.technique).options & kOptNormals)) k.normal_rg = false;
+    if (!(technique_info(k.technique).options & kOptNormals)) k.normal_green_down = false;
     // Only the exact walk snaps heights to their texel grid.
     if (!has_option(k.technique, kOptSteps)) k.height_11bit = false;
     if (k.packed_height) k.height_11bit = false;
@@ -45,7 +46,9 @@ VariantKey VariantKey::canonical() const {
     // context decodes EAC R11 to 8 bits anyway).
     if (k.es_major < 3) k.height_11bit = false;
     if (!(technique_info(k.technique).options & kOptNormals)) k.flip_v &= static_cast<std::uint8_t>(~kFlipNormal);
+    // Packed height is the normal texture's alpha: read where its normals are.
     if (!has_option(k.technique, kOptHeight) || k.packed_height) k.flip_v &= static_cast<std::uint8_t>(~kFlipHeight);
+    if (has_option(k.technique, kOptHeight) && k.packed_height && (k.flip_v & kFlipNormal)) k.flip_v |= kFlipHeight;
     k.flip_v &= kFlipAlbedo | kFlipNormal | kFlipHeight;
     if (technique_info(k.technique).always_exact_view) k.exact_view = true;
     if (!has_option(k.technique, kOptSamples) && !has_option(k.technique, kOptSteps)) k.max_samples = 0;
@@ -69,6 +72,7 @@ VariantKey VariantKey::canonical() const {
     if (k.ladder_step) {
         k.exact_view = false;
         k.normal_rg = false;
+        k.normal_green_down = false;
         k.lod = false;
         k.flip_v = 0;
         k.bounded = false;
@@ -205,6 +209,7 @@ const VariantField kFields[] = {
      }},
     {"normal_rg", "normal-rg", "PX_NORMAL_RG", &VariantKey::normal_rg},
     {"height_11bit", "height-11bit", "PX_HEIGHT_11BIT", &VariantKey::height_11bit},
+    {"normal_green_down", "green-down", "PX_NORMAL_GREEN_DOWN", &VariantKey::normal_green_down},
     {"debug_output", nullptr, nullptr, nullptr, 0,
      [](const VariantKey& k, std::string& out) {
          if (k.debug_output) out += " debug" + std::to_string(int(k.debug_output));
@@ -432,6 +437,7 @@ VariantKey VariantKey::with_layout(const TextureLayout& layout) const {
     VariantKey k = *this;
     k.packed_height = layout.packed_height;
     k.normal_rg = layout.normal_rg;
+    k.normal_green_down = layout.normal_green_down;
     k.height_11bit = layout.height_11bit;
     k.flip_v = layout.flip_v;
     return k;
@@ -484,13 +490,14 @@ void add_option_grid(VariantList& list, const VariantKey& base) {
                 }
 }
 
-// Compressed-texture layouts: two-channel normals, 11-bit heights.
+// Compressed-texture layouts: two-channel normals, 11-bit heights, green down.
 void add_compressed_layouts(VariantList& list, const VariantKey& base) {
     for (int layout = 0; layout < 2; ++layout) {
         VariantKey k = base;
         k.packed_height = false;
         k.normal_rg = true;
         k.height_11bit = layout != 0;
+        k.normal_green_down = layout != 0;  // a DirectX-style normal file
         k.shadow = ShadowMode::soft;
         list.add(k);
     }

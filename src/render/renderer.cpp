@@ -470,7 +470,10 @@ Status draw_object(Renderer::GpuScene& scene, const GpuObject& object, const glm
 // Where a texture's data came from, for messages about it.
 std::string source_label(const TextureSource& source) {
     switch (source.kind) {
-        case TextureSource::Kind::file: return "file '" + echo_path(source.path) + "'";
+        case TextureSource::Kind::file:
+            return "file '" + echo_path(source.path) + "'" +
+                   (source.channel == TextureSource::Channel::grey ? std::string()
+                                                                   : std::string(", channel ") + channel_name(source.channel));
         case TextureSource::Kind::procedural: return std::string("procedural '") + field_kind_name(source.field.kind) + "'";
         case TextureSource::Kind::color: return "a colour";
         case TextureSource::Kind::none: return "the default";
@@ -481,8 +484,12 @@ std::string source_label(const TextureSource& source) {
 std::string normal_label(const MaterialDesc& m, bool packed) {
     std::string label = m.normal.kind == TextureSource::Kind::none ? "derived from the height, " + source_label(m.height)
                                                                    : source_label(m.normal);
+    if (m.normal.kind == TextureSource::Kind::file)
+        label += m.normal.green == TextureSource::Green::down ? ", green down (DirectX style)" : ", green up (OpenGL style)";
     if (packed && m.normal.kind != TextureSource::Kind::none)
-        label += ", with the height (" + source_label(m.height) + ") in alpha";
+        label += m.height.kind == TextureSource::Kind::file && m.height.path == m.normal.path
+                     ? ", with the height in its own alpha"
+                     : ", with the height (" + source_label(m.height) + ") in alpha";
     return label;
 }
 

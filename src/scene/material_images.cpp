@@ -43,6 +43,29 @@ Status no_readers(const TextureSource& s) {
                       "px::texture_files() (or MaterialImageOptions::files = px::texture_file_readers())");
 }
 
+// One channel of an RGBA8 image, as a grey image. The alpha of a file that
+// has none reads 255 everywhere: asked for as height, that is refused
+// rather than drawn flat.
+Result<Image> channel_image(const Image& rgba, const TextureSource& s) {
+    const int c = channel_index(s.channel);
+    Image one;
+    one.width = rgba.width;
+    one.height = rgba.height;
+    one.channels = 1;
+    one.pixels.resize(static_cast<std::size_t>(rgba.width) * static_cast<std::size_t>(rgba.height));
+    bool opaque = true;
+    for (std::size_t i = 0; i < one.pixels.size(); ++i) {
+        one.pixels[i] = rgba.pixels[i * static_cast<std::size_t>(rgba.channels) + static_cast<std::size_t>(c)];
+        opaque = opaque && one.pixels[i] == 255;
+    }
+    if (s.channel == TextureSource::Channel::a && opaque)
+        return make_error("'" + echo_path(s.path) +
+                          "' holds no height in its alpha: every texel's alpha is 255 (the file has no alpha channel, "
+                          "or an opaque one); name the channel that holds the height (\"channel\": \"r\", \"g\" or "
+                          "\"b\"), or a separate height file");
+    return one;
+}
+
 Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_dir, const TextureFileReaders* files) {
     const TextureSource& s = m.height;
     switch (s.kind) {
@@ -57,9 +80,16 @@ Result<HeightField> load_height(const MaterialDesc& m, const std::string& base_d
         case TextureSource::Kind::file: {
             if (is_texture_file(s.path)) return make_error("internal: a texture file is loaded by build_material_images");
             if (!files) return no_readers(s).error();
-            Result<Image> image = files->load_image(resolve(base_dir, s.path), 1);
+            if (s.channel == TextureSource::Channel::grey) {
+                Result<Image> image = files->load_image(resolve(base_dir, s.path), 1);
+                if (!image) return image.error();
+                return height_field_from_image(*image, s.convention);
+            }
+            Result<Image> image = files->load_image(resolve(base_dir, s.path), 4);
             if (!image) return image.error();
-            return height_field_from_image(*image, s.convention);
+            Result<Image> one = channel_image(*image, s);
+            if (!one) return one.error();
+            return height_field_from_image(*one, s.convention);
         }
         case TextureSource::Kind::color: {
             FieldSpec flat;
@@ -267,7 +297,8 @@ bool same_field(const FieldSpec& a, const FieldSpec& b) {
 bool same_source(const TextureSource& a, const TextureSource& b) {
     return a.kind == b.kind && a.path == b.path && same_field(a.field, b.field) && a.low == b.low &&
            a.high == b.high && a.grain == b.grain && a.color == b.color && a.convention == b.convention &&
-           a.first_row == b.first_row;
+           a.first_row == b.first_row && a.channel == b.channel && a.green == b.green &&
+           a.color_space == b.color_space;
 }
 
 }  // namespace
@@ -338,6 +369,9 @@ Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const s
             slots[i].second->reset();
         }
     }
+    // A DirectX-style normal file uploaded as it is: the shaders negate its
+    // green (an image's was turned on the CPU, and so was a decoded file's).
+    out.layout.normal_green_down = m.normal.green == TextureSource::Green::down && out.normal_texture.has_value();
     // Files uploaded as they are, stored top row first: read at 1 - v.
     out.layout.flip_v = static_cast<std::uint8_t>((top_first(out.albedo_texture) ? kFlipAlbedo : 0) |
                                                   (top_first(out.normal_texture) ? kFlipNormal : 0) |
@@ -379,6 +413,29 @@ Result<TextureData> read_texture_source(const TextureSource& s, const char* slot
 // or made and quantised to 8 bits as it will be uploaded.
 Status read_height(MaterialImages& out, const MaterialDesc& m, const std::string& where,
                    const std::string& base_dir, const TextureFileReaders* files) {
+    if (texture_file_source(m.height) && m.height.channel != TextureSource::Channel::grey &&
+        m.height.channel != TextureSource::Channel::r) {
+        // Height in another channel than red, where the shaders read it:
+        // level 0 decoded and the channel taken at 8 bits (the normal map's
+        // own alpha, in the same file, is read in place: height_in_normal_file).
+        Result<TextureData> t = read_texture_source(m.height, "height", where, base_dir, files);
+        if (!t) return t.error();
+        const int count = files->channels(t->format);
+        if (channel_index(m.height.channel) >= count)
+            return make_error(where + " height: '" + echo_path(m.height.path) + "' holds " + std::to_string(count) +
+                              " channel" + (count == 1 ? "" : "s") +
+                              "; it has no channel '" + channel_name(m.height.channel) + "'");
+        Result<Image> level0 = files->decode_level(*t, 0);
+        if (!level0) return with_context(where + " height '" + echo_path(m.height.path) + "'", level0.error());
+        if (t->rows == RowOrder::top_first) flip_rows(*level0);
+        Result<Image> one = channel_image(*level0, m.height);
+        if (!one) return with_context(where + " height", one.error());
+        out.field = height_field_from_image(*one, m.height.convention);
+        out.traced = quantized_8bit(out.field);
+        out.notes.push_back("height: channel " + std::string(channel_name(m.height.channel)) + " of '" +
+                            echo_path(m.height.path) + "' decoded to 8 bits (the shaders read a height texture's red)");
+        return {};
+    }
     if (texture_file_source(m.height)) {
         if (m.height.convention == HeightConvention::depth)
             return make_error(where + " height: '" + echo_path(m.height.path) +
@@ -402,6 +459,14 @@ Status read_height(MaterialImages& out, const MaterialDesc& m, const std::string
     return {};
 }
 
+// A DirectX-style normal map in OpenGL's convention: green (v) negated,
+// which for unorm texels is 255 - g exactly.
+void green_to_up(Image& normal) {
+    if (normal.channels < 2) return;
+    for (std::size_t i = 1; i < normal.pixels.size(); i += static_cast<std::size_t>(normal.channels))
+        normal.pixels[i] = static_cast<std::uint8_t>(255 - normal.pixels[i]);
+}
+
 // The normal and albedo slots given as texture files, with their base
 // level decoded (bottom row first) for the CPU's uses.
 Status read_texture_files(MaterialImages& out, const MaterialDesc& m, const std::string& where,
@@ -413,6 +478,9 @@ Status read_texture_files(MaterialImages& out, const MaterialDesc& m, const std:
         if (!level0) return with_context(where + " normal '" + echo_path(m.normal.path) + "'", level0.error());
         out.layout.normal_rg = files->channels(t->format) == 2;
         if (t->rows == RowOrder::top_first) flip_rows(*level0);
+        // The CPU's copy in OpenGL's convention (the reference, the planner);
+        // the file goes up as it is and the shaders negate its green.
+        if (m.normal.green == TextureSource::Green::down) green_to_up(*level0);
         out.normal = std::move(*level0);
         out.normal_texture = std::move(*t);
     }
@@ -437,6 +505,7 @@ Status build_normal_map(MaterialImages& out, const MaterialDesc& m, const std::s
     } else if (m.normal.kind == TextureSource::Kind::file) {
         Result<Image> normal = files->load_image(resolve(base_dir, m.normal.path), 4);
         if (!normal) return with_context(where + " normal", normal.error());
+        if (m.normal.green == TextureSource::Green::down) green_to_up(*normal);
         if (packed) {
             if (normal->width != out.field.width || normal->height != out.field.height)
                 return make_error(where + ": the normal map '" + echo_path(m.normal.path) + "' (" + std::to_string(normal->width) + "x" +
@@ -516,10 +585,31 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
     // one channel, normals in two or three).
     const bool any_texture_file =
         texture_file_source(m.height) || texture_file_source(m.normal) || texture_file_source(m.albedo);
-    const bool packed = m.pack_height_in_normal_alpha && !any_texture_file;
+    // A texture file that is both the normal map and, in its alpha, the
+    // height (the whitepaper's back-to-back layout, as packs ship it): read
+    // in place, one fetch for both, nothing repacked.
+    const bool height_in_normal_file = texture_file_source(m.height) && texture_file_source(m.normal) &&
+                                       m.height.path == m.normal.path && m.height.channel == TextureSource::Channel::a;
+    const bool packed = height_in_normal_file || (m.pack_height_in_normal_alpha && !any_texture_file);
     out.layout.packed_height = packed;
-    if (Status height = read_height(out, m, where, base_dir, files); !height) return height.error();
-    if (Status read = read_texture_files(out, m, where, base_dir, files); !read) return read.error();
+    if (height_in_normal_file) {
+        if (Status read = read_texture_files(out, m, where, base_dir, files); !read) return read.error();
+        const int count = files->channels(out.normal_texture->format);
+        if (count < 4)
+            return make_error(where + " height: '" + echo_path(m.height.path) + "' holds " + std::to_string(count) +
+                              " channels; it has no alpha to hold the height");
+        Result<Image> alpha = channel_image(out.normal, m.height);
+        if (!alpha) return with_context(where + " height", alpha.error());
+        out.field = height_field_from_image(*alpha, m.height.convention);
+        if (m.height.convention == HeightConvention::depth)
+            return make_error(where + " height: '" + echo_path(m.height.path) +
+                              "' is a texture file whose alpha the GPU samples as it is: it must hold height (white is "
+                              "high); convert depth maps with `parallax convert --depth`");
+        out.traced = out.field;
+    } else {
+        if (Status height = read_height(out, m, where, base_dir, files); !height) return height.error();
+        if (Status read = read_texture_files(out, m, where, base_dir, files); !read) return read.error();
+    }
     if (Status normal = build_normal_map(out, m, where, base_dir, files, packed); !normal) return normal.error();
     if (!packed) out.height = height_image(out.field);
     if (files && (out.height_texture || out.normal_texture || out.albedo_texture)) out.decode = files->decode_level;

@@ -337,6 +337,21 @@ glm::mat4 TransformDesc::matrix() const {
     return glm::scale(m, scale);
 }
 
+const char* channel_name(TextureSource::Channel c) {
+    switch (c) {
+        case TextureSource::Channel::grey: return "grey";
+        case TextureSource::Channel::r: return "r";
+        case TextureSource::Channel::g: return "g";
+        case TextureSource::Channel::b: return "b";
+        case TextureSource::Channel::a: return "a";
+    }
+    return "?";
+}
+
+int channel_index(TextureSource::Channel c) {
+    return c == TextureSource::Channel::grey ? 0 : static_cast<int>(c) - 1;
+}
+
 TextureSource::TextureSource() = default;
 TextureSource::TextureSource(const TextureSource&) = default;
 TextureSource::TextureSource(TextureSource&&) noexcept = default;

@@ -386,14 +386,63 @@ MaterialDesc default_material(std::string name) {
     return m;
 }
 
+// Which slot a source fills: what its keys may say. `any`: a scratch read
+// that records every key some slot knows.
+enum class Slot { albedo, height, normal, any };
+bool fills(Slot slot, Slot wanted) { return slot == wanted || slot == Slot::any; }
+
 // The three object forms of a texture source. Each reads its own keys; a
 // source in no known form reads all three into a scratch value, so that the
 // keys any form knows are recorded and only truly unknown ones are reported.
-void read_file_form(Reader& r, Fields& f, bool height_slot, TextureSource& out) {
+void read_file_form(Reader& r, Fields& f, Slot slot, TextureSource& out) {
     f.read("file", out.path);
-    if (f.has("convention") && !height_slot)
+    if (f.has("convention") && !fills(slot, Slot::height))
         return r.fail(f.sub("convention"), "only a height map has a convention (height or depth)");
     f.read_named("convention", parse_convention, out.convention);
+    if (f.has("channel")) {
+        if (!fills(slot, Slot::height))
+            return r.fail(f.sub("channel"), "only a height map names a channel (where in the file its height is)");
+        std::string name;
+        f.read("channel", name);
+        if (r.failed()) return;
+        bool known = false;
+        for (auto c : {TextureSource::Channel::grey, TextureSource::Channel::r, TextureSource::Channel::g,
+                       TextureSource::Channel::b, TextureSource::Channel::a})
+            if (name == channel_name(c)) {
+                out.channel = c;
+                known = true;
+            }
+        if (!known)
+            return r.fail(f.sub("channel"), "\"" + echo(name) +
+                                                "\" is not a channel (known: \"r\", \"g\", \"b\", \"a\", or \"grey\" "
+                                                "for an image's grey, the default)");
+    }
+    if (f.has("green")) {
+        if (!fills(slot, Slot::normal))
+            return r.fail(f.sub("green"), "only a normal map has a green convention (\"up\": OpenGL, \"down\": DirectX)");
+        std::string green;
+        f.read("green", green);
+        if (r.failed()) return;
+        if (green == "up") out.green = TextureSource::Green::up;
+        else if (green == "down") out.green = TextureSource::Green::down;
+        else
+            return r.fail(f.sub("green"), "\"" + echo(green) +
+                                              "\" is not \"up\" (OpenGL style: green is +v) or \"down\" (DirectX style: "
+                                              "green is -v)");
+    }
+    for (const char* key : {"color_space", "colour_space"}) {
+        if (!f.has(key)) continue;
+        if (!fills(slot, Slot::albedo))
+            return r.fail(f.sub(key), std::string("only a colour texture (albedo) has a colour space: height and "
+                                                  "normal maps are data, always read as linear"));
+        std::string space;
+        f.read(key, space);
+        if (r.failed()) return;
+        if (space == "srgb" || space == "sRGB") out.color_space = TextureSource::ColorSpace::srgb;
+        else if (space == "linear") out.color_space = TextureSource::ColorSpace::linear;
+        else
+            return r.fail(f.sub(key), "\"" + echo(space) + "\" is not \"srgb\" or \"linear\"");
+    }
     if (f.has("first_row")) {
         std::string row;
         f.read("first_row", row);
@@ -426,8 +475,9 @@ void read_procedural_form(Fields& f, TextureSource& out) {
 
 void read_color_form(Fields& f, TextureSource& out) { f.read("color", out.color); }
 
-// SOURCE: "path" | {"file", "convention", "first_row"} | {"procedural", FieldSpec fields...} | {"color"}.
-void read_source(Reader& r, const json& j, const std::string& path, bool height_slot, TextureSource& out) {
+// SOURCE: "path" | {"file", "convention", "first_row", "channel", "green", "color_space"} |
+//         {"procedural", FieldSpec fields...} | {"color"}.
+void read_source(Reader& r, const json& j, const std::string& path, Slot slot, TextureSource& out) {
     if (r.failed()) return;
     out = TextureSource{};
     if (j.is_string()) {
@@ -444,7 +494,7 @@ void read_source(Reader& r, const json& j, const std::string& path, bool height_
     Fields f(r, &j, path);
     if (j.contains("file")) {
         out.kind = TextureSource::Kind::file;
-        read_file_form(r, f, height_slot, out);
+        read_file_form(r, f, slot, out);
     } else if (j.contains("procedural")) {
         out.kind = TextureSource::Kind::procedural;
         read_procedural_form(f, out);
@@ -456,7 +506,7 @@ void read_source(Reader& r, const json& j, const std::string& path, bool height_
         // mean 'file'"; keys valid in some form ({"size": 64}) get the message
         // below instead.
         TextureSource scratch;
-        read_file_form(r, f, true, scratch);
+        read_file_form(r, f, Slot::any, scratch);
         read_procedural_form(f, scratch);
         read_color_form(f, scratch);
         f.finish();
@@ -540,9 +590,9 @@ void read_effects(Reader& r, const json& j, const std::string& path, EffectReque
 void read_material(Reader& r, const json& j, const std::string& path, MaterialDesc& m) {
     Fields f(r, &j, path);
     f.read("name", m.name);
-    if (const json* s = f.get("albedo")) read_source(r, *s, f.sub("albedo"), false, m.albedo);
-    if (const json* s = f.get("height")) read_source(r, *s, f.sub("height"), true, m.height);
-    if (const json* s = f.get("normal")) read_source(r, *s, f.sub("normal"), false, m.normal);
+    if (const json* s = f.get("albedo")) read_source(r, *s, f.sub("albedo"), Slot::albedo, m.albedo);
+    if (const json* s = f.get("height")) read_source(r, *s, f.sub("height"), Slot::height, m.height);
+    if (const json* s = f.get("normal")) read_source(r, *s, f.sub("normal"), Slot::normal, m.normal);
     f.read("height_scale", m.height_scale);
     if (f.has("height_bias")) {
         float bias = 0.0f;

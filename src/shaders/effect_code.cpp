@@ -17,6 +17,7 @@ bool derivatives(const VariantKey& k) { return k.lod || k.shade_lod_bias(); }
 bool shade_lod_bias(const VariantKey& k) { return k.shade_lod_bias(); }
 bool reads_height(const VariantKey& k) { return has(k, kOptHeight); }
 bool normal_map(const VariantKey& k) { return has(k, kOptNormals); }
+bool green_down(const VariantKey& k) { return has(k, kOptNormals) && k.normal_green_down; }
 bool separate_height(const VariantKey& k) { return has(k, kOptHeight) && (!k.packed_height || k.es_major < 3); }
 bool linear_search(const VariantKey& k) { return has(k, kOptSamples); }
 bool refinement(const VariantKey& k) { return has(k, kOptRefine); }
@@ -99,6 +100,9 @@ const std::vector<EffectMarker> kMarkers = {
     // surface_main.glsl: the normal-map read (flat shades with +z).
     {"normal map", "normal_texel", normal_map},
     {"normal map", "PX_NORMAL_MAP", normal_map},
+    // surface_main.glsl: a DirectX-style normal file's green negated.
+    {"green down", "normal.y = -normal.y", green_down},
+    {"green down", "PX_NORMAL_GREEN_DOWN", green_down},
     // march.glsl: the linear search of steep, pom and relief.
     {"linear search", "px_linear_search", linear_search},
     {"linear search", "PxMarch", linear_search},

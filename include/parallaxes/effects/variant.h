@@ -28,6 +28,9 @@ struct TextureLayout {
     bool packed_height = true;  // height in the normal map's alpha (RGBA8 sources)
     bool normal_rg = false;     // normal x, y in R, G (EAC RG11, BC5); z = sqrt(1 - x^2 - y^2)
     bool height_11bit = false;  // traced height has 11-bit texels (EAC R11): the exact walk snaps to 1/2047
+    // The normal texture as uploaded has DirectX's green (-v): the shaders
+    // negate it (a texture file; an image's green is flipped on the CPU).
+    bool normal_green_down = false;
     // Texture files stored top row first (texture_data.h RowOrder), uploaded
     // as they are: the shaders read them at v' = 1 - v (kFlip* bits).
     std::uint8_t flip_v = 0;
@@ -50,6 +53,7 @@ struct VariantKey {
     bool exact_view = false;      // PX_EXACT_VIEW: highp unnormalised view vector
     bool normal_rg = false;       // PX_NORMAL_RG: two-channel normal map, z reconstructed
     bool height_11bit = false;    // PX_HEIGHT_11BIT: highp height reads snapped to 1/2047 (maxmip)
+    bool normal_green_down = false;  // PX_NORMAL_GREEN_DOWN: the normal map's green is -v (DirectX style)
     std::uint8_t es_major = 3;    // 2: GLSL ES 1.00, 3: GLSL ES 3.00
     // GLSL ES 1.00 only: the fragment stage has no highp (PX_NO_FRAGMENT_HIGHP),
     // as on Mali-400-class GPUs; PX_HIGHP declarations there are mediump.

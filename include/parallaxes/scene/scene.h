@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -67,7 +68,30 @@ struct TextureSource {
     // default), or the scene's word for an odd file ("first_row": "top" or
     // "bottom"). PNG and JPEG files always store the top row first.
     enum class FirstRow { file, top, bottom } first_row = FirstRow::file;
+    // Where a height map's height is ("channel" in a scene file): `grey`
+    // (the default) reads an image as grey and a texture file's red
+    // channel; r, g, b or a read that one channel of the file, so that a
+    // normal map carrying height in its alpha (`*_norm`, `*_nm`: McGuire's
+    // steep parallax, many game packs) or one channel of a packed mask is
+    // used as it ships. Height slots only (validation).
+    enum class Channel : std::uint8_t { grey, r, g, b, a } channel = Channel::grey;
+    // Which way a normal map's green channel points ("green" in a scene
+    // file): up (+v, OpenGL's convention, the default) or down (DirectX's).
+    // Normal slots given as files only (validation).
+    enum class Green : std::uint8_t { up, down } green = Green::up;
+    // How a colour texture's texels are encoded ("color_space"): as the
+    // file declares (a KTX 1.1 sRGB internal format, KTX 2.0's transfer
+    // function, PVR v3's colour space, a PNG's sRGB, gAMA or iCCP chunk) or,
+    // where it declares nothing, sRGB, which is what every real albedo is;
+    // or the scene's word for an odd file. Albedo slots only; height and
+    // normal maps are data (linear) always.
+    enum class ColorSpace : std::uint8_t { file, srgb, linear } color_space = ColorSpace::file;
 };
+
+// The channel's name ("grey", "r", ..., "a") and its index in an RGBA texel
+// (grey reads red: 0).
+const char* channel_name(TextureSource::Channel c);
+int channel_index(TextureSource::Channel c);
 
 struct UvTransform {
     glm::vec2 scale{1.0f};
