@@ -3,6 +3,8 @@
 // of the techniques it checks; tolerances are in 8-bit levels.
 #include "gpu_fixture.h"
 
+#include "parallaxes/assets/color.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -428,14 +430,18 @@ TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
         for (ShadowMode mode : {ShadowMode::hard, ShadowMode::soft}) {
             p.options.shadow = mode;
             const double shadowed = luminance(render(p.build()).image, int(probe.x), int(probe.y));
-            EXPECT_LT(shadowed, 0.4 * lit) << technique_name(t) << " shadow=" << shadow_mode_name(mode)
-                                           << ": lit " << lit << ", shadowed " << shadowed;
+            // Compared as light (the image is encoded for an sRGB display).
+            EXPECT_LT(srgb_to_linear(shadowed / 255.0), 0.4 * srgb_to_linear(lit / 255.0))
+                << technique_name(t) << " shadow=" << shadow_mode_name(mode) << ": lit " << lit << ", shadowed "
+                << shadowed;
         }
         // The flat top, in the open, stays lit with shadows on.
         p.options.shadow = ShadowMode::hard;
         const glm::vec2 open = project(lit_scene, glm::vec3(-0.8f, 0.0f, 0.0f), 128);
         const Image with_shadows = render(p.build()).image;
-        EXPECT_GT(luminance(with_shadows, int(open.x), int(open.y)), 0.8 * lit) << technique_name(t);
+        EXPECT_GT(srgb_to_linear(luminance(with_shadows, int(open.x), int(open.y)) / 255.0),
+                  0.8 * srgb_to_linear(lit / 255.0))
+            << technique_name(t);
     }
 }
 
@@ -444,11 +450,13 @@ TEST(Shadows, PitUnderLowLightIsDarkOnlyWithSelfShadowing) {
 // N.L > 0, but the light is behind the polygon. Shadows off (the shadow ray's
 // horizon test is not what keeps it dark), every technique, and the exact
 // reference's shading (surface_main.glsl's mirror) the same. What is left is
-// ambient * albedo: 0.08 * 0.8 = 0.064, 16.3 of 255; 17 allows the 8-bit
-// rounding of that (and mediump's 1e-3 relative error, 0.02 of a level).
-// Before: 12 to 28 % of the surface was lit from under the polygon.
+// ambient * albedo in linear light: 0.08 times the albedo 0.8 (byte 204, sRGB:
+// 0.604 linear) = 0.0483, shown as 62 of 255 on an sRGB display; one more
+// allows the 8-bit rounding of that (and mediump's 1e-3 relative error, a
+// tenth of a level there). Before: 12 to 28 % of the surface was lit from
+// under the polygon.
 TEST(Lighting, LightOnOrBelowTheHorizonLightsNothingButAmbient) {
-    constexpr int kAmbientLevel = 17;
+    const int kAmbientLevel = linear_to_srgb8(0.08 * srgb_to_linear(204 / 255.0)) + 1;
     for (const TechniqueInfo& info : technique_table()) {
         if (info.min_es_major > test_es_major()) continue;
         for (float elevation : {-5.0f, 0.0f}) {

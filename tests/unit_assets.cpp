@@ -11,6 +11,7 @@
 
 #include <unistd.h>  // getpid: a per-process temp directory
 
+#include "parallaxes/assets/color.h"
 #include "parallaxes/assets/heightfield.h"
 #include "parallaxes/assets/image.h"
 
@@ -749,3 +750,39 @@ TEST(HeightRamp, MapsHeightToColourWithGrain) {
 
 }  // namespace
 }  // namespace px
+
+// The sRGB curve (IEC 61966-2-1) at its published points, and both ways.
+TEST(SrgbCurve, MatchesTheStandardsPointsAndInvertsItself) {
+    EXPECT_NEAR(px::srgb_to_linear(0.5), 0.214041, 1e-6);
+    EXPECT_NEAR(px::srgb_to_linear(0.04045), 0.04045 / 12.92, 1e-9);  // the toe's end
+    EXPECT_NEAR(px::linear_to_srgb(0.0031308), 0.0031308 * 12.92, 1e-7);
+    EXPECT_NEAR(px::linear_to_srgb(0.18), 0.461356, 1e-5);  // photographic mid-grey
+    for (int v = 0; v <= 255; ++v) EXPECT_EQ(px::linear_to_srgb8(px::srgb_to_linear(v / 255.0)), v) << v;
+    EXPECT_EQ(px::linear_to_srgb8(-1.0), 0);
+    EXPECT_EQ(px::linear_to_srgb8(2.0), 255);
+}
+
+// A mip level of sRGB colour averages light, not code values: black and
+// white make 188 (half the light), not 128; alpha and data average as stored.
+TEST(SrgbCurve, MipLevelsAverageLinearLight) {
+    px::Image img;
+    img.width = 2;
+    img.height = 1;
+    img.channels = 4;
+    img.pixels = {0, 0, 0, 0, 255, 255, 255, 255};
+    const px::Image srgb = px::next_mip_level(img, true);
+    ASSERT_EQ(srgb.width, 1);
+    ASSERT_EQ(srgb.height, 1);
+    EXPECT_EQ(srgb.pixels[0], 188);
+    EXPECT_EQ(srgb.pixels[3], 128);  // alpha: as stored
+    const px::Image data = px::next_mip_level(img, false);
+    EXPECT_EQ(data.pixels[0], 128);
+    // Odd sides fold their last texel in: 3x3 -> 1x1 averages all nine.
+    px::Image odd;
+    odd.width = odd.height = 3;
+    odd.channels = 1;
+    odd.pixels = {0, 0, 9, 0, 0, 9, 9, 9, 9};
+    const px::Image folded = px::next_mip_level(odd, false);
+    ASSERT_EQ(folded.pixels.size(), 1u);
+    EXPECT_EQ(folded.pixels[0], 5);
+}

@@ -54,6 +54,7 @@ struct RenderArgs {
     GoldenOptions golden_options;  // its tolerance entry: the scene's name, this --es
     bool size_given = false;       // --size given; else --golden's size
     int msaa = 0;                  // samples per pixel; 0: the default (4, or 1 with --golden)
+    std::string output_color = "srgb";  // srgb: encoded for an sRGB display; linear
 };
 
 // Multisampling by default (anti-aliased polygon edges where the context
@@ -149,7 +150,9 @@ Result<FrameRun> run_frames(const RenderArgs& a, Renderer& renderer, const Scene
         if (!first) return first.error();
         run.first_reports = renderer.reports();
     }
-    Status drawn = renderer.draw(target.target());
+    HostFrame frame = renderer.scene_frame(target.target());
+    frame.target_color = a.output_color == "linear" ? HostFrame::TargetColor::linear : HostFrame::TargetColor::srgb_encoded;
+    Status drawn = renderer.draw(frame);
     if (!drawn) return drawn.error();
     glFinish();
     if (run.first_reports.empty()) run.first_reports = renderer.reports();
@@ -164,7 +167,10 @@ Result<FrameRun> run_frames(const RenderArgs& a, Renderer& renderer, const Scene
             run.plan_us.push_back(std::chrono::duration<double, std::micro>(plan_end - plan_start).count() /
                                   static_cast<double>(std::max<size_t>(1, scene.objects.size())));
         }
-        drawn = renderer.draw(target.target());
+        frame = renderer.scene_frame(target.target());
+        frame.target_color =
+            a.output_color == "linear" ? HostFrame::TargetColor::linear : HostFrame::TargetColor::srgb_encoded;
+        drawn = renderer.draw(frame);
         glFinish();
         const auto end = std::chrono::steady_clock::now();
         if (!drawn) return drawn.error();
@@ -202,6 +208,12 @@ void print_draws(const RenderArgs& a, Renderer& renderer, const FrameRun& run, i
                     static_cast<unsigned long long>(u.gpu_bytes), u.path.c_str());
         if (!u.rows.empty()) std::printf("             rows: %s\n", u.rows.c_str());
     }
+    for (const TextureUpload& u : renderer.texture_uploads())
+        if (u.what.find(" albedo (") != std::string::npos)
+            std::printf("colour     %s: %s\n", u.what.c_str(), u.color_space.c_str());
+    std::printf("output     %s\n", a.output_color == "linear"
+                                      ? "linear light (--output-color linear)"
+                                      : "lit in linear light, encoded for an sRGB display (--output-color srgb)");
 }
 
 // Frame time, the path's planning, the program cache.
@@ -417,6 +429,11 @@ void add_render_command(CLI::App& app) {
                     "planning every frame");
     cmd->add_option("--calibration-cache", args->calibration_cache,
                     "Folder of `parallax plan --calibrate` results (default $XDG_CACHE_HOME/parallaxes/calibration; off: none)");
+    cmd->add_option("--output-color", args->output_color,
+                    "What the PNG holds: srgb (lighting in linear light, encoded for an sRGB display) or linear "
+                    "(the linear light itself, for further processing)")
+        ->check(CLI::IsMember({"srgb", "linear"}))
+        ->capture_default_str();
     cmd->add_option("--msaa", args->msaa,
                     "Samples per pixel, 1..64 (default 4, or 1 with --golden: goldens are single-sampled); "
                     "a context that offers fewer gets what it has (OpenGL ES 2.0: 1), and the image line says so")

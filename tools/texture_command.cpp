@@ -76,6 +76,13 @@ int run_texinfo(const TexinfoArgs& a) {
                 f.channels, f.gl_internal_format);
     std::printf("size       %ux%u, %zu level(s) of %d in a full chain, %u layer(s), %u face(s)\n", t->width,
                 t->height, t->levels.size(), full_mip_count(t->width, t->height), t->layers, t->faces);
+    std::printf("colour     %s\n", t->srgb ? ("sRGB, declared by " + t->color_space_source +
+                                               ": an albedo is decoded to linear light when sampled; as a height "
+                                               "or normal map it is read as its linear format").c_str()
+                                            : t->container == ContainerKind::astc
+                                                ? ".astc declares none: an albedo is read as sRGB (colour's default), "
+                                                  "height and normal maps as linear data"
+                                                : "linear (its format is not an sRGB one)");
     std::printf("rows       %s (%s)%s\n", row_order_name(t->rows), t->rows_source.c_str(),
                 t->rows == RowOrder::top_first ? "; drawn at v' = 1 - v, the image the right way up" : "");
     for (const std::string& note : t->notes) std::printf("note       %s\n", note.c_str());
@@ -193,7 +200,11 @@ Status write_materials_snippet(const SceneDesc& scene, const std::vector<Convert
     for (const MaterialDesc& m : scene.materials) {
         nlohmann::json j = {{"name", m.name}, {"height_scale", m.height_scale}};
         for (const ConvertedFile& f : files)
-            if (f.material == m.name) j[f.slot] = std::filesystem::path(f.path).filename().string();
+            if (f.material == m.name) {
+                const std::string name = std::filesystem::path(f.path).filename().string();
+                if (f.scene_says_srgb) j[f.slot] = {{"file", name}, {"color_space", "srgb"}};
+                else j[f.slot] = name;
+            }
         materials.push_back(j);
     }
     const std::string snippet = nlohmann::json{{"materials", materials}}.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";

@@ -1,8 +1,12 @@
 // Fragment-stage declarations shared by every technique, and the height fetch.
 #include "chunks/interface.glsl"
 
-// Albedo is colour: lowp (8 bits per channel) loses nothing.
-uniform lowp sampler2D u_albedo_map;
+// Albedo is colour, decoded from sRGB to linear light (by the texture unit,
+// or by px_srgb_to_linear below): mediump, because linear light needs about
+// 12 bits where sRGB's 8 are dark (its first step is 1/3295), more than lowp
+// promises.
+uniform mediump sampler2D u_albedo_map;
+
 // Normals (and height in alpha when packed): mediump, because Mesa's default
 // sampler precision (lowp) returns fp16 texels and heights are compared with
 // the ray at 1/256 steps; mediump holds 8-bit texels exactly on every GPU.

@@ -117,15 +117,18 @@ mediump vec3 px_shade(PX_HIGHP vec2 uv, mediump float hit_height, mediump vec3 v
     // The two dependent reads issued back to back, before any arithmetic on
     // them (PowerVR whitepaper 3.2.1: one wait instead of two).
 #if PX_ES >= 3
-    lowp vec4 albedo = textureGrad(u_albedo_map, PX_ALBEDO_UV(uv), PX_ALBEDO_D(uv_dx), PX_ALBEDO_D(uv_dy));
+    mediump vec4 albedo = textureGrad(u_albedo_map, PX_ALBEDO_UV(uv), PX_ALBEDO_D(uv_dx), PX_ALBEDO_D(uv_dy));
 #ifdef PX_NORMAL_MAP
     mediump vec4 normal_texel = textureGrad(u_normal_map, PX_NORMAL_UV(uv), PX_NORMAL_D(uv_dx), PX_NORMAL_D(uv_dy));
 #endif
 #else
-    lowp vec4 albedo = texture2D(u_albedo_map, PX_ALBEDO_UV(uv) PX_SHADE_BIAS);
+    mediump vec4 albedo = texture2D(u_albedo_map, PX_ALBEDO_UV(uv) PX_SHADE_BIAS);
 #ifdef PX_NORMAL_MAP
     mediump vec4 normal_texel = texture2D(u_normal_map, PX_NORMAL_UV(uv) PX_SHADE_BIAS);
 #endif
+#endif
+#ifdef PX_SRGB_DECODE
+    albedo.rgb = px_srgb_to_linear(albedo.rgb);
 #endif
 #if defined(PX_NORMAL_MAP) && defined(PX_NORMAL_RG)
     // Two-channel normal maps (EAC RG11, BC5) hold x and y; z >= 0 follows.
@@ -332,6 +335,8 @@ void main() {
 #else
     PX_FRAG_COLOR = px_debug_output(shown.uv, shown.height, visibility);
 #endif
+#elif defined(PX_SRGB_OUTPUT)
+    PX_FRAG_COLOR = vec4(px_linear_to_srgb(color), 1.0);
 #else
     PX_FRAG_COLOR = vec4(color, 1.0);
 #endif

@@ -96,10 +96,15 @@ void main() {
     lowp vec4 albedo = PX_TEXTURE(u_albedo_map, hit_uv);
 #endif
 
-    mediump vec3 color = u_ambient * albedo.rgb;
+    // Lit in linear light, as the shipped shaders light it.
+    mediump vec3 base = albedo.rgb;
+#ifdef PX_SRGB_DECODE
+    base = px_srgb_to_linear(base);
+#endif
+    mediump vec3 color = u_ambient * base;
     for (int i = 0; i < PX_MAX_LIGHTS; i++) {
         if (i >= u_light_count) break;
-        color += px_light_term(albedo.rgb, normal, normalize(view_dir), normalize(v_light_ts[i]), u_light_color[i], 1.0);
+        color += px_light_term(base, normal, normalize(view_dir), normalize(v_light_ts[i]), u_light_color[i], 1.0);
     }
 #ifdef PX_DEBUG_OUTPUT
     // As surface_main.glsl reports an unshadowed hit: offset limiting reads
@@ -107,6 +112,8 @@ void main() {
     mediump float visibility = 1.0;
     if (u_light_count > 0) visibility = normalize(v_light_ts[0]).z > 0.0 ? 1.0 : 0.0;
     PX_FRAG_COLOR = px_debug_output(hit_uv, height, visibility);
+#elif defined(PX_SRGB_OUTPUT)
+    PX_FRAG_COLOR = vec4(px_linear_to_srgb(color), 1.0);
 #else
     PX_FRAG_COLOR = vec4(color, 1.0);
 #endif

@@ -198,6 +198,8 @@ struct PngLayout {
     int bit_depth = 0, color_type = 0;
     std::size_t plte_offset = 0;  // of the chunk's length field; 0 when absent
     std::uint32_t plte_entries = 0;
+    ImageInfo::Encoding encoding = ImageInfo::Encoding::none;
+    std::string declared_by;
 };
 
 std::string chunk_name(const std::uint8_t* type) {
@@ -266,6 +268,23 @@ Result<PngLayout> check_png(const std::uint8_t* bytes, std::size_t size) {
         } else if (name == "IEND") {
             if (!seen_idat) return make_error("the file has no image data (IDAT) before IEND");
             seen_iend = true;
+        } else if (name == "sRGB" || name == "iCCP") {
+            // Either beats gAMA (PNG 11.3.2.5): an sRGB-capable reader uses them first.
+            if (!seen_idat) {
+                png.encoding = ImageInfo::Encoding::srgb;
+                png.declared_by = name == "sRGB" ? "its sRGB chunk" : "its iCCP colour profile (read as sRGB)";
+            }
+        } else if (name == "gAMA") {
+            if (!seen_idat && length == 4 && png.declared_by.rfind("its sRGB", 0) != 0 &&
+                png.declared_by.rfind("its iCCP", 0) != 0) {
+                const std::uint32_t g = be32(data);  // the encoding exponent times 100000
+                const bool linear = g >= 95000 && g <= 105000;
+                const bool srgb_like = g >= 40000 && g <= 50000;
+                if (linear || srgb_like) {
+                    png.encoding = linear ? ImageInfo::Encoding::linear : ImageInfo::Encoding::srgb;
+                    png.declared_by = "its gAMA chunk (" + std::to_string(g) + " / 100000)";
+                }
+            }
         } else if ((type[0] & 0x20) == 0) {
             return make_error("unknown critical chunk '" + name + "'" + where);
         }
@@ -483,6 +502,8 @@ Result<ImageInfo> header_info(const std::uint8_t* bytes, std::size_t size, const
                               ", over the limit of " + std::to_string(t_max_side) + " texels per side");
         info.width = static_cast<int>(png->width);
         info.height = static_cast<int>(png->height);
+        info.encoding = png->encoding;
+        info.declared_by = png->declared_by;
         return info;
     }
     if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) return make_error("file too large");

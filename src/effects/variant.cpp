@@ -63,6 +63,8 @@ VariantKey VariantKey::canonical() const {
     // The curved march is the linear search's (march.glsl px_curved_search).
     if (!has_option(k.technique, kOptSamples)) k.curved = false;
     if (!k.curved || k.shape > kShapeTorus) k.shape = 0;
+    // Debug outputs write data, not colour.
+    if (k.debug_output != 0) k.srgb_output = false;
     if (k.debug_output == 0 || !(has_option(k.technique, kOptSamples) || has_option(k.technique, kOptSteps)))
         k.count_work = false;
     if (k.debug_output != 1 || k.count_work || !has_option(k.technique, kOptHeight)) k.capture_ray = false;
@@ -210,6 +212,8 @@ const VariantField kFields[] = {
     {"normal_rg", "normal-rg", "PX_NORMAL_RG", &VariantKey::normal_rg},
     {"height_11bit", "height-11bit", "PX_HEIGHT_11BIT", &VariantKey::height_11bit},
     {"normal_green_down", "green-down", "PX_NORMAL_GREEN_DOWN", &VariantKey::normal_green_down},
+    {"srgb_decode", "srgb-decode", "PX_SRGB_DECODE", &VariantKey::srgb_decode},
+    {"srgb_output", "srgb-out", "PX_SRGB_OUTPUT", &VariantKey::srgb_output},
     {"debug_output", nullptr, nullptr, nullptr, 0,
      [](const VariantKey& k, std::string& out) {
          if (k.debug_output) out += " debug" + std::to_string(int(k.debug_output));
@@ -438,6 +442,7 @@ VariantKey VariantKey::with_layout(const TextureLayout& layout) const {
     k.packed_height = layout.packed_height;
     k.normal_rg = layout.normal_rg;
     k.normal_green_down = layout.normal_green_down;
+    k.srgb_decode = layout.albedo_srgb_decode;
     k.height_11bit = layout.height_11bit;
     k.flip_v = layout.flip_v;
     return k;
@@ -598,6 +603,16 @@ std::vector<VariantKey> enumerate_variants(int es_major) {
         add_compressed_layouts(list, base);
         add_bounded_and_curved(list, base, es_major);
         add_debug_outputs(list, base, es_major);
+        // The colour pipeline as frames draw it: encoded for an sRGB display,
+        // with the albedo decoded in the shader where the texture unit cannot.
+        {
+            VariantKey k = base;
+            k.srgb_output = true;
+            list.add(k);
+            k.srgb_decode = true;
+            k.shadow = has_option(k.technique, kOptShadow) ? ShadowMode::soft : ShadowMode::none;
+            list.add(k);
+        }
         // Loop bounds at their extremes.
         if (info.options & (kOptSamples | kOptSteps)) {
             for (int samples : {1, info.max_samples_limit}) {

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "parallaxes/assets/color.h"
 #include "parallaxes/core/numeric.h"
 #include "parallaxes/gl/errors.h"
 #include "parallaxes/gl/state.h"
@@ -26,7 +27,17 @@ Texture new_bound_texture(int width, int height, const Caps& caps) {
 
 }  // namespace
 
-Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps) {
+namespace {
+
+// GL_SRGB8_ALPHA8 and ES 2.0's EXT_sRGB enums (not in every GLES2 header).
+constexpr GLenum kSrgb8Alpha8 = 0x8C43, kSrgbAlphaExt = 0x8C42;
+
+}  // namespace
+
+Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps,
+                               bool srgb) {
+    if (srgb && !caps.srgb_textures())
+        return make_error(what + ": sRGB textures need OpenGL ES 3.0 or GL_EXT_sRGB (decode in the shader instead)");
     if (image.width < 1 || image.height < 1 || image.pixels.empty())
         return make_error(what + ": empty image");
     if (image.width > caps.max_texture_size || image.height > caps.max_texture_size)
@@ -55,13 +66,27 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
         source = &rgba;
     }
     Texture t = new_bound_texture(image.width, image.height, caps);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+    // ES 2.0's EXT_sRGB: unsized GL_SRGB_ALPHA_EXT, and no glGenerateMipmap
+    // for it: the chain is averaged in linear light here.
+    const bool es2_srgb = srgb && !caps.context_es3();
+    const GLint internal = !srgb ? GL_RGBA : es2_srgb ? static_cast<GLint>(kSrgbAlphaExt) : static_cast<GLint>(kSrgb8Alpha8);
+    const GLenum format = es2_srgb ? kSrgbAlphaExt : GL_RGBA;
+    glTexImage2D(GL_TEXTURE_2D, 0, internal, image.width, image.height, 0, format, GL_UNSIGNED_BYTE,
                  source->pixels.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    if (mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
+    if (mipmaps && es2_srgb) {
+        Image level = *source;
+        for (int l = 1; level.width > 1 || level.height > 1; ++l) {
+            level = next_mip_level(level, true);
+            glTexImage2D(GL_TEXTURE_2D, l, internal, level.width, level.height, 0, format, GL_UNSIGNED_BYTE,
+                         level.pixels.data());
+        }
+    } else if (mipmaps) {
+        glGenerateMipmap(GL_TEXTURE_2D);
+    }
     glBindTexture(GL_TEXTURE_2D, 0);
     Status s = check_gl("uploading " + what);
     if (!s) return s.error();
@@ -142,26 +167,33 @@ void uncompressed_upload_formats(const Caps& caps, TextureFormat texture_format,
 // context samples the format (direct), else decoded to RGBA8 on the CPU.
 // gpu_bytes: what the GPU was given.
 Status upload_levels(const TextureData& data, const Caps& caps, const std::string& what, bool direct, int levels,
-                     DecodeLevel decode, std::uint64_t& gpu_bytes) {
+                     DecodeLevel decode, bool srgb, std::uint64_t& gpu_bytes) {
     const FormatInfo& f = format_info(data.format);
     for (int level = 0; level < levels; ++level) {
         const TextureLevel& l = data.levels[static_cast<size_t>(level)];
         const GLsizei w = static_cast<GLsizei>(l.width), h = static_cast<GLsizei>(l.height);
         if (direct && f.compressed()) {
-            glCompressedTexImage2D(GL_TEXTURE_2D, level, upload_internal_format(caps, data.format), w, h, 0,
+            const std::uint32_t internal =
+                srgb ? srgb_internal_format(caps, data.format) : upload_internal_format(caps, data.format);
+            glCompressedTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0,
                                    static_cast<GLsizei>(l.image_bytes), data.image(static_cast<size_t>(level)));
             gpu_bytes += l.image_bytes;
         } else if (direct) {
             GLenum format = GL_RGBA;
             GLint internal = GL_RGBA;
             uncompressed_upload_formats(caps, data.format, format, internal);
+            if (srgb) internal = static_cast<GLint>(srgb_internal_format(caps, data.format));
             glTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0, format, GL_UNSIGNED_BYTE,
                          data.image(static_cast<size_t>(level)));
             gpu_bytes += l.image_bytes;
         } else {
             Result<Image> rgba = decode(data, static_cast<size_t>(level));
             if (!rgba) return with_context(what + " level " + std::to_string(level), rgba.error());
-            glTexImage2D(GL_TEXTURE_2D, level, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba->pixels.data());
+            const bool es2_srgb = srgb && !caps.context_es3();
+            const GLint internal = !srgb ? GL_RGBA : es2_srgb ? static_cast<GLint>(kSrgbAlphaExt)
+                                                              : static_cast<GLint>(kSrgb8Alpha8);
+            glTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0, es2_srgb ? kSrgbAlphaExt : GL_RGBA,
+                         GL_UNSIGNED_BYTE, rgba->pixels.data());
             gpu_bytes += rgba->pixels.size();
         }
     }
@@ -192,7 +224,10 @@ std::string upload_path(const TextureData& data, bool direct, bool force_decode,
 }  // namespace
 
 Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
-                                    bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode) {
+                                    bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode,
+                                    bool srgb) {
+    if (srgb && !caps.srgb_textures())
+        return make_error(what + ": sRGB textures need OpenGL ES 3.0 or GL_EXT_sRGB (decode in the shader instead)");
     if (data.levels.empty() || data.width < 1 || data.height < 1) return make_error(what + ": empty texture");
     const std::string size = std::to_string(data.width) + "x" + std::to_string(data.height);
     if (data.width > static_cast<std::uint32_t>(caps.max_texture_size) ||
@@ -204,7 +239,8 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
         return make_error(what + ": " + size +
                           " is not a power of two, and this OpenGL ES 2.0 context lacks GL_OES_texture_npot, "
                           "so it can neither repeat nor mipmap it");
-    const bool direct = !force_decode && context_samples(caps, data.format) &&
+    const bool direct = !force_decode &&
+                        (srgb ? context_samples_srgb(caps, data.format) : context_samples(caps, data.format)) &&
                         // ES 2.0 has no RG textures without GL_EXT_texture_rg: expand on the CPU.
                         !(data.format == TextureFormat::rg8 && !caps.context_es3() && !caps.has("GL_EXT_texture_rg"));
     if (!direct && !decode)
@@ -219,7 +255,7 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
     std::uint64_t gpu_bytes = 0, file_bytes = 0;
     for (int level = 0; level < given; ++level)
         file_bytes += data.levels[static_cast<size_t>(level)].image_bytes;
-    if (Status uploaded = upload_levels(data, caps, what, direct, levels, decode, gpu_bytes); !uploaded)
+    if (Status uploaded = upload_levels(data, caps, what, direct, levels, decode, srgb, gpu_bytes); !uploaded)
         return uploaded.error();
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
@@ -241,6 +277,16 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
         report->file_bytes = file_bytes;
         report->gpu_bytes = gpu_bytes;
         report->path = upload_path(data, direct, force_decode, mipmaps, use_mips, given, chain);
+        if (srgb && !direct && !force_decode && context_samples(caps, data.format))
+            report->path = std::string("CPU decode to sRGB RGBA8 (this context samples ") + format_name(data.format) +
+                           " but not its sRGB form)" + report->path.substr(report->path.find(';') == std::string::npos
+                                                                                ? report->path.size()
+                                                                                : report->path.find(';'));
+        report->color_space =
+            !srgb ? "linear"
+                  : std::string("sRGB, decoded by the texture unit (") +
+                        (direct ? srgb_gl_name(srgb_internal_format(caps, data.format))
+                                : caps.context_es3() ? "GL_SRGB8_ALPHA8" : "GL_SRGB_ALPHA_EXT") + ")";
     }
     return t;
 }

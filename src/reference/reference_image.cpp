@@ -1,4 +1,5 @@
 #include "parallaxes/reference/reference_image.h"
+#include "parallaxes/assets/color.h"
 #include "parallaxes/core/text.h"
 #include "parallaxes/scene/material_images.h"
 
@@ -84,14 +85,19 @@ struct LightData {
 
 // GL_LINEAR with GL_REPEAT at the base level, as HeightField::sample_bilinear
 // does; channels past the image's last repeat it (grey images), alpha 1 when absent.
-glm::dvec4 sample_bilinear(const Image& image, glm::dvec2 uv) {
+// srgb: colour texels decoded to linear light before filtering, as a
+// texture unit decodes an sRGB texture.
+glm::dvec4 sample_bilinear(const Image& image, glm::dvec2 uv, bool srgb = false) {
     const int w = image.width;
     const int h = image.height;
     const BilinearTaps b = bilinear_taps(uv.x, uv.y, w, h);
     auto texel = [&](int x, int y) {
         const std::uint8_t* p = image.texel(x, y);
         glm::dvec4 v(1.0);
-        for (int c = 0; c < 3; ++c) v[c] = p[std::min(c, image.channels - 1)] / 255.0;
+        for (int c = 0; c < 3; ++c) {
+            v[c] = p[std::min(c, image.channels - 1)] / 255.0;
+            if (srgb) v[c] = srgb_to_linear(v[c]);
+        }
         if (image.channels == 4) v.w = p[3] / 255.0;
         return v;
     };
@@ -384,7 +390,9 @@ void shade_pixel(const Frame& f, int x, int y, const PixelOut& out, const PlaneD
         hit = trace_view(m.traced, entry.uv, view_ts, m.height_scale, m.polygon_height);
 
     // px_shade: ambient * albedo + per light visibility * colour * (albedo N.L + specular).
-    const glm::dvec3 albedo = glm::dvec3(sample_bilinear(m.images.albedo, hit.uv));
+    // Lit in linear light: an sRGB albedo decoded first (PX_SRGB_DECODE decodes
+    // after filtering instead: the difference is the shader path's to show).
+    const glm::dvec3 albedo = glm::dvec3(sample_bilinear(m.images.albedo, hit.uv, m.images.albedo_srgb));
     glm::dvec3 normal = glm::dvec3(sample_bilinear(m.images.normal, hit.uv)) * 2.0 - 1.0;
     if (m.images.layout.normal_rg)  // two-channel normal maps: z follows from x and y, as the shader does
         normal.z = std::sqrt(std::max(1.0 - normal.x * normal.x - normal.y * normal.y, 0.0));
@@ -406,7 +414,7 @@ void shade_pixel(const Frame& f, int x, int y, const PixelOut& out, const PlaneD
         const double specular = n_dot_l > 0.0 ? m.specular * std::pow(n_dot_h, m.shininess) : 0.0;
         color += visibility * l.color * (albedo * n_dot_l + glm::dvec3(specular));
     }
-    for (int c = 0; c < 3; ++c) out.rgba[c] = to_unorm8(color[c]);
+    for (int c = 0; c < 3; ++c) out.rgba[c] = f.options.srgb_output ? linear_to_srgb8(color[c]) : to_unorm8(color[c]);
     out.rgba[3] = 255;
 
     out.sample.covered = m.reads_height;

@@ -500,20 +500,48 @@ struct FileUpload {
     DecodeLevel decode;
 };
 
+// color: for the albedo, how its colour is read (MaterialImages::albedo_srgb
+// and its layout); empty: a data slot, linear.
+struct SlotColor {
+    bool srgb = false;         // sRGB texels
+    bool shader_decodes = false;  // ... decoded in the shader (no sRGB textures here)
+    std::string why;           // MaterialImages::albedo_color_space
+};
+
+std::string color_space_text(const SlotColor& c, const std::string& unit) {
+    if (!c.srgb) return c.why.empty() ? "linear (data)" : "linear: " + c.why;
+    return (c.shader_decodes ? std::string("sRGB, decoded in the shader (no sRGB textures on this context)")
+                             : "sRGB, decoded by the texture unit (" + unit + ")") +
+           ": " + c.why;
+}
+
 Result<Texture> upload_slot(const std::optional<TextureData>& file, const Image& image, const std::string& label,
                             bool mipmaps, const Caps& caps, bool force_decode, std::vector<TextureUpload>& uploads,
-                            const FileUpload& files) {
+                            const FileUpload& files, const SlotColor& color = {}) {
     TextureUpload report;
+    const bool srgb_unit = color.srgb && !color.shader_decodes;
     if (file) {
         if (!files.files || !files.files->upload)
             return make_error(label + ": the scene was prepared with texture files, and this renderer uploads none: "
                                       "set RendererOptions::texture_files = px::texture_files()");
-        Result<Texture> t = files.files->upload(*file, caps, label, mipmaps, force_decode, &report, files.decode);
-        if (t) uploads.push_back(report);
+        Result<Texture> t =
+            files.files->upload(*file, caps, label, mipmaps, force_decode, &report, files.decode, srgb_unit);
+        if (t) {
+            if (color.srgb || !color.why.empty()) {
+                const std::size_t open = report.color_space.find('(');
+                report.color_space = color_space_text(
+                    color, open == std::string::npos ? std::string()
+                                                     : report.color_space.substr(open + 1, report.color_space.size() - open - 2));
+            }
+            uploads.push_back(report);
+        }
         return t;
     }
-    Result<Texture> t = upload_texture(image, caps, label, mipmaps);
+    Result<Texture> t = upload_texture(image, caps, label, mipmaps, srgb_unit);
     if (t) {
+        report.color_space = color.srgb || !color.why.empty()
+                                 ? color_space_text(color, caps.context_es3() ? "GL_SRGB8_ALPHA8" : "GL_SRGB_ALPHA_EXT")
+                                 : "linear (data)";
         report.what = label;
         report.container = "image";
         report.format = TextureFormat::rgba8;
@@ -581,8 +609,10 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         pyramid = (technique_info(named->key.technique).options & kOptSteps) != 0;
     }
     const FileUpload file_upload{files, images.decode};
+    const SlotColor albedo_color{images.albedo_srgb, images.layout.albedo_srgb_decode, images.albedo_color_space};
     Result<Texture> albedo = upload_slot(images.albedo_texture, images.albedo,
-                                         what + " albedo (" + source_label(m.albedo) + ")", true, caps, force_decode, uploads, file_upload);
+                                         what + " albedo (" + source_label(m.albedo) + ")", true, caps, force_decode,
+                                         uploads, file_upload, albedo_color);
     if (!albedo) return albedo.error();
     g.albedo = std::move(*albedo);
     Result<Texture> normal =
@@ -612,6 +642,13 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         if (!built) return built.error();
     }
     return g;
+}
+
+// A planned variant as a default frame (HostFrame::target_color) draws it:
+// what load and set_view build ahead of the frame.
+VariantKey as_default_frame(VariantKey key) {
+    key.srgb_output = HostFrame{}.target_color == HostFrame::TargetColor::srgb_encoded;
+    return key;
 }
 
 bool same_plan_view(const PlanView& a, const PlanView& b) {
@@ -731,6 +768,7 @@ Status Renderer::check_context(const char* what) const {
 MaterialImageOptions Renderer::material_image_options() const {
     MaterialImageOptions o;
     o.power_of_two_textures = !caps_.npot_mipmaps();
+    o.srgb_textures = caps_.srgb_textures();
     o.files = texture_files_ ? texture_files_->readers : nullptr;
     return o;
 }
@@ -837,7 +875,8 @@ Status Renderer::load_checked(std::shared_ptr<const PreparedScene> prepared) {
     // the frame: build them now, so that a shader error surfaces at load.
     // Those the planner picks per frame are built by the frame that draws them.
     for (auto [object, named] : gpu->planner->named_variants()) {
-        VariantKey key = variant_transform_ ? variant_transform_(named).canonical() : named;
+        VariantKey key = as_default_frame(named);
+        key = variant_transform_ ? variant_transform_(key).canonical() : key.canonical();
         Result<const Program*> program = gpu->programs.get(key);
         if (!program)
             return with_context("material '" + echo(gpu->materials[gpu->objects[object].material].desc->name) + "'",
@@ -888,7 +927,8 @@ Status Renderer::replace_material(const MaterialDesc& material) {
         }
         for (auto [object, named] : (*planner)->named_variants()) {
             if (p.objects[object]->material != mi) continue;
-            VariantKey key = variant_transform_ ? variant_transform_(named).canonical() : named;
+            VariantKey key = as_default_frame(named);
+        key = variant_transform_ ? variant_transform_(key).canonical() : key.canonical();
             Result<const Program*> program = scene_->programs.get(key);
             if (!program) return with_context("material '" + echo(material.name) + "'", program.error());
         }
@@ -951,7 +991,7 @@ Result<int> Renderer::set_view(const CameraDesc& camera, int width, int height) 
     scene_->camera = camera;
     // Build what the plans draw now, outside the frame.
     for (const GpuObject& object : scene_->objects) {
-        Result<const Program*> program = scene_->programs.get(object.plan.key);
+        Result<const Program*> program = scene_->programs.get(as_default_frame(object.plan.key));
         if (!program)
             return with_context("material '" + echo(scene_->materials[object.material].desc->name) + "'", program.error());
     }
@@ -1041,6 +1081,7 @@ Status Renderer::draw_checked(const HostFrame& frame) {
         const GpuObject& object = scene_->objects[i];
         VariantKey key = object.plan.key;
         key.debug_output = debug;
+        key.srgb_output = frame.target_color == HostFrame::TargetColor::srgb_encoded && debug == 0;
         key.count_work = count_work_ && debug != 0;
         key.capture_ray = capture_ray_ && debug == 1;
         const glm::mat4 model = frame.models.empty() ? object.desc->transform.matrix() : frame.models[i];
@@ -1080,7 +1121,10 @@ Status Renderer::prepare(const std::vector<std::vector<ObjectPlan>>& frames, con
             if (std::find(warmed[i].begin(), warmed[i].end(), id) != warmed[i].end()) continue;
             warmed[i].push_back(id);
             const GpuObject& object = scene_->objects[i];
-            Status s = draw_object(*scene_, object, object.desc->transform.matrix(), plans[i].key, plans[i].options, values);
+            // As a default frame draws it: encoded for an sRGB display.
+            VariantKey key = plans[i].key;
+            key.srgb_output = frame.target_color == HostFrame::TargetColor::srgb_encoded;
+            Status s = draw_object(*scene_, object, object.desc->transform.matrix(), key, plans[i].options, values);
             if (!s) return s;
         }
     }

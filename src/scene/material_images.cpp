@@ -19,6 +19,62 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
     return base_dir + "/" + path;
 }
 
+// The albedo's colour space: the scene's word, else the file's, else sRGB.
+Status albedo_color_space(MaterialImages& out, const MaterialDesc& m, const std::string& base_dir,
+                          const TextureFileReaders* files) {
+    const TextureSource& s = m.albedo;
+    std::string file_says;
+    bool file_srgb = true, declared = false;
+    if (out.albedo_texture) {
+        declared = true;  // a container's format is linear or sRGB: it always says
+        file_srgb = out.albedo_texture->srgb;
+        file_says = file_srgb ? out.albedo_texture->color_space_source : std::string("its linear texture format");
+        if (out.albedo_texture->container == ContainerKind::astc) declared = false;  // .astc says nothing
+    } else if (s.kind == TextureSource::Kind::file && files) {
+        Result<ImageInfo> info = files->read_image_info(resolve(base_dir, s.path));
+        if (!info) return info.error();
+        if (info->encoding != ImageInfo::Encoding::none) {
+            declared = true;
+            file_srgb = info->encoding == ImageInfo::Encoding::srgb;
+            file_says = info->declared_by;
+        }
+    }
+    const std::string file = s.kind == TextureSource::Kind::file ? "'" + echo_path(s.path) + "' " : std::string();
+    if (s.color_space != TextureSource::ColorSpace::file) {
+        out.albedo_srgb = s.color_space == TextureSource::ColorSpace::srgb;
+        out.albedo_color_space = std::string(out.albedo_srgb ? "sRGB" : "linear") + " (the scene's color_space" +
+                                 (declared && file_srgb != out.albedo_srgb
+                                      ? "; the file says " + std::string(file_srgb ? "sRGB" : "linear") + " by " + file_says
+                                      : std::string()) +
+                                 ")";
+        if (declared && file_srgb != out.albedo_srgb)
+            out.notes.push_back("albedo " + file + "read as " + (out.albedo_srgb ? "sRGB" : "linear") +
+                                " as the scene says, though " + file_says + " declares it " +
+                                (file_srgb ? "sRGB" : "linear"));
+    } else if (declared) {
+        out.albedo_srgb = file_srgb;
+        out.albedo_color_space = std::string(file_srgb ? "sRGB" : "linear") + " (declared by " + file_says + ")";
+    } else {
+        out.albedo_srgb = true;
+        out.albedo_color_space = s.kind == TextureSource::Kind::file
+                                     ? "sRGB (the file declares nothing: colour's default)"
+                                     : "sRGB (the scene's colours are sRGB)";
+    }
+    return {};
+}
+
+// Height and normal maps are data: a texture file that declares sRGB is
+// read as its linear format, and said so.
+void data_slot_notes(MaterialImages& out, const MaterialDesc& m) {
+    const std::pair<const std::optional<TextureData>*, const TextureSource*> slots[] = {
+        {&out.normal_texture, &m.normal}, {&out.height_texture, &m.height}};
+    for (auto [texture, source] : slots)
+        if (*texture && (*texture)->srgb)
+            out.notes.push_back(std::string(source == &m.normal ? "normal map" : "height map") + " '" +
+                                echo_path(source->path) + "' declares sRGB (" + (*texture)->color_space_source +
+                                "), but height and normal maps are data: its texels are read as they are (linear)");
+}
+
 }  // namespace
 
 Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, const std::string& base_dir,
@@ -369,6 +425,8 @@ Result<MaterialImages> build_material_images_from(const MaterialDesc& m, const s
             slots[i].second->reset();
         }
     }
+    // An sRGB albedo where the texture unit cannot decode it: the shader does.
+    out.layout.albedo_srgb_decode = out.albedo_srgb && !options.srgb_textures;
     // A DirectX-style normal file uploaded as it is: the shaders negate its
     // green (an image's was turned on the CPU, and so was a decoded file's).
     out.layout.normal_green_down = m.normal.green == TextureSource::Green::down && out.normal_texture.has_value();
@@ -617,6 +675,8 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
     if (!out.albedo_texture) {
         if (Status albedo = build_albedo(out, m, where, base_dir, files); !albedo) return albedo.error();
     }
+    if (Status space = albedo_color_space(out, m, base_dir, files); !space) return with_context(where + " albedo", space.error());
+    data_slot_notes(out, m);
     return out;
 }
 

@@ -67,7 +67,12 @@ void use_converted_files(SceneDesc& scene, const std::vector<ConvertedFile>& fil
             s.path = std::filesystem::absolute(f.path).string();
             if (f.slot == "height") m.height = s;
             if (f.slot == "normal") m.normal = s;
-            if (f.slot == "albedo") m.albedo = s;
+            if (f.slot == "albedo") {
+                // Linear files of sRGB colour (a format without an sRGB form
+                // in the container) carry the colour space in the scene.
+                if (f.scene_says_srgb) s.color_space = TextureSource::ColorSpace::srgb;
+                m.albedo = s;
+            }
             m.pack_height_in_normal_alpha = false;
         }
     }
@@ -109,6 +114,18 @@ Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, cons
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!t) return with_context(what + " as " + format_name(format), t.error());
         t->container = options.container;
+        // An sRGB albedo is written as the format's sRGB form where the
+        // container has one (KTX 1.1 has none for ETC1; .astc declares
+        // nothing): else the converted scene says so itself.
+        bool scene_says_srgb = false;
+        if (slot == "albedo" && im.albedo_srgb) {
+            const FormatInfo& info = format_info(format);
+            const bool declarable = options.container == ContainerKind::pvr3 ||
+                                    (options.container == ContainerKind::ktx1 && srgb_gl_of_linear(info.gl_internal_format)) ||
+                                    (options.container == ContainerKind::ktx2 && srgb_vk_of_linear(info.vk_format));
+            t->srgb = declarable;
+            scene_says_srgb = !declarable;
+        }
         Result<std::vector<std::uint8_t>> bytes = write_container(*t, options);
         if (!bytes) return with_context(what, bytes.error());
         const std::string name = std::to_string(job.material) + "_" + slot + "." + container_extension(options.container);
@@ -126,6 +143,8 @@ Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, cons
         f.bytes = bytes->size();
         f.rgba8_bytes = rgba8_chain_bytes(t->width, t->height);
         f.seconds = seconds;
+        f.srgb = t->srgb;
+        f.scene_says_srgb = scene_says_srgb;
         files.push_back(f);
     }
     if (progress && total > 0) progress("convert", total, total, "done");

@@ -18,6 +18,8 @@ bool shade_lod_bias(const VariantKey& k) { return k.shade_lod_bias(); }
 bool reads_height(const VariantKey& k) { return has(k, kOptHeight); }
 bool normal_map(const VariantKey& k) { return has(k, kOptNormals); }
 bool green_down(const VariantKey& k) { return has(k, kOptNormals) && k.normal_green_down; }
+bool srgb_decode(const VariantKey& k) { return k.srgb_decode; }
+bool srgb_output(const VariantKey& k) { return k.srgb_output && !k.debug_output; }
 bool separate_height(const VariantKey& k) { return has(k, kOptHeight) && (!k.packed_height || k.es_major < 3); }
 bool linear_search(const VariantKey& k) { return has(k, kOptSamples); }
 bool refinement(const VariantKey& k) { return has(k, kOptRefine); }
@@ -103,6 +105,12 @@ const std::vector<EffectMarker> kMarkers = {
     // surface_main.glsl: a DirectX-style normal file's green negated.
     {"green down", "normal.y = -normal.y", green_down},
     {"green down", "PX_NORMAL_GREEN_DOWN", green_down},
+    // lighting.glsl: the sRGB curve where the texture unit has none.
+    {"srgb decode", "px_srgb_to_linear", srgb_decode},
+    {"srgb decode", "PX_SRGB_DECODE", srgb_decode},
+    // lighting.glsl: the output encoded for an sRGB display.
+    {"srgb output", "px_linear_to_srgb", srgb_output},
+    {"srgb output", "PX_SRGB_OUTPUT", srgb_output},
     // march.glsl: the linear search of steep, pom and relief.
     {"linear search", "px_linear_search", linear_search},
     {"linear search", "PxMarch", linear_search},

@@ -105,11 +105,9 @@ Result<TextureFormat> format_from_gl(std::uint32_t internal, std::uint32_t gl_fo
         if (internal == kLuminance || internal == kRed) return F::r8;
         if (internal == kLuminanceAlpha || internal == kRg) return F::rg8;
     }
-    if (internal == kSrgb8Etc2 || internal == kSrgb8A1Etc2 || internal == kSrgb8Alpha8Etc2Eac ||
-        (internal >= kSrgbAstc4x4 && internal <= kSrgbAstc4x4 + 13))
-        return make_error("glInternalFormat " + hex(internal) +
-                          " is an sRGB format; this renderer samples textures as linear data (use the "
-                          "linear format)");
+    if (linear_gl_of_srgb(internal) != 0)
+        return make_error("glInternalFormat " + hex(internal) + " (" + srgb_gl_name(internal) +
+                          ") is an sRGB format: read it with its colour space (read_ktx1 does)");
     if (internal == kSignedR11Eac || internal == kSignedRg11Eac || internal == kSignedRgtc1 ||
         internal == kSignedRgtc2)
         return make_error("glInternalFormat " + hex(internal) + " is a signed format, which is not supported "
@@ -152,10 +150,11 @@ Result<TextureFormat> format_from_vk(std::uint32_t vk) {
                           "KHR_texture_basisu uses, which is not read here): transcode it to a GPU format first, "
                           "for example `basisu -unpack file.ktx2`, which writes KTX 1.1 files of ETC1, ETC2, ASTC, "
                           "BC1 to BC5 and PVRTC that this library reads");
-    if ((vk >= 132 && vk <= 138 && vk % 2 == 0) || vk == 43 || (vk >= 148 && vk <= 152 && vk % 2 == 0) ||
-        (vk >= 158 && vk <= 184 && vk % 2 == 0) || (vk >= 1000054004u && vk <= 1000054007u))
-        return make_error("vkFormat " + std::to_string(vk) +
-                          " is an sRGB format; this renderer samples textures as linear data");
+    if (linear_vk_of_srgb(vk) != 0)
+        return make_error("vkFormat " + std::to_string(vk) + " is an sRGB format: read it with its colour space "
+                          "(read_ktx2 does)");
+    if (vk == 1000054006u || vk == 1000054007u)
+        return make_error("vkFormat " + std::to_string(vk) + " is PVRTC2 sRGB, which is not supported");
     if (vk == 140 || vk == 142 || vk == 154 || vk == 156)
         return make_error("vkFormat " + std::to_string(vk) + " is a signed format, which is not supported");
     if (vk >= 143 && vk <= 146)
@@ -277,6 +276,142 @@ bool context_samples(const Caps& caps, TextureFormat format) {
     const std::uint32_t gl = upload_internal_format(caps, format);
     return std::find(caps.compressed_formats.begin(), caps.compressed_formats.end(), gl) !=
            caps.compressed_formats.end();
+}
+
+std::uint32_t linear_gl_of_srgb(std::uint32_t internal) {
+    using namespace glenum;
+    switch (internal) {
+    case kSrgb8Etc2: return kRgb8Etc2;
+    case kSrgb8A1Etc2: return kRgb8A1Etc2;
+    case kSrgb8Alpha8Etc2Eac: return kRgba8Etc2Eac;
+    case 0x8C43: return kRgba8;  // GL_SRGB8_ALPHA8
+    case 0x8C41: return kRgb8;   // GL_SRGB8
+    case 0x8C42: return kRgba;   // GL_SRGB_ALPHA_EXT (ES 2.0, unsized)
+    case 0x8C40: return kRgb;    // GL_SRGB_EXT
+    case 0x8C4C: return kDxt1Rgb;   // GL_COMPRESSED_SRGB_S3TC_DXT1_EXT
+    case 0x8C4D: return kDxt1Rgba;  // GL_COMPRESSED_SRGB_ALPHA_S3TC_DXT1_EXT
+    case 0x8C4E: return kDxt3;
+    case 0x8C4F: return kDxt5;
+    case 0x8A54: return kPvrtcRgb2;   // GL_COMPRESSED_SRGB_PVRTC_2BPPV1_EXT
+    case 0x8A55: return kPvrtcRgb4;
+    case 0x8A56: return kPvrtcRgba2;
+    case 0x8A57: return kPvrtcRgba4;
+    default: break;
+    }
+    if (internal >= kSrgbAstc4x4 && internal <= kSrgbAstc4x4 + 13) return internal - kSrgbAstc4x4 + 0x93B0;
+    return 0;
+}
+
+std::string srgb_gl_name(std::uint32_t internal) {
+    using namespace glenum;
+    switch (internal) {
+    case kSrgb8Etc2: return "GL_COMPRESSED_SRGB8_ETC2";
+    case kSrgb8A1Etc2: return "GL_COMPRESSED_SRGB8_PUNCHTHROUGH_ALPHA1_ETC2";
+    case kSrgb8Alpha8Etc2Eac: return "GL_COMPRESSED_SRGB8_ALPHA8_ETC2_EAC";
+    case 0x8C43: return "GL_SRGB8_ALPHA8";
+    case 0x8C41: return "GL_SRGB8";
+    case 0x8C42: return "GL_SRGB_ALPHA_EXT";
+    case 0x8C40: return "GL_SRGB_EXT";
+    case 0x8C4C: return "GL_COMPRESSED_SRGB_S3TC_DXT1_EXT";
+    case 0x8C4D: return "GL_COMPRESSED_SRGB_ALPHA_S3TC_DXT1_EXT";
+    case 0x8C4E: return "GL_COMPRESSED_SRGB_ALPHA_S3TC_DXT3_EXT";
+    case 0x8C4F: return "GL_COMPRESSED_SRGB_ALPHA_S3TC_DXT5_EXT";
+    case 0x8A54: return "GL_COMPRESSED_SRGB_PVRTC_2BPPV1_EXT";
+    case 0x8A55: return "GL_COMPRESSED_SRGB_PVRTC_4BPPV1_EXT";
+    case 0x8A56: return "GL_COMPRESSED_SRGB_ALPHA_PVRTC_2BPPV1_EXT";
+    case 0x8A57: return "GL_COMPRESSED_SRGB_ALPHA_PVRTC_4BPPV1_EXT";
+    default: break;
+    }
+    if (internal >= kSrgbAstc4x4 && internal <= kSrgbAstc4x4 + 13)
+        return "GL_COMPRESSED_SRGB8_ALPHA8_ASTC (block " + std::to_string(internal - kSrgbAstc4x4) + " of 14)";
+    return hex(internal);
+}
+
+std::uint32_t linear_vk_of_srgb(std::uint32_t vk) {
+    switch (vk) {
+    case 15: return 9;    // VK_FORMAT_R8_SRGB -> R8_UNORM
+    case 22: return 16;   // R8G8_SRGB
+    case 29: return 23;   // R8G8B8_SRGB
+    case 43: return 37;   // R8G8B8A8_SRGB
+    case 132: case 134: case 136: case 138:  // BC1 RGB, BC1 RGBA, BC2, BC3 *_SRGB_BLOCK
+    case 148: case 150: case 152:            // ETC2 R8G8B8, A1, A8 *_SRGB_BLOCK
+        return vk - 1;
+    case 1000054004u: case 1000054005u: return vk - 4;  // PVRTC1 2 and 4 bpp *_SRGB_BLOCK_IMG
+    default: break;
+    }
+    if (vk >= 158 && vk <= 184 && vk % 2 == 0) return vk - 1;  // ASTC *_SRGB_BLOCK
+    return 0;
+}
+
+std::uint32_t srgb_internal_format(const Caps& caps, TextureFormat format) {
+    if (!caps.context_es3()) return 0;
+    using namespace glenum;
+    switch (format) {
+    case F::etc1_rgb8:  // ETC2 decodes ETC1 blocks identically
+    case F::etc2_rgb8: return kSrgb8Etc2;
+    case F::etc2_rgb8a1: return kSrgb8A1Etc2;
+    case F::etc2_rgba8: return kSrgb8Alpha8Etc2Eac;
+    case F::rgba8: return 0x8C43;
+    case F::rgb8: return 0x8C41;
+    case F::bc1_rgb: return 0x8C4C;
+    case F::bc1_rgba: return 0x8C4D;
+    case F::bc2: return 0x8C4E;
+    case F::bc3: return 0x8C4F;
+    case F::pvrtc1_rgb_2bpp: return 0x8A54;
+    case F::pvrtc1_rgb_4bpp: return 0x8A55;
+    case F::pvrtc1_rgba_2bpp: return 0x8A56;
+    case F::pvrtc1_rgba_4bpp: return 0x8A57;
+    default: break;
+    }
+    if (format_info(format).family == Fam::astc)
+        return format_info(format).gl_internal_format - 0x93B0 + kSrgbAstc4x4;
+    return 0;
+}
+
+bool context_samples_srgb(const Caps& caps, TextureFormat format) {
+    const std::uint32_t gl = srgb_internal_format(caps, format);
+    if (gl == 0) return false;
+    const FormatInfo& f = format_info(format);
+    if (!f.compressed()) return true;
+    bool defined = false;
+    switch (f.family) {
+    case Fam::etc1:
+    case Fam::etc2: defined = true; break;  // ES 3.0
+    case Fam::astc: defined = caps.has("GL_KHR_texture_compression_astc_ldr"); break;
+    case Fam::s3tc: defined = caps.has("GL_EXT_texture_compression_s3tc_srgb") || caps.has("GL_EXT_texture_sRGB"); break;
+    case Fam::pvrtc: defined = caps.has("GL_EXT_pvrtc_sRGB"); break;
+    default: break;
+    }
+    if (!defined) return false;
+    if (caps.compressed_formats.empty()) return true;
+    return std::find(caps.compressed_formats.begin(), caps.compressed_formats.end(), gl) !=
+           caps.compressed_formats.end();
+}
+
+namespace {
+
+std::vector<std::uint32_t> srgb_gl_codes() {
+    std::vector<std::uint32_t> codes = {glenum::kSrgb8Etc2, glenum::kSrgb8A1Etc2, glenum::kSrgb8Alpha8Etc2Eac,
+                                        0x8C43, 0x8C41, 0x8C4C, 0x8C4D, 0x8C4E, 0x8C4F, 0x8A54, 0x8A55, 0x8A56, 0x8A57};
+    for (std::uint32_t i = 0; i < 14; ++i) codes.push_back(glenum::kSrgbAstc4x4 + i);
+    return codes;
+}
+
+}  // namespace
+
+std::uint32_t srgb_gl_of_linear(std::uint32_t linear_internal) {
+    for (std::uint32_t code : srgb_gl_codes())
+        if (linear_gl_of_srgb(code) == linear_internal) return code;
+    return 0;
+}
+
+std::uint32_t srgb_vk_of_linear(std::uint32_t linear_vk) {
+    if (linear_vk == 0) return 0;
+    for (std::uint32_t code = 1; code <= 184; ++code)
+        if (linear_vk_of_srgb(code) == linear_vk) return code;
+    for (std::uint32_t code : {1000054004u, 1000054005u})
+        if (linear_vk_of_srgb(code) == linear_vk) return code;
+    return 0;
 }
 
 }  // namespace px

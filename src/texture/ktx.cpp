@@ -237,7 +237,19 @@ Result<TextureData> container_detail::read_ktx1(const std::uint8_t* bytes, std::
                         depth = rd32(bytes + 44), faces = rd32(bytes + 52), level_count = rd32(bytes + 56),
                         kv_bytes = rd32(bytes + 60);
     std::uint32_t layers = rd32(bytes + 48);
-    const Result<TextureFormat> fmt = format_from_gl(gl_internal, gl_format, gl_type);
+    // An sRGB internal format: the linear format of the same bits, sampled
+    // through its sRGB twin (ES 2.0's unsized GL_SRGB(_ALPHA)_EXT are their
+    // own glFormat too).
+    const std::uint32_t linear_internal = linear_gl_of_srgb(gl_internal);
+    const std::string srgb_source =
+        linear_internal ? "glInternalFormat " + hex(gl_internal) + " (" + srgb_gl_name(gl_internal) + ")" : std::string();
+    const std::uint32_t read_format =
+        linear_internal && gl_format == gl_internal ? linear_internal
+        : linear_internal && gl_format == 0x8C42 ? glenum::kRgba  // GL_SRGB_ALPHA_EXT as glFormat
+        : linear_internal && gl_format == 0x8C40 ? glenum::kRgb
+                                                 : gl_format;
+    const Result<TextureFormat> fmt =
+        format_from_gl(linear_internal ? linear_internal : gl_internal, read_format, gl_type);
     if (!fmt) return make_error(c + fmt.error().message);
     const TextureFormat format = *fmt;
     const FormatInfo& info = format_info(format);
@@ -335,6 +347,8 @@ Result<TextureData> container_detail::read_ktx1(const std::uint8_t* bytes, std::
     t.container = ContainerKind::ktx1;
     t.rows = rows;
     t.rows_source = rows_source;
+    t.srgb = linear_internal != 0;
+    t.color_space_source = srgb_source;
     t.notes = std::move(notes);
     const std::size_t tight_row_unit = static_cast<std::size_t>(info.block_bytes);
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
@@ -364,6 +378,8 @@ Result<std::vector<std::uint8_t>> write_ktx1(const TextureData& t) {
     const std::string c = "KTX 1.1 ";
     if (Status s = check_writable(t, c); !s) return s.error();
     const FormatInfo& info = format_info(t.format);
+    if (t.srgb && srgb_gl_of_linear(info.gl_internal_format) == 0)
+        return make_error(c + "writer: " + info.name + " has no sRGB glInternalFormat");
     return out_of_memory_is_an_error(c + "writer", [&]() -> Result<std::vector<std::uint8_t>> {
         std::vector<std::uint8_t> out(kKtx1Identifier, kKtx1Identifier + sizeof kKtx1Identifier);
         const std::vector<std::uint8_t> kv =
@@ -372,7 +388,7 @@ Result<std::vector<std::uint8_t>> write_ktx1(const TextureData& t) {
         put32(out, info.compressed() ? 0 : glenum::kUnsignedByte);
         put32(out, 1);
         put32(out, info.compressed() ? 0 : info.gl_format);
-        put32(out, info.gl_internal_format);
+        put32(out, t.srgb ? srgb_gl_of_linear(info.gl_internal_format) : info.gl_internal_format);
         put32(out, gl_base_internal_format(info));
         put32(out, t.width);
         put32(out, t.height);
@@ -422,10 +438,10 @@ struct DfdSample {
 };
 
 // A basic data format descriptor block (Khronos Data Format Specification
-// 1.3, section 5): colour model, BT.709 primaries, linear transfer, the
+// 1.3, section 5): colour model, BT.709 primaries, linear or sRGB transfer, the
 // texel block's dimensions, bytesPlane0 (0 when supercompressed), and one
 // sample per channel (uncompressed) or per compressed sub-block.
-std::vector<std::uint8_t> basic_dfd(const FormatInfo& f, bool supercompressed) {
+std::vector<std::uint8_t> basic_dfd(const FormatInfo& f, bool supercompressed, bool srgb) {
     std::uint32_t model = 1;  // KHR_DF_MODEL_RGBSDA
     std::vector<DfdSample> samples;
     const std::uint32_t all = 0xFFFFFFFFu;
@@ -479,7 +495,7 @@ std::vector<std::uint8_t> basic_dfd(const FormatInfo& f, bool supercompressed) {
     put32(out, 4 + block_size);                     // dfdTotalSize
     put32(out, 0);                                  // vendorId 0 (Khronos), descriptorType 0 (basic)
     put32(out, 2u | block_size << 16);              // versionNumber 2 (1.3), descriptorBlockSize
-    put32(out, model | 1u << 8 | 1u << 16);         // colorModel, BT.709 primaries, linear, flags 0
+    put32(out, model | 1u << 8 | (srgb ? 2u : 1u) << 16);  // colorModel, BT.709 primaries, linear or sRGB, flags 0
     put32(out, static_cast<std::uint32_t>(f.block_width - 1) | static_cast<std::uint32_t>(f.block_height - 1) << 8);
     put32(out, supercompressed ? 0u : static_cast<std::uint32_t>(f.block_bytes));  // bytesPlane0..3
     put32(out, 0);                                  // bytesPlane4..7
@@ -513,7 +529,9 @@ Result<TextureData> container_detail::read_ktx2(const std::uint8_t* bytes, std::
                         height = rd32(bytes + 24), depth = rd32(bytes + 28), faces = rd32(bytes + 36),
                         level_count = rd32(bytes + 40), scheme = rd32(bytes + 44);
     std::uint32_t layers = rd32(bytes + 32);
-    const Result<TextureFormat> fmt = format_from_vk(vk_format);
+    // An sRGB vkFormat: the linear format of the same bits, sampled as sRGB.
+    const std::uint32_t linear_vk = linear_vk_of_srgb(vk_format);
+    const Result<TextureFormat> fmt = format_from_vk(linear_vk ? linear_vk : vk_format);
     if (!fmt) return make_error(c + fmt.error().message);
     const TextureFormat format = *fmt;
     if (type_size != 1)
@@ -597,6 +615,14 @@ Result<TextureData> container_detail::read_ktx2(const std::uint8_t* bytes, std::
     t.supercompression = scheme == kSchemeZstd ? "zstd" : "none";
     t.rows = rows;
     t.rows_source = rows_source;
+    // The vkFormat, or the DFD's transfer function (byte 10 of the basic
+    // block, after its 8-byte header and the total size: KHR_DF_TRANSFER_SRGB
+    // is 2), which the specification requires to agree with it.
+    const std::uint32_t transfer = dfd_length >= 4 + 12 ? bytes[dfd_offset + 4 + 10] : 0;
+    t.srgb = linear_vk != 0 || transfer == 2;
+    t.color_space_source = linear_vk ? "vkFormat " + num(vk_format) + " (an sRGB format)"
+                           : transfer == 2 ? std::string("the data format descriptor's transfer function 2 (sRGB)")
+                                           : std::string();
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
         const std::uint8_t* e = bytes + kKtx2HeaderBytes + 24 * i;
         const std::uint64_t offset = rd64(e), length = rd64(e + 8);
@@ -623,6 +649,8 @@ Result<std::vector<std::uint8_t>> write_ktx2(const TextureData& t, int zstd_leve
     const std::string c = "KTX 2.0 ";
     if (Status s = check_writable(t, c); !s) return s.error();
     const FormatInfo& info = format_info(t.format);
+    if (t.srgb && srgb_vk_of_linear(info.vk_format) == 0)
+        return make_error(c + "writer: " + info.name + " has no sRGB vkFormat");
     if (info.vk_format == 0)
         return make_error(c + "writer: " + info.name + " has no vkFormat (Vulkan defines no such format)");
     if (zstd_level < 0 || zstd_level > 22)
@@ -631,7 +659,7 @@ Result<std::vector<std::uint8_t>> write_ktx2(const TextureData& t, int zstd_leve
     return out_of_memory_is_an_error(c + "writer", [&]() -> Result<std::vector<std::uint8_t>> {
         const std::size_t n = t.levels.size();
         std::vector<std::uint8_t> out(kKtx2Identifier, kKtx2Identifier + sizeof kKtx2Identifier);
-        put32(out, info.vk_format);
+        put32(out, t.srgb ? srgb_vk_of_linear(info.vk_format) : info.vk_format);
         put32(out, 1);  // typeSize
         put32(out, t.width);
         put32(out, t.height);
@@ -641,7 +669,7 @@ Result<std::vector<std::uint8_t>> write_ktx2(const TextureData& t, int zstd_leve
         put32(out, static_cast<std::uint32_t>(n));
         put32(out, zstd ? kSchemeZstd : kSchemeNone);
         out.resize(kKtx2HeaderBytes + 24 * n, 0);  // index and level index, filled below
-        const std::vector<std::uint8_t> dfd = basic_dfd(info, zstd);
+        const std::vector<std::uint8_t> dfd = basic_dfd(info, zstd, t.srgb);
         const std::size_t dfd_offset = out.size();
         out.insert(out.end(), dfd.begin(), dfd.end());
         const std::vector<std::uint8_t> kv = key_value("KTXorientation", t.rows == RowOrder::top_first ? "rd" : "ru");

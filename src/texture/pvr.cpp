@@ -63,10 +63,7 @@ Result<TextureData> container_detail::read_pvr3(const std::uint8_t* bytes, std::
     const std::uint32_t colour_space = rd32(bytes + 16), channel_type = rd32(bytes + 20), height = rd32(bytes + 24),
                         width = rd32(bytes + 28), depth = rd32(bytes + 32), surfaces = rd32(bytes + 36),
                         faces = rd32(bytes + 40), mip_count = rd32(bytes + 44), meta_size = rd32(bytes + 48);
-    if (colour_space == 1)
-        return make_error(c + "colour space 1 (sRGB): this renderer samples textures as linear data (write the "
-                          "file with a linear colour space)");
-    if (colour_space != 0)
+    if (colour_space != 0 && colour_space != 1)
         return make_error(c + "colour space " + num(colour_space) + " is not 0 (linear) or 1 (sRGB)");
     // 0xFFFFFFFF is the format table's "no PVR code" marker (bc1_rgba has
     // it), not a pixel format: format_from_pvr would match it.
@@ -145,6 +142,8 @@ Result<TextureData> container_detail::read_pvr3(const std::uint8_t* bytes, std::
     t.container = ContainerKind::pvr3;
     t.rows = rows;
     t.rows_source = rows_source;
+    t.srgb = colour_space == 1;
+    if (t.srgb) t.color_space_source = "PVR v3 colour space 1 (sRGB)";
     if (t.bytes.size() != pos - data_start) return make_error(c + "internal: level sizes disagree");
     std::memcpy(t.bytes.data(), bytes + data_start, t.bytes.size());
     return t;
@@ -165,7 +164,7 @@ Result<std::vector<std::uint8_t>> write_pvr3(const TextureData& t) {
         put32(out, 0);  // flags
         put32(out, static_cast<std::uint32_t>(pf));
         put32(out, static_cast<std::uint32_t>(pf >> 32));
-        put32(out, 0);  // colour space: linear
+        put32(out, t.srgb ? 1 : 0);  // colour space: linear or sRGB
         put32(out, 0);  // channel type: unsigned byte, normalised
         put32(out, t.height);
         put32(out, t.width);

@@ -27,8 +27,18 @@ struct Image {
 
 // What an image file's header declares, read without decoding its pixels.
 struct ImageInfo {
+    ImageInfo() = default;
+    ImageInfo(int w, int h) : width(w), height(h) {}
     int width = 0;
     int height = 0;
+    // The colour space a PNG declares (PNG 3rd edition, 11.3.2): an sRGB
+    // chunk, or an iCCP profile (read as sRGB: the profiles packs embed are
+    // sRGB's), is sRGB; gAMA alone says the encoding's exponent: 1/2.2 or
+    // near it (45455) is sRGB's curve, 1.0 (100000) linear. `declared_by`
+    // names the chunk ("sRGB chunk", "gAMA 1.0"); empty with `none`: JPEG
+    // and TGA files, and PNGs without those chunks, declare nothing.
+    enum class Encoding : std::uint8_t { none, srgb, linear } encoding = Encoding::none;
+    std::string declared_by;
 };
 
 // Loads PNG, JPEG or TGA as `channels` channels. PNG and JPEG are known by

@@ -42,6 +42,9 @@ struct Caps {
     bool npot_mipmaps() const { return es_major >= 3 || has("GL_OES_texture_npot"); }
     bool uint_indices() const { return es_major >= 3 || has("GL_OES_element_index_uint"); }
     bool khr_debug() const { return has("GL_KHR_debug"); }
+    // sRGB textures decoded to linear by the texture unit (before filtering):
+    // ES 3.0, or GL_EXT_sRGB on ES 2.0. Without them the shader decodes.
+    bool srgb_textures() const { return es_major >= 3 || has("GL_EXT_sRGB"); }
     bool context_es3() const { return (context_es_major ? context_es_major : es_major) >= 3; }
 
     // An ES 3.0 context with every extension the renderer can use; for tests

@@ -31,6 +31,9 @@ struct TextureLayout {
     // The normal texture as uploaded has DirectX's green (-v): the shaders
     // negate it (a texture file; an image's green is flipped on the CPU).
     bool normal_green_down = false;
+    // The albedo is sRGB-encoded and this context's texture unit cannot
+    // decode it (ES 2.0 without GL_EXT_sRGB): the shader decodes each read.
+    bool albedo_srgb_decode = false;
     // Texture files stored top row first (texture_data.h RowOrder), uploaded
     // as they are: the shaders read them at v' = 1 - v (kFlip* bits).
     std::uint8_t flip_v = 0;
@@ -54,6 +57,12 @@ struct VariantKey {
     bool normal_rg = false;       // PX_NORMAL_RG: two-channel normal map, z reconstructed
     bool height_11bit = false;    // PX_HEIGHT_11BIT: highp height reads snapped to 1/2047 (maxmip)
     bool normal_green_down = false;  // PX_NORMAL_GREEN_DOWN: the normal map's green is -v (DirectX style)
+    // PX_SRGB_DECODE: the shader decodes the albedo's sRGB texels to linear
+    // light (TextureLayout::albedo_srgb_decode).
+    bool srgb_decode = false;
+    // PX_SRGB_OUTPUT: the shader encodes its linear colour for an sRGB
+    // display (HostFrame::TargetColor::srgb_encoded); off for debug outputs.
+    bool srgb_output = false;
     std::uint8_t es_major = 3;    // 2: GLSL ES 1.00, 3: GLSL ES 3.00
     // GLSL ES 1.00 only: the fragment stage has no highp (PX_NO_FRAGMENT_HIGHP),
     // as on Mali-400-class GPUs; PX_HIGHP declarations there are mediump.

@@ -23,7 +23,12 @@ struct Texture {
 // ES 2.0 context without GL_OES_texture_npot (which cannot repeat or mipmap it).
 // With mipmaps = false: the base level only, GL_LINEAR (for reads inside
 // tracing loops on GLSL ES 1.00, which has no gradient sampling).
-Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps = true);
+// srgb: the texels are sRGB-encoded colour, decoded by the texture unit
+// (Caps::srgb_textures must hold): GL_SRGB8_ALPHA8 on ES 3.0, with the GPU's
+// mip chain; GL_SRGB_ALPHA_EXT on ES 2.0, whose EXT_sRGB has no
+// glGenerateMipmap for it, with a chain averaged in linear light on the CPU.
+Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps = true,
+                               bool srgb = false);
 
 // How a texture file's data reached the GPU, for the render's report.
 struct TextureUpload {
@@ -37,6 +42,9 @@ struct TextureUpload {
     std::uint64_t file_bytes = 0;  // the data as given, all levels
     std::uint64_t gpu_bytes = 0;   // what the upload handed the GPU, all levels
     std::string rows;              // "top row first (KTXOrientation \"S=r,T=d,R=i\")"; empty for images
+    // How its colour is read: "linear (data)", "sRGB, decoded by the texture
+    // unit (GL_SRGB8_ALPHA8)", "sRGB, decoded in the shader (no GL_EXT_sRGB)".
+    std::string color_space;
 };
 
 // A TextureData (texture/texture_data.h), level 0 of layer 0, face 0 and
@@ -52,8 +60,11 @@ struct TextureUpload {
 // (texture/decode.h decode_rgba8 of one level); null: such a texture is an
 // error that names its format and what the context lacks.
 using DecodeLevel = Result<Image> (*)(const TextureData& data, std::size_t level);
+// srgb: sampled as sRGB colour (its format's sRGB twin where the context
+// samples it, else decoded on the CPU and uploaded as sRGB RGBA8), as above.
 Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, const std::string& what,
-                                    bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode);
+                                    bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode,
+                                    bool srgb = false);
 
 // The maximum mip-map pyramid (assets/max_mipmap.h): every level uploaded
 // as it is (never glGenerateMipmap, which averages), GL_R8, nearest

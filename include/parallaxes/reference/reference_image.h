@@ -35,6 +35,10 @@ struct ReferenceOptions {
     // Build each material's images as the renderer drawing the comparison
     // did (Renderer::material_image_options): the same resampled textures.
     MaterialImageOptions images;
+    // Colour as the renderer's default frame writes it: linear light encoded
+    // for an sRGB display (HostFrame::TargetColor::srgb_encoded); false:
+    // linear. An sRGB albedo (MaterialImages::albedo_srgb) is decoded either way.
+    bool srgb_output = true;
 };
 
 struct ReferenceImage {

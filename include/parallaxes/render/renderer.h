@@ -30,7 +30,7 @@ namespace px {
 struct TextureFileSupport {
     const TextureFileReaders* readers = nullptr;
     Result<Texture> (*upload)(const TextureData& data, const Caps& caps, const std::string& what, bool mipmaps,
-                              bool force_decode, TextureUpload* report, DecodeLevel decode) = nullptr;
+                              bool force_decode, TextureUpload* report, DecodeLevel decode, bool srgb) = nullptr;
 };
 
 // Every file the library reads (render/texture_files.cpp): set
@@ -155,6 +155,16 @@ struct HostFrame {
     bool clear_color = false;
     bool clear_depth = false;
     std::uint8_t debug_output = 0;  // VariantKey::debug_output (render/surface_capture.h)
+    // What the target's colour holds: lighting is computed in linear light,
+    // and the shader encodes it for an sRGB display (srgb_encoded, the
+    // default: an ordinary RGBA8 window or texture that a display shows as
+    // it is), writes it linear (linear: a host that post-processes in linear
+    // light, e.g. into a float target), or writes it linear into a
+    // framebuffer that encodes on write (srgb_framebuffer: an
+    // GL_SRGB8_ALPHA8 attachment, or an EGL surface with
+    // EGL_GL_COLORSPACE_SRGB). Debug outputs are data and never encoded.
+    enum class TargetColor : std::uint8_t { srgb_encoded, linear, srgb_framebuffer };
+    TargetColor target_color = TargetColor::srgb_encoded;
 
     // A camera description as view and projection matrices, for this
     // viewport of the target (empty: the whole target; its aspect ratio).

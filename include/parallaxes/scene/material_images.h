@@ -31,6 +31,14 @@ struct MaterialImages {
     // for a context that cannot sample their format; null without files.
     Result<Image> (*decode)(const TextureData& data, std::size_t level) = nullptr;
     TextureLayout layout;         // how the textures hold what the shaders read
+    // The albedo's texels are sRGB-encoded colour (lit after decoding to
+    // linear light), or linear; and what decided it: the scene's
+    // "color_space", the file's declaration (a texture container's format or
+    // colour space, a PNG's sRGB, iCCP or gAMA chunk), or the default for
+    // colour (sRGB: what real albedo textures, colour pickers and the
+    // project's procedural ramps hold).
+    bool albedo_srgb = true;
+    std::string albedo_color_space = "sRGB (colour's default)";
     // What was resampled on the way, and why ("height 200x120 resampled to
     // 256x128 (bilinear): maxmip's max pyramid halves every level exactly").
     std::vector<std::string> notes;
@@ -66,6 +74,10 @@ struct MaterialImageOptions {
     // (bilinear; files decoded first): an ES 2.0 context without
     // GL_OES_texture_npot can neither repeat nor mipmap it.
     bool power_of_two_textures = false;
+    // The context decodes sRGB textures in the texture unit
+    // (Caps::srgb_textures): an sRGB albedo goes up as sRGB. Without it the
+    // shader decodes (TextureLayout::albedo_srgb_decode).
+    bool srgb_textures = true;
     // The file readers. build_material_images: null means every reader;
     // build_material_images_from: null means a file source is an error.
     const TextureFileReaders* files = nullptr;

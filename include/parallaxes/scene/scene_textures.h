@@ -29,6 +29,11 @@ struct ConvertedFile {
     std::uint32_t width = 0, height = 0;
     int levels = 0;
     std::uint64_t bytes = 0;       // the file's size
+    // An albedo of sRGB colour: written as its format's sRGB form (srgb), or,
+    // where the container has none for it, as the linear form with the
+    // converted scene's albedo saying "color_space": "srgb" (scene_says_srgb).
+    bool srgb = false;
+    bool scene_says_srgb = false;
     std::uint64_t rgba8_bytes = 0; // the same texture as RGBA8 with a full chain
     double seconds = 0.0;          // encoding time
 };

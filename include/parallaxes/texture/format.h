@@ -94,6 +94,20 @@ Result<TextureFormat> format_from_gl(std::uint32_t gl_internal_format, std::uint
 Result<TextureFormat> format_from_vk(std::uint32_t vk_format);
 Result<TextureFormat> format_from_pvr(std::uint64_t pvr_pixel_format, std::uint32_t channel_type);
 
+// sRGB container codes: the linear code of the same bits (0 where `code`
+// is not an sRGB format this library reads). GL: ETC2, ASTC, S3TC
+// (EXT_texture_sRGB), PVRTC1 (EXT_pvrtc_sRGB), GL_SRGB8(_ALPHA8) and ES
+// 2.0's unsized GL_SRGB(_ALPHA)_EXT. Vulkan: R8..RGBA8, BC1 to BC3, ETC2,
+// ASTC and PVRTC1 *_SRGB. BC7 sRGB and PVRTC2 stay unsupported.
+std::uint32_t linear_gl_of_srgb(std::uint32_t gl_internal_format);
+std::uint32_t linear_vk_of_srgb(std::uint32_t vk_format);
+// The GL name of an sRGB code, for messages ("GL_COMPRESSED_SRGB8_ALPHA8_ETC2_EAC").
+std::string srgb_gl_name(std::uint32_t gl_internal_format);
+// The other way, for the writers: the sRGB code of a linear one (0: none;
+// EAC, BC4, BC5 and ETC1 in KTX 1.1 have no sRGB form).
+std::uint32_t srgb_gl_of_linear(std::uint32_t linear_internal);
+std::uint32_t srgb_vk_of_linear(std::uint32_t linear_vk);
+
 // Bytes of one w x h image of `format` (w, h >= 1), from the block
 // arithmetic, or nullopt where it would not fit in 63 bits (never wraps).
 std::optional<std::uint64_t> image_bytes(TextureFormat format, std::uint64_t width, std::uint64_t height);
@@ -118,6 +132,13 @@ bool context_samples(const Caps& caps, TextureFormat format);
 std::uint32_t upload_internal_format(const Caps& caps, TextureFormat format);
 // What a context without it would need ("GL_KHR_texture_compression_astc_ldr").
 const char* format_requirement(TextureFormat format);
+// sRGB sampling of `format` (its sRGB twin) on this context: the internal
+// format glCompressedTexImage2D takes (0: none), and whether the context
+// samples it. Uncompressed RGBA8 and RGB8 go up as GL_SRGB8_ALPHA8 and
+// GL_SRGB8 on ES 3.0 (context_samples_srgb: true); R8 and RG8 colour, and
+// every format on ES 2.0, are decoded on the CPU or in the shader.
+std::uint32_t srgb_internal_format(const Caps& caps, TextureFormat format);
+bool context_samples_srgb(const Caps& caps, TextureFormat format);
 
 // GL enum values used above (GL-free code needs the numbers).
 namespace glenum {

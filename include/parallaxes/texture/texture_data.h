@@ -61,6 +61,16 @@ struct TextureData {
     // metadata (y down)", "no KTXorientation: the tools' default", "the scene's
     // first_row", ...
     std::string rows_source = "default";
+    // Whether the texels are sRGB-encoded colour, as the file declares it: a
+    // KTX 1.1 sRGB glInternalFormat, KTX 2.0's sRGB vkFormat or its data
+    // format descriptor's sRGB transfer function, PVR v3's colour space 1.
+    // `format` is then the linear format of the same bits (sampled through
+    // its sRGB twin, or decoded and converted). .astc files declare nothing.
+    bool srgb = false;
+    // What said so, for texinfo and the render log: "glInternalFormat
+    // 0x9279 (GL_COMPRESSED_SRGB8_ALPHA8_ETC2_EAC)", "PVR v3 colour space 1",
+    // "DFD transfer function 2 (sRGB)"; empty: the file declares nothing (or linear).
+    std::string color_space_source;
     // What the reader repaired on the way, for texinfo and the render log
     // ("level [4] 4x4: one stored PVRTC block, repeated to the 2x2 blocks ...").
     std::vector<std::string> notes;
