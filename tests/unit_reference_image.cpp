@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "parallaxes/reference/metrics.h"
+#include "parallaxes/assets/color.h"
 #include "parallaxes/reference/reference_image.h"
 #include "parallaxes/scene/material_images.h"
 #include "parallaxes/scene/scene.h"
@@ -468,7 +469,9 @@ TEST(ReferenceImage, ColourOfAFlatSurfaceMatchesTheLightingModel) {
     const std::uint8_t* n8 = images->normal.texel(0, 0);  // flat: every texel alike
     const std::uint8_t* a8 = images->albedo.texel(0, 0);
     const glm::dvec3 n = glm::normalize(glm::dvec3(n8[0], n8[1], n8[2]) / 255.0 * 2.0 - 1.0);
-    const glm::dvec3 albedo = glm::dvec3(a8[0], a8[1], a8[2]) / 255.0;
+    // The albedo colour is sRGB: lit after decoding, shown encoded.
+    ASSERT_TRUE(images->albedo_srgb);
+    const glm::dvec3 albedo(srgb_to_linear(a8[0] / 255.0), srgb_to_linear(a8[1] / 255.0), srgb_to_linear(a8[2] / 255.0));
     const glm::dvec3 world((s.uv - 0.5) * 1.0, 0.0);
     const glm::dvec3 v = glm::normalize(glm::dvec3(scene.camera.position) - world);
     const glm::dvec3 l = glm::normalize(-glm::dvec3(scene.lights[0].direction));
@@ -479,8 +482,15 @@ TEST(ReferenceImage, ColourOfAFlatSurfaceMatchesTheLightingModel) {
     const glm::dvec3 expected =
         glm::dvec3(scene.ambient) * albedo + light * (albedo * n_dot_l + glm::dvec3(specular));
     for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(r.color.texel(16, 16)[c], std::min(expected[c], 1.0) * 255.0, 0.5 + 1e-6) << "channel " << c;
+        EXPECT_NEAR(r.color.texel(16, 16)[c], linear_to_srgb(expected[c]) * 255.0, 0.5 + 1e-6) << "channel " << c;
     EXPECT_EQ(r.color.texel(16, 16)[3], 255);
+    // With a linear output, the linear light itself.
+    ReferenceOptions linear;
+    linear.srgb_output = false;
+    auto raw = render_reference(scene, w, h, linear);
+    ASSERT_TRUE(raw.ok());
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(raw->color.texel(16, 16)[c], std::min(expected[c], 1.0) * 255.0, 0.5 + 1e-6) << "channel " << c;
     // A corner pixel misses the 1 x 1 plane: background.
     EXPECT_FALSE(r.surface.at(0, 0).covered);
     for (int c = 0; c < 3; ++c)

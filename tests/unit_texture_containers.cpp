@@ -446,7 +446,20 @@ TEST(Ktx1Hostile, FormatCodes) {
     EXPECT_TRUE(fails_with(rd1(patch32(small_ktx1(), 16, 0x1406)), "glType 0x1406"));
     EXPECT_TRUE(fails_with(rd1(patch32(small_ktx1(), 20, 4)), "glTypeSize 4"));
     const Bytes etc = ktx1(make_texture(TextureFormat::etc2_rgb8, 8, 8));
-    EXPECT_TRUE(fails_with(rd1(patch32(etc, 28, 0x9275)), "sRGB"));
+    // An sRGB code is the linear format of the same bits, declared sRGB; it
+    // writes back as the same code. BC7's sRGB form stays unsupported.
+    Result<TextureData> srgb = rd1(patch32(etc, 28, 0x9275));
+    ASSERT_TRUE(srgb.ok()) << srgb.error().message;
+    EXPECT_TRUE(srgb->srgb);
+    EXPECT_EQ(srgb->format, TextureFormat::etc2_rgb8);
+    EXPECT_NE(srgb->color_space_source.find("GL_COMPRESSED_SRGB8_ETC2"), std::string::npos) << srgb->color_space_source;
+    Result<std::vector<std::uint8_t>> again = write_ktx1(*srgb);
+    ASSERT_TRUE(again.ok());
+    Result<TextureData> back = rd1(*again);
+    ASSERT_TRUE(back.ok());
+    EXPECT_TRUE(back->srgb);
+    EXPECT_FALSE(rd1(etc)->srgb);
+    EXPECT_TRUE(fails_with(rd1(patch32(etc, 28, 0x8E8D)), "BC7 sRGB"));
     EXPECT_TRUE(fails_with(rd1(patch32(etc, 16, 0x1401)), "glType 0x1401 with the compressed"));
     EXPECT_TRUE(fails_with(rd1(patch32(etc, 24, 0x1908)), "glFormat 0x1908 with the compressed"));
 }
@@ -523,7 +536,12 @@ TEST(Ktx2Hostile, HeaderFields) {
     f[6] = '1';
     EXPECT_TRUE(fails_with(rd2(f), "KTX 2.0 identifier"));
     EXPECT_TRUE(fails_with(rd2(patch32(small_ktx2(), 12, 0)), "KTX 2.0 vkFormat 0"));
-    EXPECT_TRUE(fails_with(rd2(patch32(small_ktx2(), 12, 43)), "sRGB"));
+    // VK_FORMAT_R8G8B8A8_SRGB: RGBA8, declared sRGB (the small file is RGBA8).
+    Result<TextureData> srgb = rd2(patch32(small_ktx2(), 12, 43));
+    ASSERT_TRUE(srgb.ok()) << srgb.error().message;
+    EXPECT_TRUE(srgb->srgb);
+    EXPECT_EQ(srgb->format, TextureFormat::rgba8);
+    EXPECT_TRUE(fails_with(rd2(patch32(small_ktx2(), 12, 1000054006u)), "PVRTC2 sRGB"));
     EXPECT_TRUE(fails_with(rd2(patch32(small_ktx2(), 12, 123456)), "vkFormat 123456"));
     EXPECT_TRUE(fails_with(rd2(patch32(small_ktx2(), 16, 4)), "typeSize 4"));
     EXPECT_TRUE(fails_with(rd2(patch32(small_ktx2(), 20, 0)), "pixelWidth 0"));
@@ -619,7 +637,10 @@ TEST(PvrHostile, EveryPrefixIsRefused) {
 TEST(PvrHostile, HeaderFields) {
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 0, 0x50565203)), "PVR v3 version 0x50565203: the file was written in the other"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 0, 0x02525650)), "version 0x2525650"));
-    EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 16, 1)), "PVR v3 colour space 1 (sRGB)"));
+    Result<TextureData> srgb = rdp(patch32(small_pvr(), 16, 1));  // colour space 1: sRGB colour
+    ASSERT_TRUE(srgb.ok()) << srgb.error().message;
+    EXPECT_TRUE(srgb->srgb);
+    EXPECT_EQ(srgb->color_space_source, "PVR v3 colour space 1 (sRGB)");
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 16, 7)), "colour space 7"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 8, 4)), "PVRTC-II"));
     EXPECT_TRUE(fails_with(rdp(patch32(small_pvr(), 8, 200)), "pixel format 200"));
@@ -692,9 +713,9 @@ TEST(TextureFile, ReadsFilesAndPrefixesErrorsWithThePath) {
     EXPECT_EQ(t->container, ContainerKind::ktx2);
 
     const std::string bad = (dir / "bad.pvr").string();
-    const Bytes b = patch32(small_pvr(), 16, 1);
+    const Bytes b = patch32(small_pvr(), 16, 3);  // neither linear (0) nor sRGB (1)
     ASSERT_TRUE(px::write_file_atomically(bad, b.data(), b.size()).ok());
-    EXPECT_TRUE(fails_with(px::read_texture_file(bad), bad + ": PVR v3 colour space 1"));
+    EXPECT_TRUE(fails_with(px::read_texture_file(bad), bad + ": PVR v3 colour space 3"));
     EXPECT_TRUE(fails_with(px::read_texture_file((dir / "missing.ktx").string()), "missing.ktx"));
     EXPECT_TRUE(fails_with(px::read_texture_file(dir.string()), "folder"));
     EXPECT_TRUE(fails_with(px::read_texture_file(good, 16), good + ": KTX 2.0 the texture needs"));

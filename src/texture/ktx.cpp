@@ -619,9 +619,10 @@ Result<TextureData> container_detail::read_ktx2(const std::uint8_t* bytes, std::
     // block, after its 8-byte header and the total size: KHR_DF_TRANSFER_SRGB
     // is 2), which the specification requires to agree with it.
     const std::uint32_t transfer = dfd_length >= 4 + 12 ? bytes[dfd_offset + 4 + 10] : 0;
-    t.srgb = linear_vk != 0 || transfer == 2;
+    // (A format with no sRGB form, EAC or BC4/5, is data whatever the DFD says.)
+    t.srgb = linear_vk != 0 || (transfer == 2 && srgb_vk_of_linear(format_info(format).vk_format) != 0);
     t.color_space_source = linear_vk ? "vkFormat " + num(vk_format) + " (an sRGB format)"
-                           : transfer == 2 ? std::string("the data format descriptor's transfer function 2 (sRGB)")
+                           : t.srgb ? std::string("the data format descriptor's transfer function 2 (sRGB)")
                                            : std::string();
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
         const std::uint8_t* e = bytes + kKtx2HeaderBytes + 24 * i;
