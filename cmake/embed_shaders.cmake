@@ -1,5 +1,6 @@
 # Writes OUTPUT: a C++ file holding every file under SHADER_DIR as a string,
 # looked up by its path relative to SHADER_DIR (see include/parallaxes/shaders/shader_source.h).
+# SKIP_LADDER: leave out ladder/ (see below).
 # STRIP_COMMENTS: drop every line comment (GLSL has no strings, so `//`
 # always starts one) and every line's indentation, keeping each line's end
 # so that line numbers stay.
@@ -10,6 +11,11 @@ string(APPEND body "#include \"parallaxes/shaders/shader_source.h\"\n\nnamespace
 string(APPEND body "const std::vector<EmbeddedShader>& embedded_shaders() {\n")
 string(APPEND body "    static const std::vector<EmbeddedShader> files = {\n")
 foreach(f ${files})
+  # SKIP_LADDER: the PowerVR optimisation ladder's shaders are profiling's
+  # (`parallax profile --ladder`), not an app's: a size-conscious build leaves them out.
+  if(SKIP_LADDER AND f MATCHES "^ladder/")
+    continue()
+  endif()
   file(READ ${SHADER_DIR}/${f} text)
   if(STRIP_COMMENTS)
     string(REGEX REPLACE "//[^\n]*" "" text "${text}")

@@ -314,7 +314,7 @@ const int kGreys[] = {0, 4, 16, 32, 64, 96, 128, 160, 192, 224, 255};
 
 // A grey ramp comes out as an sRGB display expects: each grey decoded to
 // linear light (by the texture unit on ES 3.0, by the shader on this ES 2.0
-// context, which lacks GL_EXT_sRGB), halved by the ambient light, and
+// context), halved by the ambient light, and
 // encoded again: 128 shows as 93, where lighting the encoded value gave 64.
 // With a linear target the linear light itself comes out.
 TEST(SrgbColour, AGreyRampComesOutAsTheDisplayExpects) {

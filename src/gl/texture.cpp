@@ -2,7 +2,6 @@
 
 #include <string>
 
-#include "parallaxes/assets/color.h"
 #include "parallaxes/core/numeric.h"
 #include "parallaxes/gl/errors.h"
 #include "parallaxes/gl/state.h"
@@ -29,15 +28,15 @@ Texture new_bound_texture(int width, int height, const Caps& caps) {
 
 namespace {
 
-// GL_SRGB8_ALPHA8 and ES 2.0's EXT_sRGB enums (not in every GLES2 header).
-constexpr GLenum kSrgb8Alpha8 = 0x8C43, kSrgbAlphaExt = 0x8C42;
+// GL_SRGB8_ALPHA8 (not in the GLES2 header).
+constexpr GLenum kSrgb8Alpha8 = 0x8C43;
 
 }  // namespace
 
 Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps,
                                bool srgb) {
     if (srgb && !caps.srgb_textures())
-        return make_error(what + ": sRGB textures need OpenGL ES 3.0 or GL_EXT_sRGB (decode in the shader instead)");
+        return make_error(what + ": sRGB textures need OpenGL ES 3.0 (decode in the shader instead)");
     if (image.width < 1 || image.height < 1 || image.pixels.empty())
         return make_error(what + ": empty image");
     if (image.width > caps.max_texture_size || image.height > caps.max_texture_size)
@@ -66,27 +65,13 @@ Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::
         source = &rgba;
     }
     Texture t = new_bound_texture(image.width, image.height, caps);
-    // ES 2.0's EXT_sRGB: unsized GL_SRGB_ALPHA_EXT, and no glGenerateMipmap
-    // for it: the chain is averaged in linear light here.
-    const bool es2_srgb = srgb && !caps.context_es3();
-    const GLint internal = !srgb ? GL_RGBA : es2_srgb ? static_cast<GLint>(kSrgbAlphaExt) : static_cast<GLint>(kSrgb8Alpha8);
-    const GLenum format = es2_srgb ? kSrgbAlphaExt : GL_RGBA;
-    glTexImage2D(GL_TEXTURE_2D, 0, internal, image.width, image.height, 0, format, GL_UNSIGNED_BYTE,
-                 source->pixels.data());
+    glTexImage2D(GL_TEXTURE_2D, 0, srgb ? static_cast<GLint>(kSrgb8Alpha8) : GL_RGBA, image.width, image.height, 0,
+                 GL_RGBA, GL_UNSIGNED_BYTE, source->pixels.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    if (mipmaps && es2_srgb) {
-        Image level = *source;
-        for (int l = 1; level.width > 1 || level.height > 1; ++l) {
-            level = next_mip_level(level, true);
-            glTexImage2D(GL_TEXTURE_2D, l, internal, level.width, level.height, 0, format, GL_UNSIGNED_BYTE,
-                         level.pixels.data());
-        }
-    } else if (mipmaps) {
-        glGenerateMipmap(GL_TEXTURE_2D);
-    }
+    if (mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, 0);
     Status s = check_gl("uploading " + what);
     if (!s) return s.error();
@@ -189,10 +174,7 @@ Status upload_levels(const TextureData& data, const Caps& caps, const std::strin
         } else {
             Result<Image> rgba = decode(data, static_cast<size_t>(level));
             if (!rgba) return with_context(what + " level " + std::to_string(level), rgba.error());
-            const bool es2_srgb = srgb && !caps.context_es3();
-            const GLint internal = !srgb ? GL_RGBA : es2_srgb ? static_cast<GLint>(kSrgbAlphaExt)
-                                                              : static_cast<GLint>(kSrgb8Alpha8);
-            glTexImage2D(GL_TEXTURE_2D, level, internal, w, h, 0, es2_srgb ? kSrgbAlphaExt : GL_RGBA,
+            glTexImage2D(GL_TEXTURE_2D, level, srgb ? static_cast<GLint>(kSrgb8Alpha8) : GL_RGBA, w, h, 0, GL_RGBA,
                          GL_UNSIGNED_BYTE, rgba->pixels.data());
             gpu_bytes += rgba->pixels.size();
         }
@@ -227,7 +209,7 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
                                     bool mipmaps, bool force_decode, TextureUpload* report, DecodeLevel decode,
                                     bool srgb) {
     if (srgb && !caps.srgb_textures())
-        return make_error(what + ": sRGB textures need OpenGL ES 3.0 or GL_EXT_sRGB (decode in the shader instead)");
+        return make_error(what + ": sRGB textures need OpenGL ES 3.0 (decode in the shader instead)");
     if (data.levels.empty() || data.width < 1 || data.height < 1) return make_error(what + ": empty texture");
     const std::string size = std::to_string(data.width) + "x" + std::to_string(data.height);
     if (data.width > static_cast<std::uint32_t>(caps.max_texture_size) ||
@@ -282,11 +264,7 @@ Result<Texture> upload_texture_data(const TextureData& data, const Caps& caps, c
                            " but not its sRGB form)" + report->path.substr(report->path.find(';') == std::string::npos
                                                                                 ? report->path.size()
                                                                                 : report->path.find(';'));
-        report->color_space =
-            !srgb ? "linear"
-                  : std::string("sRGB, decoded by the texture unit (") +
-                        (direct ? srgb_gl_name(srgb_internal_format(caps, data.format))
-                                : caps.context_es3() ? "GL_SRGB8_ALPHA8" : "GL_SRGB_ALPHA_EXT") + ")";
+        report->color_space = srgb ? "sRGB" : "linear";
     }
     return t;
 }

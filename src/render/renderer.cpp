@@ -500,48 +500,22 @@ struct FileUpload {
     DecodeLevel decode;
 };
 
-// color: for the albedo, how its colour is read (MaterialImages::albedo_srgb
-// and its layout); empty: a data slot, linear.
-struct SlotColor {
-    bool srgb = false;         // sRGB texels
-    bool shader_decodes = false;  // ... decoded in the shader (no sRGB textures here)
-    std::string why;           // MaterialImages::albedo_color_space
-};
-
-std::string color_space_text(const SlotColor& c, const std::string& unit) {
-    if (!c.srgb) return c.why.empty() ? "linear (data)" : "linear: " + c.why;
-    return (c.shader_decodes ? std::string("sRGB, decoded in the shader (no sRGB textures on this context)")
-                             : "sRGB, decoded by the texture unit (" + unit + ")") +
-           ": " + c.why;
-}
-
 Result<Texture> upload_slot(const std::optional<TextureData>& file, const Image& image, const std::string& label,
                             bool mipmaps, const Caps& caps, bool force_decode, std::vector<TextureUpload>& uploads,
-                            const FileUpload& files, const SlotColor& color = {}) {
+                            const FileUpload& files, bool srgb_unit = false) {
     TextureUpload report;
-    const bool srgb_unit = color.srgb && !color.shader_decodes;
     if (file) {
         if (!files.files || !files.files->upload)
             return make_error(label + ": the scene was prepared with texture files, and this renderer uploads none: "
                                       "set RendererOptions::texture_files = px::texture_files()");
         Result<Texture> t =
             files.files->upload(*file, caps, label, mipmaps, force_decode, &report, files.decode, srgb_unit);
-        if (t) {
-            if (color.srgb || !color.why.empty()) {
-                const std::size_t open = report.color_space.find('(');
-                report.color_space = color_space_text(
-                    color, open == std::string::npos ? std::string()
-                                                     : report.color_space.substr(open + 1, report.color_space.size() - open - 2));
-            }
-            uploads.push_back(report);
-        }
+        if (t) uploads.push_back(report);
         return t;
     }
     Result<Texture> t = upload_texture(image, caps, label, mipmaps, srgb_unit);
     if (t) {
-        report.color_space = color.srgb || !color.why.empty()
-                                 ? color_space_text(color, caps.context_es3() ? "GL_SRGB8_ALPHA8" : "GL_SRGB_ALPHA_EXT")
-                                 : "linear (data)";
+        report.color_space = srgb_unit ? "sRGB" : "linear";
         report.what = label;
         report.container = "image";
         report.format = TextureFormat::rgba8;
@@ -609,11 +583,15 @@ Result<GpuMaterial> upload_material(const MaterialDesc& m, const MaterialImages&
         pyramid = (technique_info(named->key.technique).options & kOptSteps) != 0;
     }
     const FileUpload file_upload{files, images.decode};
-    const SlotColor albedo_color{images.albedo_srgb, images.layout.albedo_srgb_decode, images.albedo_color_space};
     Result<Texture> albedo = upload_slot(images.albedo_texture, images.albedo,
                                          what + " albedo (" + source_label(m.albedo) + ")", true, caps, force_decode,
-                                         uploads, file_upload, albedo_color);
+                                         uploads, file_upload, images.albedo_srgb && !images.layout.albedo_srgb_decode);
     if (!albedo) return albedo.error();
+    // How its colour is read, and what decided it.
+    uploads.back().color_space = (!images.albedo_srgb                   ? "linear, "
+                                  : images.layout.albedo_srgb_decode ? "sRGB, decoded in the shader (no sRGB textures here), "
+                                                                     : "sRGB, decoded by the texture unit, ") +
+                                 images.albedo_color_space;
     g.albedo = std::move(*albedo);
     Result<Texture> normal =
         upload_slot(images.normal_texture, images.normal,

@@ -23,43 +23,29 @@ std::string resolve(const std::string& base_dir, const std::string& path) {
 Status albedo_color_space(MaterialImages& out, const MaterialDesc& m, const std::string& base_dir,
                           const TextureFileReaders* files) {
     const TextureSource& s = m.albedo;
-    std::string file_says;
-    bool file_srgb = true, declared = false;
-    if (out.albedo_texture) {
-        declared = true;  // a container's format is linear or sRGB: it always says
-        file_srgb = out.albedo_texture->srgb;
-        file_says = file_srgb ? out.albedo_texture->color_space_source : std::string("its linear texture format");
-        if (out.albedo_texture->container == ContainerKind::astc) declared = false;  // .astc says nothing
-    } else if (s.kind == TextureSource::Kind::file && files) {
+    std::string file_says;  // empty: the file declares nothing
+    bool file_srgb = true;
+    if (out.albedo_texture && out.albedo_texture->container != ContainerKind::astc) {
+        file_srgb = out.albedo_texture->srgb;  // a container's format is linear or sRGB: it always says
+        file_says = file_srgb ? out.albedo_texture->color_space_source : "its linear texture format";
+    } else if (s.kind == TextureSource::Kind::file && files && !out.albedo_texture) {
         Result<ImageInfo> info = files->read_image_info(resolve(base_dir, s.path));
         if (!info) return info.error();
-        if (info->encoding != ImageInfo::Encoding::none) {
-            declared = true;
-            file_srgb = info->encoding == ImageInfo::Encoding::srgb;
-            file_says = info->declared_by;
-        }
+        file_srgb = info->encoding != ImageInfo::Encoding::linear;
+        file_says = info->declared_by;
     }
-    const std::string file = s.kind == TextureSource::Kind::file ? "'" + echo_path(s.path) + "' " : std::string();
-    if (s.color_space != TextureSource::ColorSpace::file) {
-        out.albedo_srgb = s.color_space == TextureSource::ColorSpace::srgb;
-        out.albedo_color_space = std::string(out.albedo_srgb ? "sRGB" : "linear") + " (the scene's color_space" +
-                                 (declared && file_srgb != out.albedo_srgb
-                                      ? "; the file says " + std::string(file_srgb ? "sRGB" : "linear") + " by " + file_says
-                                      : std::string()) +
-                                 ")";
-        if (declared && file_srgb != out.albedo_srgb)
-            out.notes.push_back("albedo " + file + "read as " + (out.albedo_srgb ? "sRGB" : "linear") +
-                                " as the scene says, though " + file_says + " declares it " +
-                                (file_srgb ? "sRGB" : "linear"));
-    } else if (declared) {
-        out.albedo_srgb = file_srgb;
-        out.albedo_color_space = std::string(file_srgb ? "sRGB" : "linear") + " (declared by " + file_says + ")";
-    } else {
-        out.albedo_srgb = true;
-        out.albedo_color_space = s.kind == TextureSource::Kind::file
-                                     ? "sRGB (the file declares nothing: colour's default)"
-                                     : "sRGB (the scene's colours are sRGB)";
-    }
+    const bool scene_says = s.color_space != TextureSource::ColorSpace::file;
+    out.albedo_srgb = scene_says ? s.color_space == TextureSource::ColorSpace::srgb : file_srgb;
+    const char* space = out.albedo_srgb ? "sRGB" : "linear";
+    out.albedo_color_space = std::string(space) + " (" +
+                             (scene_says          ? "the scene's color_space"
+                              : !file_says.empty() ? "declared by " + file_says
+                              : s.kind == TextureSource::Kind::file ? std::string("the file declares nothing: colour's default")
+                                                                    : std::string("the scene's colours are sRGB")) +
+                             ")";
+    if (scene_says && !file_says.empty() && file_srgb != out.albedo_srgb)
+        out.notes.push_back("albedo '" + echo_path(s.path) + "' read as " + space + " as the scene says, though " +
+                            file_says + " declares it " + (file_srgb ? "sRGB" : "linear"));
     return {};
 }
 
@@ -72,7 +58,7 @@ void data_slot_notes(MaterialImages& out, const MaterialDesc& m) {
         if (*texture && (*texture)->srgb)
             out.notes.push_back(std::string(source == &m.normal ? "normal map" : "height map") + " '" +
                                 echo_path(source->path) + "' declares sRGB (" + (*texture)->color_space_source +
-                                "), but height and normal maps are data: its texels are read as they are (linear)");
+                                "); height and normal maps are data, read as linear");
 }
 
 }  // namespace
@@ -116,9 +102,8 @@ Result<Image> channel_image(const Image& rgba, const TextureSource& s) {
     }
     if (s.channel == TextureSource::Channel::a && opaque)
         return make_error("'" + echo_path(s.path) +
-                          "' holds no height in its alpha: every texel's alpha is 255 (the file has no alpha channel, "
-                          "or an opaque one); name the channel that holds the height (\"channel\": \"r\", \"g\" or "
-                          "\"b\"), or a separate height file");
+                          "' holds no height in its alpha (255 everywhere: no alpha channel, or an opaque one); name "
+                          "the channel that holds it, or a separate height file");
     return one;
 }
 
@@ -467,6 +452,12 @@ Result<TextureData> read_texture_source(const TextureSource& s, const char* slot
     return t;
 }
 
+Status depth_file_refused(const std::string& where, const std::string& path) {
+    return make_error(where + " height: '" + echo_path(path) +
+                      "' is a texture file, which the GPU samples as it is: it must hold height (white is "
+                      "high); convert depth maps with `parallax convert --depth`");
+}
+
 // The height field: a texture file's as the GPU samples it, else loaded
 // or made and quantised to 8 bits as it will be uploaded.
 Status read_height(MaterialImages& out, const MaterialDesc& m, const std::string& where,
@@ -495,10 +486,7 @@ Status read_height(MaterialImages& out, const MaterialDesc& m, const std::string
         return {};
     }
     if (texture_file_source(m.height)) {
-        if (m.height.convention == HeightConvention::depth)
-            return make_error(where + " height: '" + echo_path(m.height.path) +
-                              "' is a texture file, which the GPU samples as it is: it must hold height (white is "
-                              "high); convert depth maps with `parallax convert --depth`");
+        if (m.height.convention == HeightConvention::depth) return depth_file_refused(where, m.height.path);
         Result<TextureData> t = read_texture_source(m.height, "height", where, base_dir, files);
         if (!t) return t.error();
         Result<HeightField> f = files->height_field(*t);
@@ -659,10 +647,7 @@ Result<MaterialImages> build_material_images_as_given(const MaterialDesc& m, con
         Result<Image> alpha = channel_image(out.normal, m.height);
         if (!alpha) return with_context(where + " height", alpha.error());
         out.field = height_field_from_image(*alpha, m.height.convention);
-        if (m.height.convention == HeightConvention::depth)
-            return make_error(where + " height: '" + echo_path(m.height.path) +
-                              "' is a texture file whose alpha the GPU samples as it is: it must hold height (white is "
-                              "high); convert depth maps with `parallax convert --depth`");
+        if (m.height.convention == HeightConvention::depth) return depth_file_refused(where, m.height.path).error();
         out.traced = out.field;
     } else {
         if (Status height = read_height(out, m, where, base_dir, files); !height) return height.error();

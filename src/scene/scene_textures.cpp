@@ -110,7 +110,7 @@ Result<std::vector<ConvertedFile>> convert_scene_textures(SceneDesc& scene, cons
         const auto start = std::chrono::steady_clock::now();
         Result<TextureData> t = slot == "height"   ? encode_height_texture(im.field, format, options.mipmaps)
                                 : slot == "normal" ? encode_normal_texture(im.normal, format, options.mipmaps)
-                                                   : encode_color_texture(im.albedo, format, options.mipmaps);
+                                                   : encode_color_texture(im.albedo, format, options.mipmaps, im.albedo_srgb);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!t) return with_context(what + " as " + format_name(format), t.error());
         t->container = options.container;

@@ -39,7 +39,12 @@ Status expand(const std::string& path, const std::string& includer, std::set<std
               std::string& out, std::vector<LineOrigin>* origins, const ShaderFiles* files) {
     if (seen.count(path)) return {};  // each chunk once per source
     const char* text = find_file(path, files);
-    if (!text) return make_error(includer + ": shader file '" + path + "' not found in shaders_es/");
+    if (!text)
+        return make_error(includer + ": shader file '" + path + "' not found in shaders_es/" +
+                          (!files && path.rfind("ladder/", 0) == 0
+                               ? " (this build leaves out the optimisation ladder's profiling shaders: "
+                                 "configure with -DPX_LADDER_SHADERS=ON; MinSizeRel's default is OFF)"
+                               : ""));
     seen.insert(path);
     std::istringstream in(text);
     std::string line;

@@ -1,5 +1,7 @@
 #include "parallaxes/texture/convert.h"
 
+#include "parallaxes/assets/color.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -231,14 +233,24 @@ Result<TextureData> encode_normal_texture(const Image& normal, TextureFormat for
     });
 }
 
-Result<TextureData> encode_color_texture(const Image& rgba, TextureFormat format, bool mipmaps) {
+Result<TextureData> encode_color_texture(const Image& rgba, TextureFormat format, bool mipmaps, bool srgb) {
     if (rgba.width < 1 || rgba.height < 1 || rgba.channels != 4) return make_error("encode: colour image must be RGBA8");
     const std::uint32_t w = static_cast<std::uint32_t>(rgba.width), h = static_cast<std::uint32_t>(rgba.height);
     std::vector<std::uint8_t> level = rgba.pixels;
     reverse_rows(level, w, h, 4);
     std::uint32_t lw = w, lh = h;
     return build_chain(format, w, h, mipmaps, [&](int i, std::uint32_t nw, std::uint32_t nh) {
-        if (i > 0) {
+        if (i > 0 && srgb) {
+            // sRGB colour: each level averages light, not code values.
+            Image above;
+            above.width = static_cast<int>(lw);
+            above.height = static_cast<int>(lh);
+            above.channels = 4;
+            above.pixels = std::move(level);
+            level = next_mip_level(above, true).pixels;
+            lw = nw;
+            lh = nh;
+        } else if (i > 0) {
             level = downsample<std::uint8_t, std::uint32_t>(level, lw, lh, 4, nw, nh);
             lw = nw;
             lh = nh;

@@ -43,8 +43,10 @@ struct Caps {
     bool uint_indices() const { return es_major >= 3 || has("GL_OES_element_index_uint"); }
     bool khr_debug() const { return has("GL_KHR_debug"); }
     // sRGB textures decoded to linear by the texture unit (before filtering):
-    // ES 3.0, or GL_EXT_sRGB on ES 2.0. Without them the shader decodes.
-    bool srgb_textures() const { return es_major >= 3 || has("GL_EXT_sRGB"); }
+    // ES 3.0. An ES 2.0 context decodes in the shader, GL_EXT_sRGB or not:
+    // EXT_sRGB textures cannot be mipmapped by glGenerateMipmap, and one ES
+    // 2.0 path is the one this machine tests (llvmpipe offers no EXT_sRGB).
+    bool srgb_textures() const { return es_major >= 3; }
     bool context_es3() const { return (context_es_major ? context_es_major : es_major) >= 3; }
 
     // An ES 3.0 context with every extension the renderer can use; for tests

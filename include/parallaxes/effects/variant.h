@@ -32,7 +32,7 @@ struct TextureLayout {
     // negate it (a texture file; an image's green is flipped on the CPU).
     bool normal_green_down = false;
     // The albedo is sRGB-encoded and this context's texture unit cannot
-    // decode it (ES 2.0 without GL_EXT_sRGB): the shader decodes each read.
+    // decode it (ES 2.0): the shader decodes each read.
     bool albedo_srgb_decode = false;
     // Texture files stored top row first (texture_data.h RowOrder), uploaded
     // as they are: the shaders read them at v' = 1 - v (kFlip* bits).

@@ -24,9 +24,7 @@ struct Texture {
 // With mipmaps = false: the base level only, GL_LINEAR (for reads inside
 // tracing loops on GLSL ES 1.00, which has no gradient sampling).
 // srgb: the texels are sRGB-encoded colour, decoded by the texture unit
-// (Caps::srgb_textures must hold): GL_SRGB8_ALPHA8 on ES 3.0, with the GPU's
-// mip chain; GL_SRGB_ALPHA_EXT on ES 2.0, whose EXT_sRGB has no
-// glGenerateMipmap for it, with a chain averaged in linear light on the CPU.
+// (Caps::srgb_textures must hold): GL_SRGB8_ALPHA8, with the GPU's mip chain.
 Result<Texture> upload_texture(const Image& image, const Caps& caps, const std::string& what, bool mipmaps = true,
                                bool srgb = false);
 
@@ -42,8 +40,10 @@ struct TextureUpload {
     std::uint64_t file_bytes = 0;  // the data as given, all levels
     std::uint64_t gpu_bytes = 0;   // what the upload handed the GPU, all levels
     std::string rows;              // "top row first (KTXOrientation \"S=r,T=d,R=i\")"; empty for images
-    // How its colour is read: "linear (data)", "sRGB, decoded by the texture
-    // unit (GL_SRGB8_ALPHA8)", "sRGB, decoded in the shader (no GL_EXT_sRGB)".
+    // How its colour is read: "linear", "sRGB" (by the texture unit); an
+    // albedo's also says what decided it ("sRGB, decoded by the texture
+    // unit, sRGB (declared by its sRGB chunk)", "sRGB, decoded in the shader
+    // (no sRGB textures here), ...").
     std::string color_space;
 };
 

@@ -46,6 +46,9 @@ Result<std::vector<std::uint8_t>> encode_image_unorm16(TextureFormat format, std
 // non-power-of-two size, an encoder's error.
 Result<TextureData> encode_height_texture(const HeightField& field, TextureFormat format, bool mipmaps = true);
 Result<TextureData> encode_normal_texture(const Image& normal, TextureFormat format, bool mipmaps = true);
-Result<TextureData> encode_color_texture(const Image& rgba, TextureFormat format, bool mipmaps = true);
+// srgb: the colour is sRGB-encoded, and each mip level averages linear
+// light (assets/color.h next_mip_level) instead of code values.
+Result<TextureData> encode_color_texture(const Image& rgba, TextureFormat format, bool mipmaps = true,
+                                         bool srgb = false);
 
 }  // namespace px
