@@ -322,8 +322,11 @@ std::string srgb_gl_name(std::uint32_t internal) {
     case 0x8A57: return "GL_COMPRESSED_SRGB_ALPHA_PVRTC_4BPPV1_EXT";
     default: break;
     }
-    if (internal >= kSrgbAstc4x4 && internal <= kSrgbAstc4x4 + 13)
-        return "GL_COMPRESSED_SRGB8_ALPHA8_ASTC (block " + std::to_string(internal - kSrgbAstc4x4) + " of 14)";
+    if (internal >= kSrgbAstc4x4 && internal <= kSrgbAstc4x4 + 13) {
+        static const char* const blocks[] = {"4x4", "5x4", "5x5", "6x5", "6x6", "8x5", "8x6",
+                                             "8x8", "10x5", "10x6", "10x8", "10x10", "12x10", "12x12"};
+        return std::string("GL_COMPRESSED_SRGB8_ALPHA8_ASTC_") + blocks[internal - kSrgbAstc4x4] + "_KHR";
+    }
     return hex(internal);
 }
 
