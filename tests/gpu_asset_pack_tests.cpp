@@ -25,15 +25,6 @@
 namespace px::test {
 namespace {
 
-std::string test_folder(const std::string& name) {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string dir = ::testing::TempDir() + "/px_packs_" + std::to_string(::getpid()) + "_" +
-                            (info ? info->name() : "t") + "_" + name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
-
 HeightField bricks_field() {
     FieldSpec spec;
     spec.kind = FieldKind::bricks;
@@ -95,7 +86,7 @@ const Technique kTechniques[] = {Technique::normal,         Technique::parallax,
 // holding both, it reads that file in place: one texture for normal and
 // height, none uploaded for the height.
 TEST(AssetPacks, HeightFromAnyChannelDrawsAsASeparateHeightMap) {
-    const std::string dir = test_folder("channels");
+    const std::string dir = test_folder("packs", "channels");
     const HeightField field = bricks_field();
     const Image height = height_image(field);
     const Image normal_rgb = derive_normal_map(field, 0.08f, false);
@@ -180,7 +171,7 @@ TEST(AssetPacks, HeightFromAnyChannelDrawsAsASeparateHeightMap) {
 // Height asked of an alpha that holds none, or of a channel the file does
 // not have: refused, naming the file and the channel.
 TEST(AssetPacks, AChannelWithoutHeightIsRefused) {
-    const std::string dir = test_folder("refused");
+    const std::string dir = test_folder("packs", "refused");
     const HeightField field = bricks_field();
     write(dir + "/normal.png", derive_normal_map(field, 0.08f, false));  // RGB: no alpha
     SceneDesc s = plane(Technique::pom, dir);
@@ -200,7 +191,7 @@ TEST(AssetPacks, AChannelWithoutHeightIsRefused) {
 // texture file (uploaded as it is, the shaders negate green); read the
 // wrong way, the bevels facing the light and those facing away swap.
 TEST(AssetPacks, GreenDownNormalMapsDrawLikeTheirOpenGlTwins) {
-    const std::string dir = test_folder("green");
+    const std::string dir = test_folder("packs", "green");
     const HeightField field = bricks_field();
     const Image gl = derive_normal_map(field, 0.08f, false);
     Image dx = gl;
@@ -415,7 +406,7 @@ void write_grey_png(const std::string& path, int g, std::uint32_t gamma) {
 // texels declared linear by their container (GL_RGBA8), and "color_space":
 // "linear" on a plain PNG draw as linear colour.
 TEST(SrgbColour, FilesAreReadInTheColourSpaceTheyDeclare) {
-    const std::string dir = test_folder("declared");
+    const std::string dir = test_folder("packs", "declared");
     const int g = 128;
     const int as_srgb = linear_to_srgb8(0.5 * srgb_to_linear(g / 255.0));
     const int as_linear = linear_to_srgb8(0.5 * g / 255.0);
@@ -480,7 +471,7 @@ TEST(SrgbColour, FilesAreReadInTheColourSpaceTheyDeclare) {
 // An sRGB-declared file in a data slot is read as its linear format, and
 // the render's notes say so.
 TEST(SrgbColour, AnSrgbNormalMapIsReadAsDataAndSaysSo) {
-    const std::string dir = test_folder("data");
+    const std::string dir = test_folder("packs", "data");
     const HeightField field = bricks_field();
     auto normal = encode_color_texture(derive_normal_map(field, 0.08f, false), TextureFormat::rgba8);
     ASSERT_TRUE(normal.ok());

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <unistd.h>
 
 namespace px::test {
 
@@ -15,6 +17,15 @@ void GpuEnvironment::SetUp() {
     auto context = platform::HeadlessContext::create(options);
     ASSERT_TRUE(context.ok()) << context.error().message;
     context_ = std::move(*context);
+}
+
+std::string test_folder(const std::string& tag, const std::string& name) {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string dir = ::testing::TempDir() + "/px_" + tag + "_" + std::to_string(::getpid()) + "_" +
+                            (info ? info->name() : "t") + "_" + name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
 }
 
 SceneDesc PlaneScene::build() const {

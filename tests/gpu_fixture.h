@@ -72,6 +72,10 @@ struct Rendered {
 // `emulate_no_fragment_highp`: as a GPU without fragment highp (ES 2.0 only).
 Rendered render(const SceneDesc& scene, int size = 128, bool emulate_no_fragment_highp = false);
 
+// A fresh folder of its own per test under gtest's temporary folder:
+// TempDir/px_<tag>_<pid>_<test name>_<name>, emptied first.
+std::string test_folder(const std::string& tag, const std::string& name);
+
 // Mean absolute difference per channel (0..255) and the largest one.
 struct ImageDiff {
     double mean = 0.0;

@@ -24,16 +24,6 @@
 namespace px::test {
 namespace {
 
-// A folder of its own per test under gtest's temporary folder.
-std::string test_folder(const std::string& name) {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string dir = ::testing::TempDir() + "/px_textures_" + std::to_string(::getpid()) + "_" +
-                            (info ? info->name() : "t") + "_" + name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
-
 // An RGBA8 test image with smooth regions, edges and alpha steps.
 Image test_image(int w, int h) {
     Image img;
@@ -219,7 +209,7 @@ SceneDesc textured_plane() {
 // the mortar joints of the height and normal maps).
 TEST(Textures, CompressedVariantsDrawTheUncompressedImage) {
     const SceneDesc scene = textured_plane();
-    const std::string root = test_folder("variants");
+    const std::string root = test_folder("textures", "variants");
     const Converted raw = convert(scene, "raw", root + "/raw");
     const Rendered reference = render(raw.scene, 128);
     ASSERT_EQ(reference.image.width, 128);
@@ -264,7 +254,7 @@ TEST(Textures, CompressedVariantsDrawTheUncompressedImage) {
 // direct upload of the decoded texels would give.
 TEST(Textures, PvrtcRendersThroughTheCpuFallbackAndSaysSo) {
     const SceneDesc scene = textured_plane();
-    const std::string root = test_folder("pvrtc");
+    const std::string root = test_folder("textures", "pvrtc");
     const Converted c = convert(scene, "pvrtc", root);
     auto renderer = Renderer::create(reading_files());
     ASSERT_TRUE(renderer.ok());
@@ -316,7 +306,7 @@ TEST(Textures, MaxmipIsExactOnAnElevenBitEacHeightMap) {
         for (double angle : {0.0, 70.0}) {
             auto scene = profiling::bench_scene(scene_name, angle);
             ASSERT_TRUE(scene.ok());
-            const Converted c = convert(*scene, "etc2", test_folder(scene_name + std::to_string(int(angle))));
+            const Converted c = convert(*scene, "etc2", test_folder("textures", scene_name + std::to_string(int(angle))));
             SceneDesc s = c.scene;
             s.materials[0].technique.technique = Technique::maxmip;
             auto images = build_material_images(s.materials[0], s.base_dir);
@@ -349,7 +339,7 @@ TEST(Textures, MaxmipIsExactOnAnElevenBitEacHeightMap) {
 // log2(height) one row each in its atlas (assets/max_mipmap.h), which the
 // shader's closed form must place where build_max_atlas put them.
 TEST(Textures, MaxmipIsExactOnNonSquareHeightMaps) {
-    const std::string root = test_folder("nonsquare");
+    const std::string root = test_folder("textures", "nonsquare");
     for (const auto& [w, h] : {std::pair<int, int>{128, 16}, std::pair<int, int>{16, 128}}) {
         HeightField field;
         field.width = w;
@@ -410,7 +400,7 @@ TEST(Textures, MaxmipIsExactOnNonSquareHeightMaps) {
 // maxmip's is resampled to the next power of two (said in the notes), the
 // others take it as it is.
 TEST(Textures, NonPowerOfTwoHeightMapsWorkWithEveryTechnique) {
-    const std::string root = test_folder("npot");
+    const std::string root = test_folder("textures", "npot");
     HeightField field;
     field.width = 90;
     field.height = 50;

@@ -391,6 +391,24 @@ MaterialDesc default_material(std::string name) {
 enum class Slot { albedo, height, normal, any };
 bool fills(Slot slot, Slot wanted) { return slot == wanted || slot == Slot::any; }
 
+// One word-valued key of a file source: allowed in the `wanted` slot only
+// (else `wrong_slot`), and one of `words` (else the word and `unknown`).
+template <typename T>
+void read_word(Reader& r, Fields& f, const char* key, Slot slot, Slot wanted, const char* wrong_slot,
+               std::initializer_list<std::pair<const char*, T>> words, T& out, const char* unknown) {
+    if (r.failed() || !f.has(key)) return;
+    if (!fills(slot, wanted)) return r.fail(f.sub(key), wrong_slot);
+    std::string word;
+    f.read(key, word);
+    if (r.failed()) return;
+    for (const auto& [name, value] : words)
+        if (word == name) {
+            out = value;
+            return;
+        }
+    r.fail(f.sub(key), "\"" + echo(word) + "\" " + unknown);
+}
+
 // The three object forms of a texture source. Each reads its own keys; a
 // source in no known form reads all three into a scratch value, so that the
 // keys any form knows are recorded and only truly unknown ones are reported.
@@ -399,50 +417,24 @@ void read_file_form(Reader& r, Fields& f, Slot slot, TextureSource& out) {
     if (f.has("convention") && !fills(slot, Slot::height))
         return r.fail(f.sub("convention"), "only a height map has a convention (height or depth)");
     f.read_named("convention", parse_convention, out.convention);
-    if (f.has("channel")) {
-        if (!fills(slot, Slot::height))
-            return r.fail(f.sub("channel"), "only a height map names a channel (where in the file its height is)");
-        std::string name;
-        f.read("channel", name);
-        if (r.failed()) return;
-        bool known = false;
-        for (auto c : {TextureSource::Channel::grey, TextureSource::Channel::r, TextureSource::Channel::g,
-                       TextureSource::Channel::b, TextureSource::Channel::a})
-            if (name == channel_name(c)) {
-                out.channel = c;
-                known = true;
-            }
-        if (!known)
-            return r.fail(f.sub("channel"), "\"" + echo(name) +
-                                                "\" is not a channel (known: \"r\", \"g\", \"b\", \"a\", or \"grey\" "
-                                                "for an image's grey, the default)");
-    }
-    if (f.has("green")) {
-        if (!fills(slot, Slot::normal))
-            return r.fail(f.sub("green"), "only a normal map has a green convention (\"up\": OpenGL, \"down\": DirectX)");
-        std::string green;
-        f.read("green", green);
-        if (r.failed()) return;
-        if (green == "up") out.green = TextureSource::Green::up;
-        else if (green == "down") out.green = TextureSource::Green::down;
-        else
-            return r.fail(f.sub("green"), "\"" + echo(green) +
-                                              "\" is not \"up\" (OpenGL style: green is +v) or \"down\" (DirectX style: "
-                                              "green is -v)");
-    }
-    for (const char* key : {"color_space", "colour_space"}) {
-        if (!f.has(key)) continue;
-        if (!fills(slot, Slot::albedo))
-            return r.fail(f.sub(key), std::string("only a colour texture (albedo) has a colour space: height and "
-                                                  "normal maps are data, always read as linear"));
-        std::string space;
-        f.read(key, space);
-        if (r.failed()) return;
-        if (space == "srgb" || space == "sRGB") out.color_space = TextureSource::ColorSpace::srgb;
-        else if (space == "linear") out.color_space = TextureSource::ColorSpace::linear;
-        else
-            return r.fail(f.sub(key), "\"" + echo(space) + "\" is not \"srgb\" or \"linear\"");
-    }
+    using Source = TextureSource;
+    read_word(r, f, "channel", slot, Slot::height, "only a height map names a channel (where in the file its height is)",
+              {{"grey", Source::Channel::grey}, {"r", Source::Channel::r}, {"g", Source::Channel::g},
+               {"b", Source::Channel::b}, {"a", Source::Channel::a}},
+              out.channel,
+              "is not a channel (known: \"r\", \"g\", \"b\", \"a\", or \"grey\" for an image's grey, the default)");
+    read_word(r, f, "green", slot, Slot::normal,
+              "only a normal map has a green convention (\"up\": OpenGL, \"down\": DirectX)",
+              {{"up", Source::Green::up}, {"down", Source::Green::down}}, out.green,
+              "is not \"up\" (OpenGL style: green is +v) or \"down\" (DirectX style: green is -v)");
+    for (const char* key : {"color_space", "colour_space"})
+        read_word(r, f, key, slot, Slot::albedo,
+                  "only a colour texture (albedo) has a colour space: height and normal maps are data, always read "
+                  "as linear",
+                  {{"srgb", Source::ColorSpace::srgb}, {"sRGB", Source::ColorSpace::srgb},
+                   {"linear", Source::ColorSpace::linear}},
+                  out.color_space, "is not \"srgb\" or \"linear\"");
+    if (r.failed()) return;
     if (f.has("first_row")) {
         std::string row;
         f.read("first_row", row);
