@@ -3,6 +3,8 @@
 #   make test   the same set-up, then the whole suite through ctest
 #   make sanitize  unit and GPU tests under AddressSanitizer and UBSan (clang,
 #               own build folder), then the libFuzzer targets for a bounded time
+#   make web    the viewer page (Emscripten, build-web/web/; docs/web.md)
+#   make web-test  the page in headless chromium (tests/web/run.sh)
 MAKEFLAGS += --no-print-directory
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -12,7 +14,7 @@ DEBIAN_PACKAGES := cmake make g++ libegl-dev libgles-dev libegl-mesa0 libgl1-mes
 	libglm-dev libstb-dev libjpeg62-turbo-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev glslang-tools glslang-dev \
 	libastcenc-dev libzstd-dev
 
-.PHONY: all deps configure build run test sanitize sanitize-deps clean
+.PHONY: all deps configure build run test sanitize sanitize-deps clean web web-test
 
 all: build
 
@@ -67,4 +69,17 @@ sanitize: sanitize-deps
 		ctest --output-on-failure -j $(JOBS) -L fuzz
 
 clean:
-	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) out
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) $(WEB_DIR) out
+
+# --- make web: the library and the viewer page for browsers (docs/web.md) -------
+# Debian's emscripten 3.1.6 finds its node modules (acorn) only through
+# NODE_PATH. Serve build-web/web/ from a local web server to open it.
+WEB_DIR ?= build-web
+web:
+	@$(MAKE) deps DEBIAN_PACKAGES="emscripten libglm-dev nlohmann-json3-dev libstb-dev"
+	@NODE_PATH=/usr/share/nodejs emcmake cmake -S . -B $(WEB_DIR) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@NODE_PATH=/usr/share/nodejs cmake --build $(WEB_DIR) -j $(JOBS)
+	@echo "the page: $(WEB_DIR)/web/index.html (serve it: python3 -m http.server -b 127.0.0.1 -d $(WEB_DIR)/web 8000)"
+
+web-test: build
+	@bash tests/web/run.sh

@@ -51,7 +51,9 @@ static_assert(STBI_MAX_DIMENSIONS == px::kMaxTextureSize, "stb's own size limit 
 // libjpeg reports errors through a callback that must not return: it
 // longjmps back into the one C-style function below that called libjpeg.
 // No C++ object lives in the frames it jumps across.
+#ifndef PX_NO_JPEG
 #include <jpeglib.h>
+#endif
 
 namespace px {
 
@@ -358,6 +360,7 @@ Status check_jpeg(const std::uint8_t* bytes, std::size_t size) {
 
 std::size_t decode_budget_bytes(int width, int height, std::size_t file_bytes);
 
+#ifndef PX_NO_JPEG
 // --- JPEG decoding (libjpeg-turbo) ------------------------------------------------
 
 struct JpegContext {
@@ -484,6 +487,17 @@ Result<ImageInfo> jpeg_info(const std::uint8_t* bytes, std::size_t size) {
         return make_error(std::string("cannot read the JPEG header: ") + ctx->message);
     return jpeg_size_checked(*ctx);
 }
+#else
+// A build without libjpeg (the web build, web/README.md): JPEG files are
+// refused by name; the page hands the library PNG instead.
+const char* const kNoJpeg = "JPEG is not in this build (built without libjpeg: the web build); use PNG or TGA";
+
+Result<std::vector<std::uint8_t>> decode_jpeg(const std::uint8_t*, std::size_t, int, ImageInfo&) {
+    return make_error(kNoJpeg);
+}
+
+Result<ImageInfo> jpeg_info(const std::uint8_t*, std::size_t) { return make_error(kNoJpeg); }
+#endif  // PX_NO_JPEG
 
 // The decoder's cap for an image of the declared size: its output at up to
 // 16 bits and 4 channels, twice over for the conversions, the inflated rows

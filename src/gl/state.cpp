@@ -108,7 +108,7 @@ constexpr Entry kEntries[] = {
     {"pack skip pixels", GlStateScope::es3_context, GlStateRepeat::once, Setter::pixel_store, GL_PACK_SKIP_PIXELS, GL_PACK_SKIP_PIXELS, 1, false, {3}, false, none},
     // On, rasterizer discard would drop every triangle (and clear): the draw sets it aside.
     {"rasterizer discard", GlStateScope::es3_context, GlStateRepeat::once, Setter::enable, GL_RASTERIZER_DISCARD, GL_RASTERIZER_DISCARD, 1, false, {1}, true, {0}},
-    {"primitive restart", GlStateScope::es3_context, GlStateRepeat::once, Setter::enable, GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_PRIMITIVE_RESTART_FIXED_INDEX, 1, false, {1}, true, {0}},
+    {"primitive restart", GlStateScope::es3_native, GlStateRepeat::once, Setter::enable, GL_PRIMITIVE_RESTART_FIXED_INDEX, GL_PRIMITIVE_RESTART_FIXED_INDEX, 1, false, {1}, true, {0}},
     {"viewport", GlStateScope::all, GlStateRepeat::once, Setter::viewport, GL_VIEWPORT, 0, 4, false, {3, 5, 7, 9}, false, none},
     {"scissor box", GlStateScope::all, GlStateRepeat::once, Setter::scissor, GL_SCISSOR_BOX, 0, 4, false, {5, 6, 7, 8}, false, none},
     // Scissor, stencil and the colour mask would each stop the draw: it
@@ -287,6 +287,7 @@ bool in_scope(GlStateScope scope, const Caps& caps) {
     switch (scope) {
         case GlStateScope::all: return true;
         case GlStateScope::es3_context: return caps.context_es3();
+        case GlStateScope::es3_native: return caps.context_es3() && !caps.webgl();
         case GlStateScope::es2_context: return !caps.context_es3();
         // The attribute slots wherever the library points them: the ES 2.0
         // path, also on an ES 3.x context drawing as ES 2.0 (emulate_es2).
@@ -330,12 +331,23 @@ void for_each_entry(const Caps& caps, F&& f) {
 
 std::vector<GlStateValue> read_gl_state(const Caps& caps) {
     std::vector<GlStateValue> out;
-    for_each_entry(caps, [&out](size_t entry, const Entry& e, int index) {
+    const bool webgl = caps.webgl();
+    for_each_entry(caps, [&out, webgl](size_t entry, const Entry& e, int index) {
         GlStateValue v;
         v.name = e.name;
         v.entry = entry;
         v.index = e.repeat == GlStateRepeat::once ? -1 : index;
         save_entry(e, v.values, index);
+        if (e.setter == Setter::attribute) {
+            // An attribute whose buffer was deleted (WebGL still reports the
+            // deleted object's name): binding that name again would bind
+            // nothing (WebGL) or make a new, empty buffer (OpenGL ES), so it
+            // comes back as no buffer.
+            if (v.values[5] != 0 && !glIsBuffer(static_cast<GLuint>(v.values[5]))) v.values[5] = 0;
+            // WebGL has no client-side arrays: an offset into no buffer
+            // cannot be set again (WebGL refuses the call), so it is 0.
+            if (webgl && v.values[5] == 0) v.values[6] = 0;
+        }
         out.push_back(std::move(v));
     });
     return out;

@@ -1,6 +1,8 @@
 // ASTC LDR through libastcenc: linear LDR profile (ASTCENC_PRF_LDR), the
 // block size from format_info, single-threaded contexts, 8-bit images.
+#ifndef PX_NO_ASTCENC
 #include <astcenc.h>
+#endif
 
 #include <memory>
 #include <string>
@@ -9,6 +11,7 @@
 
 namespace px {
 
+#ifndef PX_NO_ASTCENC
 namespace {
 
 bool is_astc(TextureFormat f) { return format_info(f).family == FormatFamily::astc; }
@@ -94,5 +97,17 @@ Result<std::vector<std::uint8_t>> encode_astc_rgba8(TextureFormat format, std::u
         return out;
     });
 }
+
+#else
+// A build without libastcenc (the web build): ASTC files cannot be decoded
+// for the CPU's copy (the exact reference, the planner), so they are refused.
+Status decode_astc_rgba8(TextureFormat, std::uint32_t, std::uint32_t, const std::uint8_t*, std::size_t, std::uint8_t*) {
+    return make_error("decode_astc_rgba8: ASTC decoding is not in this build (built without libastcenc: the web build)");
+}
+
+Result<std::vector<std::uint8_t>> encode_astc_rgba8(TextureFormat, std::uint32_t, std::uint32_t, const std::uint8_t*, float) {
+    return make_error("encode_astc_rgba8: ASTC encoding is not in this build (built without libastcenc: the web build)");
+}
+#endif  // PX_NO_ASTCENC
 
 }  // namespace px

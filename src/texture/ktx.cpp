@@ -18,7 +18,21 @@
 // Every size and offset is checked in 64-bit arithmetic that cannot wrap
 // (`fits`) against the file's size and against the block arithmetic before
 // anything is allocated.
+#ifndef PX_NO_ZSTD
 #include <zstd.h>
+#else
+#include <cstddef>
+// A build without libzstd (the web build): supercompressed KTX 2.0 files are
+// refused with this message, uncompressed ones read as ever.
+namespace {
+constexpr std::size_t kNoZstd = ~std::size_t{0};
+std::size_t ZSTD_decompress(void*, std::size_t, const void*, std::size_t) { return kNoZstd; }
+std::size_t ZSTD_compressBound(std::size_t n) { return n; }
+std::size_t ZSTD_compress(void*, std::size_t, const void*, std::size_t, int) { return kNoZstd; }
+bool ZSTD_isError(std::size_t code) { return code == kNoZstd; }
+const char* ZSTD_getErrorName(std::size_t) { return "Zstandard is not in this build (built without libzstd: the web build)"; }
+}  // namespace
+#endif
 
 #include <algorithm>
 #include <cctype>
@@ -627,7 +641,8 @@ Result<TextureData> container_detail::read_ktx2(const std::uint8_t* bytes, std::
     for (std::size_t i = 0; i < t.levels.size(); ++i) {
         const std::uint8_t* e = bytes + kKtx2HeaderBytes + 24 * i;
         const std::uint64_t offset = rd64(e), length = rd64(e + 8);
-        const std::size_t expected = t.levels[i].image_bytes * images;
+        // Fits: the levels' sum was checked against the allocation of t.bytes.
+        const std::size_t expected = static_cast<std::size_t>(t.levels[i].image_bytes * images);
         std::uint8_t* dst = t.bytes.data() + t.levels[i].offset;
         if (scheme == kSchemeNone) {
             std::memcpy(dst, bytes + offset, expected);

@@ -42,6 +42,9 @@ struct Caps {
     bool npot_mipmaps() const { return es_major >= 3 || has("GL_OES_texture_npot"); }
     bool uint_indices() const { return es_major >= 3 || has("GL_OES_element_index_uint"); }
     bool khr_debug() const { return has("GL_KHR_debug"); }
+    // A browser's WebGL context (GL_VERSION "OpenGL ES 3.0 (WebGL 2.0 ...)"
+    // through Emscripten): the few places WebGL differs from OpenGL ES.
+    bool webgl() const { return version.find("WebGL") != std::string::npos; }
     // sRGB textures decoded to linear by the texture unit (before filtering):
     // ES 3.0. An ES 2.0 context decodes in the shader, GL_EXT_sRGB or not:
     // EXT_sRGB textures cannot be mipmapped by glGenerateMipmap, and one ES

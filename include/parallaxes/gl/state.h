@@ -43,6 +43,9 @@ inline constexpr int kLibraryAttributeSlots = 8;
 enum class GlStateScope {
     all,          // every OpenGL ES context
     es3_context,  // state an ES 3.x context has (vertex arrays, samplers, pixel buffers, ...)
+    // An ES 3.x context other than WebGL 2, which has primitive restart
+    // always on and refuses it as a capability (WebGL 2.0 section 5.18).
+    es3_native,
     es2_context,  // an ES 2.0 context's (its single framebuffer binding)
     es2_path,     // where the library points attribute slots itself (ES 2.0 draws, emulate_es2 too)
 };
