@@ -34,6 +34,14 @@ const char* html5_result_name(EMSCRIPTEN_RESULT r) {
     }
 }
 
+// emscripten_webgl_create_context gives 0 where the browser returns no
+// context (no WebGL of that version here), a negative code otherwise.
+std::string why_not(EMSCRIPTEN_WEBGL_CONTEXT_HANDLE h, int version) {
+    const std::string what = "WebGL " + std::to_string(version);
+    if (h == 0) return "this browser gives no " + what + " context";
+    return what + ": " + html5_result_name(static_cast<EMSCRIPTEN_RESULT>(h));
+}
+
 EMSCRIPTEN_WEBGL_CONTEXT_HANDLE try_create(const WebContextOptions& o, int version) {
     EmscriptenWebGLContextAttributes a;
     emscripten_webgl_init_context_attributes(&a);
@@ -61,15 +69,14 @@ Result<std::unique_ptr<WebContext>> WebContext::create(const WebContextOptions& 
     EMSCRIPTEN_WEBGL_CONTEXT_HANDLE h = try_create(options, options.webgl_version);
     c->webgl_version_ = options.webgl_version;
     if (h <= 0 && options.webgl_version == 2 && options.fall_back) {
-        const std::string why = html5_result_name(static_cast<EMSCRIPTEN_RESULT>(h));
+        const std::string why = why_not(h, 2);
         h = try_create(options, 1);
         c->webgl_version_ = 1;
-        if (h > 0)
-            c->fallback_note_ = "WebGL 2 is not available here (" + why + "): WebGL 1, the OpenGL ES 2.0 paths";
+        if (h > 0) c->fallback_note_ = why + ": WebGL 1, the OpenGL ES 2.0 paths";
     }
     if (h <= 0)
-        return make_error("cannot create a WebGL " + std::to_string(c->webgl_version_) + " context on '" +
-                          options.canvas + "': " + html5_result_name(static_cast<EMSCRIPTEN_RESULT>(h)));
+        return make_error("cannot draw on '" + options.canvas + "': " + why_not(h, c->webgl_version_) +
+                          (options.webgl_version == 2 && options.fall_back ? ", nor WebGL 1" : ""));
     c->handle_ = h;
     if (emscripten_webgl_make_context_current(h) != EMSCRIPTEN_RESULT_SUCCESS)
         return make_error("cannot make the WebGL context on '" + options.canvas + "' current");

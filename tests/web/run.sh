@@ -7,9 +7,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 missing=()
-for p in emscripten chromium nodejs npm; do
+for p in emscripten chromium; do
   dpkg-query -W -f='${Status}\n' "$p" 2>/dev/null | grep -q '^install ok installed$' || missing+=("$p")
 done
+# node and npm may come from Debian or from elsewhere (a newer nodejs with its own npm).
+command -v node >/dev/null || missing+=(nodejs)
+command -v npm >/dev/null || missing+=(npm)
 if ((${#missing[@]})); then
   if [ "$(id -u)" != 0 ]; then
     echo "web test: missing Debian packages; as root: apt-get install -y ${missing[*]}" >&2
