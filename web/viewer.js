@@ -250,9 +250,16 @@
       return false;
     }
     const root = window.parallax.writeFiles(files);
-    const path = root + '/' + scenes[0].path.split('/').filter((p) => p && p !== '.' && p !== '..').join('/');
-    const ok = act(`open ${scenes[0].path}`, () => window.parallax.loadFile(path));
-    if (ok) { state.scene = scenes[0].path; $('scene').value = ''; }
+    const memfsPath = (f) => root + '/' + f.path.split('/').filter((p) => p && p !== '.' && p !== '..').join('/');
+    // Every .json among them goes into the scene list (a folder may hold
+    // several scenes, or other JSON): the first is opened.
+    const select = $('scene');
+    let group = select.querySelector('optgroup');
+    if (!group) { group = document.createElement('optgroup'); group.label = 'Opened from files'; select.add(group); }
+    group.replaceChildren(...scenes.map((f) => new Option(f.path, 'file:' + memfsPath(f))));
+    const ok = act(`open ${scenes[0].path}`, () => window.parallax.loadFile(memfsPath(scenes[0])));
+    if (ok) { select.value = 'file:' + memfsPath(scenes[0]); state.scene = scenes[0].path; }
+    else if (scenes.length > 1) showError($('error').textContent + `\n(${scenes.length} .json files were opened: choose the scene under Scene.)`);
     return ok;
   }
 
@@ -287,8 +294,14 @@
 
   // --- controls ---
   $('scene').addEventListener('change', (e) => {
-    if (!e.target.value) return;
-    if (act(`scene ${e.target.value}`, () => window.parallax.loadBuiltin(e.target.value))) state.scene = e.target.value;
+    const v = e.target.value;
+    if (!v) return;
+    if (v.startsWith('file:')) {
+      const path = v.slice(5);
+      if (act(`open ${path}`, () => window.parallax.loadFile(path))) state.scene = path;
+    } else if (act(`scene ${v}`, () => window.parallax.loadBuiltin(v))) {
+      state.scene = v;
+    }
   });
   function applyTechnique() {
     const t = $('technique').value;
@@ -344,13 +357,14 @@
     printErr: (t) => console.error(t),
   }).then((module) => {
     const p = api(module);
-    // Scripts wait for a chosen or dropped scene with `await parallax.opened()`.
+    // Scripts wait for a chosen or dropped scene with `await parallax.opened()`,
+    // or open files themselves: `await parallax.openFiles([{path, bytes}])`.
     p.opened = () => state.opened;
+    p.openFiles = (files) => (state.opened = openFiles(files));
     window.parallax = p;
     state.es = p.start(askedWebgl);
     showContext(p.context());
     for (const name of p.builtins()) $('scene').add(new Option(name, name));
-    $('scene').add(new Option('(opened from files)', ''));
     for (const t of p.techniques()) {
       if (t.min_es <= state.es) $('technique').add(new Option(`${t.name}: ${t.summary}`, t.name));
     }

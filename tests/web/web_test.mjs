@@ -10,7 +10,8 @@
 //      the first scene drawn, a mouse orbit, a wheel dolly, a technique and
 //      sample-count switch, a scene folder opened from files (a real material
 //      with a JPEG albedo), a broken scene refused with its JSON path while
-//      the last scene stays, the hit-error overlay, and (WebGL 2) a phone's
+//      the last scene stays, a folder of several .json files (the scene
+//      chosen from the list), an ASTC file refused by name, the hit-error overlay, and (WebGL 2) a phone's
 //      viewport with a one-finger orbit, and a browser without WebGL 2
 //      (the page falls back to WebGL 1 and says so);
 //   2. every shader variant compiled and linked under ANGLE;
@@ -178,6 +179,42 @@ async function useThePage(webgl, r) {
   const still = await page.evaluate(() => window.parallax.report());
   check(still.length === 1 && still[0].material === 'tiles', `WebGL ${webgl}: the broken scene replaced the last one`);
   r.broken_scene_message = shown;
+
+  // A folder of several .json files (a JSON file that is not a scene at its
+  // top, examples/assets/bricks.json, and a scene of ETC2 KTX files naming
+  // "../assets/..."): the first is refused and the page asks for a choice;
+  // choosing the ETC2 scene draws it from its camera.
+  const read = (rel) => Array.from(fs.readFileSync(path.join(repo, rel)));
+  const etc2 = fs.readdirSync(path.join(repo, 'examples/assets/bricks_etc2')).map((f) => `examples/assets/bricks_etc2/${f}`);
+  const folderFiles = [{ path: 'examples/notes.json', bytes: Array.from(Buffer.from('{"notes": "not a scene"}')) },
+    ...['examples/assets/bricks.json', 'examples/scenes/bricks_etc2.json', ...etc2].map((rel) => ({ path: rel, bytes: read(rel) }))];
+  const first = await page.evaluate((files) => window.parallax.openFiles(files.map((f) => ({ path: f.path, bytes: new Uint8Array(f.bytes) }))), folderFiles);
+  const hint = await errorText(page);
+  check(first === false && /notes\.json/.test(hint) && /choose the scene/.test(hint),
+    `WebGL ${webgl}: a folder whose first .json is not a scene showed "${hint}"`);
+  const choice = await page.$$eval('#scene optgroup option', (o) => o.map((x) => x.value).filter((v) => v.endsWith('bricks_etc2.json')));
+  check(choice.length === 1, `WebGL ${webgl}: the opened scenes are not listed under Scene`);
+  if (choice.length === 1) {
+    await page.select('#scene', choice[0]);
+    await settle(page);
+    const etcScene = await page.evaluate(() => window.parallax.report());
+    const etcCamera = await camera(page);
+    check((await errorText(page)) === '' && etcScene.length === 1 && etcScene[0].material === 'bricks' &&
+      Math.abs(etcCamera.position[1] + 2.2) < 1e-4 && Math.abs(etcCamera.position[2] - 1.3) < 1e-4,
+      `WebGL ${webgl}: choosing examples/scenes/bricks_etc2.json drew ${JSON.stringify(etcScene.map((o) => o.material))} ` +
+      `from ${JSON.stringify(etcCamera.position)}: ${await errorText(page)}`);
+  }
+  // An ASTC file (astcenc's, tests/fixtures/third_party): the web build has no
+  // CPU ASTC decoder for the reference and the planner, and says so.
+  const astcScene = JSON.stringify({ materials: [{ name: 'm', albedo: 'astcenc_4x4.ktx', technique: 'normal' }],
+    objects: [{ name: 'o', mesh: { type: 'plane', size: 2 }, material: 'm' }] });
+  const astc = await page.evaluate((text, bytes) => window.parallax.openFiles([
+    { path: 'astc/scene.json', bytes: new TextEncoder().encode(text) },
+    { path: 'astc/astcenc_4x4.ktx', bytes: new Uint8Array(bytes) }]), astcScene, read('tests/fixtures/third_party/astcenc_4x4.ktx'));
+  const astcMessage = await errorText(page);
+  check(astc === false && /astcenc_4x4\.ktx/.test(astcMessage) && /not in this build/.test(astcMessage),
+    `WebGL ${webgl}: an ASTC file in the web build showed "${astcMessage}"`);
+  r.astc_message = astcMessage;
 
   // The hit-error overlay at 128 pixels against the exact reference.
   await page.select('#scene', 'bricks');
