@@ -134,7 +134,8 @@
       refresh();
       return true;
     } catch (e) {
-      showError(`${what}: ${e.message}`);
+      // Opened files live under /drop/N/ in the page's file system: name them as the user did.
+      showError(`${what}: ${e.message}`.replace(/\/drop\/\d+\//g, ''));
       state.dirty = true;
       return false;
     }
@@ -298,7 +299,7 @@
     if (!v) return;
     if (v.startsWith('file:')) {
       const path = v.slice(5);
-      if (act(`open ${path}`, () => window.parallax.loadFile(path))) state.scene = path;
+      if (act(`open ${path.replace(/^\/drop\/\d+\//, '')}`, () => window.parallax.loadFile(path))) state.scene = path;
     } else if (act(`scene ${v}`, () => window.parallax.loadBuiltin(v))) {
       state.scene = v;
     }

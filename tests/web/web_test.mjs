@@ -3,7 +3,7 @@
 // Run by tests/web/run.sh (`make web-test`), which builds the page first.
 //
 //   node tests/web/web_test.mjs --page build-web/web --parallax build/parallax --out out/web
-//        [--screenshot docs/web-viewer.png] [--webgl 2,1]
+//        [--screenshot docs/web-viewer.png] [--shader-table docs/web-shaders.md] [--webgl 2,1]
 //
 // For each WebGL version:
 //   1. the page as a person uses it, with no console message of any kind:
@@ -128,6 +128,20 @@ async function useThePage(webgl, r) {
   await settle(page);
   const dollied = await camera(page);
   check(distance(dollied) < distance(after) * 0.9, `WebGL ${webgl}: the wheel did not dolly in (${distance(after)} -> ${distance(dollied)})`);
+
+  // Pan with shift-drag: camera and target move together.
+  await page.keyboard.down('Shift');
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 80, box.y + box.height / 2, { steps: 4 });
+  await page.mouse.up();
+  await page.keyboard.up('Shift');
+  await settle(page);
+  const panned = await camera(page);
+  const moved = panned.target.map((t, i) => t - dollied.target[i]);
+  const cameraMoved = panned.position.map((p, i) => p - dollied.position[i]);
+  check(Math.hypot(...moved) > 0.05 && cameraMoved.every((m, i) => Math.abs(m - moved[i]) < 1e-3),
+    `WebGL ${webgl}: shift-drag did not pan (target moved ${JSON.stringify(moved)}, camera ${JSON.stringify(cameraMoved)})`);
 
   // Technique switch: every object draws with the technique chosen.
   for (const t of webgl === 2 ? ['normal', 'pom', 'maxmip'] : ['normal', 'pom', 'relief']) {
@@ -284,7 +298,8 @@ async function compileAll(webgl, r) {
   const { page } = await openPage(`webgl=${webgl}&scene=default`);
   const list = await page.evaluate(() => window.parallax.compileAll());
   const bad = list.filter((v) => !v.ok);
-  r.variants = { count: list.length, failed: bad.length, ms_total: list.reduce((s, v) => s + v.ms, 0), failures: bad.slice(0, 20) };
+  r.variants = { count: list.length, failed: bad.length, ms_total: list.reduce((s, v) => s + v.ms, 0), failures: bad.slice(0, 20),
+    all: list.map((v) => ({ variant: v.variant, ok: v.ok, ms: Math.round(v.ms * 10) / 10 })) };
   check(list.length > 100, `WebGL ${webgl}: only ${list.length} variants enumerated`);
   for (const v of bad.slice(0, 5)) fail(`WebGL ${webgl}: ${v.variant}: ${v.error.split('\n').slice(0, 6).join(' / ')}`);
   await page.close();
@@ -414,6 +429,22 @@ for (const [v, r] of Object.entries(report.versions)) {
   if (r.overlay) md.push(`Hit-error overlay (bricks): ${r.overlay}\n`);
 }
 fs.writeFileSync(path.join(outDir, 'report.md'), md.join('\n') + '\n');
+// Every variant and what ANGLE said of it, per WebGL version (docs/web-shaders.md is one run's).
+const table = [`# Every shader variant under ANGLE\n\nWritten by \`bash tests/web/run.sh --shader-table docs/web-shaders.md\` (${report.chromium}, ` +
+  'headless, ANGLE over SwiftShader): each variant the library can build for the context (`enumerate_variants`), compiled and ' +
+  'linked with its typed interface checked (`build_program`), with the time that took (the first includes the translator\'s start). ' +
+  (Object.values(report.versions).every((r) => r.variants && r.variants.failed === 0)
+    ? 'Every one compiled and linked as the library ships it: none needed a change for ANGLE.\n'
+    : 'Variants marked **no** failed: `out/web/report.json` has their logs.\n')];
+for (const [v, r] of Object.entries(report.versions)) {
+  if (!r.variants) continue;
+  table.push(`## ${v === 'webgl2' ? 'WebGL 2 (GLSL ES 3.00)' : 'WebGL 1 (GLSL ES 1.00)'}: ${r.variants.count - r.variants.failed} of ${r.variants.count} compiled and linked\n`);
+  table.push('| variant | compiled and linked | ms |\n| --- | --- | --- |');
+  for (const x of r.variants.all) table.push(`| \`${x.variant}\` | ${x.ok ? 'yes' : '**no**'} | ${x.ms} |`);
+  table.push('');
+}
+fs.writeFileSync(path.join(outDir, 'shaders.md'), table.join('\n'));
+if (args['shader-table']) fs.writeFileSync(args['shader-table'], table.join('\n'));
 console.log(`report: ${path.relative(process.cwd(), path.join(outDir, 'report.md'))}`);
 if (failures.length) {
   console.log(`\n${failures.length} failure(s):\n- ${failures.join('\n- ')}`);
